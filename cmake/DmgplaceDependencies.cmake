@@ -1,0 +1,30 @@
+# Every dependency is a Debian package (scripts/deps installs them).
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+find_package(HDF5 REQUIRED COMPONENTS C)
+find_package(CLI11 REQUIRED)
+find_package(yaml-cpp REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)
+find_package(assimp REQUIRED)
+find_package(urdfdom REQUIRED)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(TINYXML2 REQUIRED IMPORTED_TARGET tinyxml2)
+find_package(PCL 1.12 REQUIRED COMPONENTS common io)
+find_package(CGAL REQUIRED)
+find_package(Threads REQUIRED)
+find_package(fcl 0.7 REQUIRED)
+find_package(octomap REQUIRED)
+
+# HDF5 as one imported target with SYSTEM includes.
+add_library(dmgplace_hdf5 INTERFACE)
+target_include_directories(dmgplace_hdf5 SYSTEM INTERFACE ${HDF5_INCLUDE_DIRS})
+target_link_libraries(dmgplace_hdf5 INTERFACE ${HDF5_C_LIBRARIES})
+target_compile_definitions(dmgplace_hdf5 INTERFACE ${HDF5_DEFINITIONS})
+
+# PCL: only the modules we use (PCL_LIBRARIES would drag in VTK).
+add_library(dmgplace_pcl INTERFACE)
+target_include_directories(dmgplace_pcl SYSTEM INTERFACE ${PCL_INCLUDE_DIRS})
+target_link_libraries(dmgplace_pcl INTERFACE pcl_common pcl_io)
+
+add_library(dmgplace_urdfdom INTERFACE)
+target_include_directories(dmgplace_urdfdom SYSTEM INTERFACE ${urdfdom_INCLUDE_DIRS})
+target_link_libraries(dmgplace_urdfdom INTERFACE ${urdfdom_LIBRARIES})

@@ -1,0 +1,41 @@
+#pragma once
+// Plain value types shared by tools, artifacts and the runtime. World frame is z-up, metres.
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+namespace dmgplace {
+
+using RowMatrixX3d = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+using RowMatrixX3i = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
+
+struct TriMesh {
+  RowMatrixX3d vertices;   // metres
+  RowMatrixX3i triangles;  // counter-clockwise seen from outside
+  bool empty() const { return vertices.rows() == 0 || triangles.rows() == 0; }
+};
+
+enum class ShapeType : int { Box = 0, Cylinder = 1, Sphere = 2, Mesh = 3 };
+
+// A collision shape placed by `origin` in its parent frame (link frame or world).
+struct Shape {
+  ShapeType type = ShapeType::Box;
+  // Box: full extents x, y, z. Cylinder: radius, length (along local z), 0. Sphere: radius, 0, 0.
+  // Mesh: scale x, y, z (already applied to `mesh`; kept for the record).
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();
+  TriMesh mesh;  // only for ShapeType::Mesh
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
+};
+
+// One named rigid obstacle of a scene, its shapes in world coordinates.
+struct SceneObject {
+  std::string name;
+  std::vector<Shape> shapes;
+};
+
+struct Scene {
+  std::vector<SceneObject> objects;
+  RowMatrixX3d points;  // scan points in the world frame (empty for geometric scenes)
+};
+
+}  // namespace dmgplace

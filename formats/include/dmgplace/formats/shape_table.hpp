@@ -1,0 +1,28 @@
+#pragma once
+// Stores a list of collision shapes (primitives and meshes) as flat tables under one group;
+// shared by the environment and robot artifacts.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "dmgplace/formats/geometry_types.hpp"
+#include "dmgplace/formats/h5_reader.hpp"
+#include "dmgplace/formats/h5_writer.hpp"
+
+namespace dmgplace::formats {
+
+struct OwnedShape {
+  int owner = -1;  // index of the link or scene object the shape belongs to
+  Shape shape;
+};
+
+void write_shapes(H5Writer& w, const std::string& group, const std::vector<OwnedShape>& shapes);
+std::vector<OwnedShape> read_shapes(const H5Reader& r, const std::string& group);
+// Semantic problems (sizes, poses, mesh ranges, owners in [0, owner_count)).
+std::vector<std::string> check_shapes(const std::vector<OwnedShape>& shapes, int owner_count, const std::string& where);
+
+// Pose <-> [x y z qx qy qz qw].
+void pose_to_array(const Eigen::Isometry3d& pose, double* out7);
+Eigen::Isometry3d pose_from_array(const double* in7);
+
+}  // namespace dmgplace::formats

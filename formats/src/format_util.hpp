@@ -1,0 +1,49 @@
+#pragma once
+// Small helpers for the artifact kinds (private to dmgplace_formats).
+#include <Eigen/Core>
+#include <cstdio>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "dmgplace/formats/geometry_types.hpp"
+#include "dmgplace/formats/h5_reader.hpp"
+#include "dmgplace/formats/h5_writer.hpp"
+
+namespace dmgplace::formats::detail {
+
+inline void write_mesh(H5Writer& w, const std::string& g, const TriMesh& m) {
+  w.write(g + "/vertices", std::span<const double>(m.vertices.data(), std::size_t(m.vertices.size())),
+          {std::size_t(m.vertices.rows()), 3});
+  w.write(g + "/triangles", std::span<const std::int32_t>(m.triangles.data(), std::size_t(m.triangles.size())),
+          {std::size_t(m.triangles.rows()), 3});
+}
+
+inline TriMesh read_mesh(const H5Reader& r, const std::string& g) {
+  auto v = r.read_f64(g + "/vertices", {-1, 3});
+  auto t = r.read_i32(g + "/triangles", {-1, 3});
+  TriMesh m;
+  m.vertices = Eigen::Map<const RowMatrixX3d>(v.data.data(), Eigen::Index(v.rows()), 3);
+  m.triangles = Eigen::Map<const RowMatrixX3i>(t.data.data(), Eigen::Index(t.rows()), 3);
+  return m;
+}
+
+inline std::vector<std::string> check_mesh_indices(const TriMesh& m, const std::string& where) {
+  std::vector<std::string> p;
+  if (m.empty()) p.push_back(where + ": empty mesh");
+  if (!m.vertices.allFinite()) p.push_back(where + ": non-finite vertex");
+  if (m.triangles.size() > 0 && (m.triangles.minCoeff() < 0 || m.triangles.maxCoeff() >= m.vertices.rows()))
+    p.push_back(where + ": triangle index out of range");
+  return p;
+}
+
+inline std::string fmt(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.6g", v);
+  return b;
+}
+inline std::string fmt(const Eigen::Vector3d& v) { return "[" + fmt(v.x()) + ", " + fmt(v.y()) + ", " + fmt(v.z()) + "]"; }
+
+inline void append(std::vector<std::string>& a, const std::vector<std::string>& b) { a.insert(a.end(), b.begin(), b.end()); }
+
+}  // namespace dmgplace::formats::detail

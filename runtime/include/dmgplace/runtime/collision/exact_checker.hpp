@@ -1,0 +1,50 @@
+#pragma once
+// The exact collision layer (FCL): the robot's collision primitives and meshes, the held object's
+// mesh attached at its grasp, and the environment's exact geometry (primitives, triangle BVHs, an
+// octree for scan points). Used where the fast layer cannot decide and to validate every path.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "dmgplace/formats/geometry_types.hpp"
+#include "dmgplace/runtime/robot/kinematics.hpp"
+
+namespace dmgplace::runtime {
+
+struct ExactCheck {
+  bool environment_free = true;
+  bool self_free = true;
+  std::string contact;  // "link_a / obstacle_b" of the first collision found
+  bool free() const { return environment_free && self_free; }
+};
+
+class ExactChecker {
+ public:
+  // Scene geometry in the kinematics' base frame. `scan_resolution` sizes the octree cells.
+  ExactChecker(const Kinematics& kin, const Scene& environment, double scan_resolution = 0.01);
+  ~ExactChecker();
+  ExactChecker(const ExactChecker&);
+  ExactChecker& operator=(const ExactChecker&) = delete;
+
+  // A checker for one grasp: shares robot and environment geometry, adds the object mesh on `link`
+  // at `object_in_link`; it may touch `touching_links` (fingers) and the support below it within
+  // `support_tolerance` (the scene's top-facing surfaces are not exempt otherwise).
+  ExactChecker with_attached(const TriMesh& object, int link, const Eigen::Isometry3d& object_in_link,
+                             std::vector<int> touching_links) const;
+
+  ExactCheck check(const Eigen::VectorXd& q) const;
+  // Self-collision of just these link pairs (the ones the sphere layer flagged).
+  bool link_pairs_free(const Eigen::VectorXd& q, const std::pair<int, int>* pairs, int count) const;
+  bool is_free(const Eigen::VectorXd& q) const { return check(q).free(); }
+
+  // Exact checks along the straight joint-space segment at `resolution` (max joint step, radians).
+  bool segment_free(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution) const;
+
+  struct Impl;  // FCL objects; defined in the .cpp so FCL headers stay out of ours
+
+ private:
+  const Kinematics* kin_;
+  std::shared_ptr<const Impl> impl_;
+};
+
+}  // namespace dmgplace::runtime

@@ -1,0 +1,74 @@
+#pragma once
+// The fast collision layer: the robot's (and held object's) spheres against the environment's
+// signed distance grid, plus sphere-sphere self-collision for link pairs that are not allowed to
+// touch. Conservative by construction: interpolation error and grid band are accounted for, so it
+// may say "collision" near surfaces but never "free" where the spheres touch an obstacle.
+#include <array>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "dmgplace/formats/robot_artifact.hpp"
+#include "dmgplace/runtime/geometry/grid3.hpp"
+#include "dmgplace/runtime/robot/kinematics.hpp"
+
+namespace dmgplace::runtime {
+
+// Spheres rigidly attached to one link (e.g. the held object under a grasp), in that link's frame.
+struct AttachedSpheres {
+  int link = -1;
+  std::vector<Eigen::Vector3d> centers;
+  std::vector<double> radii;
+  std::vector<int> touching_links;  // links it may touch (the fingers)
+};
+
+struct SphereCheck {
+  static constexpr int kMaxPairs = 16;
+  bool environment_free = true;
+  bool self_free = true;
+  // Link pairs whose spheres overlap (for the exact layer to check just those); when more than
+  // kMaxPairs overlap, `pairs_overflow` is set and only a full exact check can tell.
+  std::array<std::pair<int, int>, kMaxPairs> pairs{};
+  int pair_count = 0;
+  bool pairs_overflow = false;
+  bool outside_grid = false;  // a sphere left the distance grid: only the exact layer can tell
+  double min_clearance = 0;   // smallest (distance - radius - margin) seen, metres
+  bool free() const { return environment_free && self_free; }
+};
+
+class SphereFieldChecker {
+ public:
+  // `sdf` is the environment's signed distance in the kinematics' base frame; `band` the value
+  // far cells were clamped to (distances at or above it are "at least band").
+  SphereFieldChecker(const Kinematics& kin, std::vector<formats::LinkSphere> spheres,
+                     std::shared_ptr<const Grid3> sdf, double band, double padding = 0.0);
+
+  // A checker for one grasp: same robot and environment (shared, no copy), plus the object.
+  SphereFieldChecker with_attached(AttachedSpheres object) const;
+
+  SphereCheck check(const Eigen::VectorXd& q) const;
+  bool is_free(const Eigen::VectorXd& q) const { return check(q).free(); }
+
+  std::size_t sphere_count() const { return spheres_.size(); }
+  // True when a flagged pair involves the link carrying an attached object (whose spheres share
+  // that link's index), so a robot-only exact pair check would not cover it.
+  bool is_attached_link_pair(const std::pair<int, int>& p) const {
+    return attached_link_ >= 0 && (p.first == attached_link_ || p.second == attached_link_);
+  }
+  double interpolation_margin() const { return margin_; }
+
+ private:
+  struct Pair { int a, b; };
+  void build_pairs();
+  const Kinematics* kin_;
+  std::vector<formats::LinkSphere> spheres_;  // robot + attached, link frames
+  std::vector<char> check_env_;               // per sphere: link moves with q
+  std::vector<Pair> pairs_;                   // sphere pairs checked for self-collision
+  std::vector<std::pair<int, int>> allowed_;  // link pairs
+  std::shared_ptr<const Grid3> sdf_;
+  double band_, padding_, margin_;
+  Eigen::Vector3d lo_, hi_;  // grid bounds
+  int attached_link_ = -1;
+};
+
+}  // namespace dmgplace::runtime

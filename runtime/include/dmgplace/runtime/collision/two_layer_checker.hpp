@@ -1,0 +1,52 @@
+#pragma once
+// The checker IK, the sampler and the planner use: the fast sphere layer answers "free" on its own
+// (it is conservative), and only its "maybe" is sent to the exact FCL layer.
+#include <atomic>
+#include <memory>
+
+#include "dmgplace/runtime/collision/exact_checker.hpp"
+#include "dmgplace/runtime/collision/sphere_field_checker.hpp"
+
+namespace dmgplace::runtime {
+
+struct CheckCounters {
+  std::atomic<long> fast{0};         // every query
+  std::atomic<long> exact_pairs{0};  // settled by exact checks of the flagged link pairs only
+  std::atomic<long> exact_full{0};   // needed the full exact check
+};
+
+class TwoLayerChecker {
+ public:
+  TwoLayerChecker(SphereFieldChecker fast, ExactChecker exact, std::shared_ptr<CheckCounters> counters = nullptr)
+      : fast_(std::move(fast)), exact_(std::move(exact)),
+        counters_(counters ? std::move(counters) : std::make_shared<CheckCounters>()) {}
+
+  bool is_free(const Eigen::VectorXd& q) const {
+    ++counters_->fast;
+    const SphereCheck f = fast_.check(q);
+    if (f.free()) return true;
+    // Spheres clear of the environment but overlapping between some links: check only those
+    // link pairs exactly (the held object is among the spheres, so it is covered by the fast env test).
+    if (f.environment_free && !f.pairs_overflow && !held_object_pairs(f)) {
+      ++counters_->exact_pairs;
+      return exact_.link_pairs_free(q, f.pairs.data(), f.pair_count);
+    }
+    ++counters_->exact_full;
+    return exact_.is_free(q);
+  }
+  const SphereFieldChecker& fast() const { return fast_; }
+  const ExactChecker& exact() const { return exact_; }
+  const CheckCounters& counters() const { return *counters_; }
+
+ private:
+  bool held_object_pairs(const SphereCheck& f) const {
+    for (int i = 0; i < f.pair_count; ++i)
+      if (fast_.is_attached_link_pair(f.pairs[std::size_t(i)])) return true;
+    return false;
+  }
+  SphereFieldChecker fast_;
+  ExactChecker exact_;
+  std::shared_ptr<CheckCounters> counters_;
+};
+
+}  // namespace dmgplace::runtime

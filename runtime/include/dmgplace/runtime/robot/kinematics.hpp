@@ -1,0 +1,57 @@
+#pragma once
+// Forward kinematics of a whole robot tree driven by one serial chain's joints, and the chain tip's
+// geometric Jacobian. Our own Eigen code (no KDL: see docs). Hot-path calls do not allocate once
+// the output containers have their size.
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+#include "dmgplace/formats/robot_model.hpp"
+
+namespace dmgplace::runtime {
+
+using Jacobian = Eigen::Matrix<double, 6, Eigen::Dynamic>;  // rows: linear velocity, angular velocity
+
+class Kinematics {
+ public:
+  // Throws dmgplace::Error when base/tip are not links or tip does not descend from base.
+  Kinematics(const RobotModel& model, const std::string& base, const std::string& tip);
+
+  int dof() const { return int(chain_joints_.size()); }
+  const std::vector<std::string>& joint_names() const { return joint_names_; }
+  const Eigen::VectorXd& lower() const { return lower_; }
+  const Eigen::VectorXd& upper() const { return upper_; }
+  const RobotModel& model() const { return model_; }
+  int tip_link() const { return tip_; }
+  int base_link() const { return base_; }
+
+  // Values of joints that are not part of the chain (e.g. the gripper fingers); default 0.
+  void set_joint_value(const std::string& joint, double value);
+
+  // Pose of every link in the base link's frame; links not below the base stay identity-relative
+  // to it through their ancestors (the whole tree is expressed in the base frame).
+  void link_poses(const Eigen::VectorXd& q, std::vector<Eigen::Isometry3d>& poses) const;
+  Eigen::Isometry3d tip_pose(const Eigen::VectorXd& q) const;
+  // Geometric Jacobian of the tip origin in the base frame.
+  void jacobian(const Eigen::VectorXd& q, Jacobian& J) const;
+  // Tip pose and Jacobian in one pass.
+  Eigen::Isometry3d tip_pose_and_jacobian(const Eigen::VectorXd& q, Jacobian& J) const;
+
+  bool within_limits(const Eigen::VectorXd& q, double tol = 1e-9) const;
+
+ private:
+  Eigen::Isometry3d joint_motion(int joint, double value) const;
+  double joint_value(int joint, const Eigen::VectorXd& q) const;
+
+  RobotModel model_;
+  int base_ = -1, tip_ = -1;
+  std::vector<int> chain_joints_;        // independent moving joints from base to tip
+  std::vector<int> path_joints_;         // every joint from base to tip (fixed included), in order
+  std::vector<int> order_;               // joints in topological order (parents first)
+  std::vector<int> chain_slot_;          // joint -> index in q, or -1
+  std::vector<double> fixed_values_;     // joint values of non-chain joints
+  std::vector<std::string> joint_names_;
+  Eigen::VectorXd lower_, upper_;
+};
+
+}  // namespace dmgplace::runtime

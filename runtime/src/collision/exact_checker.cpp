@@ -1,0 +1,247 @@
+#include "dmgplace/runtime/collision/exact_checker.hpp"
+
+#include <fcl/fcl.h>
+#include <octomap/octomap.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "dmgplace/formats/error.hpp"
+
+namespace dmgplace::runtime {
+namespace {
+using Geometry = std::shared_ptr<fcl::CollisionGeometryd>;
+
+Geometry make_mesh(const TriMesh& m) {
+  auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+  std::vector<fcl::Vector3d> v(std::size_t(m.vertices.rows()));
+  std::vector<fcl::Triangle> t(std::size_t(m.triangles.rows()));
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] = m.vertices.row(Eigen::Index(i)).transpose();
+  for (std::size_t i = 0; i < t.size(); ++i)
+    t[i] = fcl::Triangle(std::size_t(m.triangles(Eigen::Index(i), 0)), std::size_t(m.triangles(Eigen::Index(i), 1)),
+                         std::size_t(m.triangles(Eigen::Index(i), 2)));
+  model->beginModel();
+  model->addSubModel(v, t);
+  model->endModel();
+  model->computeLocalAABB();
+  return model;
+}
+
+Geometry make_geometry(const Shape& s) {
+  Geometry g;
+  switch (s.type) {
+    case ShapeType::Box: g = std::make_shared<fcl::Boxd>(s.size.x(), s.size.y(), s.size.z()); break;
+    case ShapeType::Cylinder: g = std::make_shared<fcl::Cylinderd>(s.size[0], s.size[1]); break;
+    case ShapeType::Sphere: g = std::make_shared<fcl::Sphered>(s.size[0]); break;
+    case ShapeType::Mesh: return make_mesh(s.mesh);
+  }
+  g->computeLocalAABB();
+  return g;
+}
+
+struct Part {
+  int link;               // robot link, or -1 for the attached object
+  Geometry geometry;
+  Eigen::Isometry3d local;  // in the link frame
+};
+}  // namespace
+
+struct ExactChecker::Impl {
+  std::vector<Part> parts;  // robot link geometry (+ attached object, link = its carrier link)
+  std::vector<int> part_is_object;
+  std::vector<std::string> link_names;
+  std::vector<char> moving;
+  std::vector<std::pair<int, int>> self_pairs;  // part index pairs
+  // Environment: objects with names, in a broadphase manager.
+  std::shared_ptr<std::vector<std::unique_ptr<fcl::CollisionObjectd>>> env_objects;
+  std::shared_ptr<std::vector<std::string>> env_names;
+  std::shared_ptr<fcl::DynamicAABBTreeCollisionManagerd> env;
+  std::vector<int> touching;  // links the attached object may touch
+};
+
+namespace {
+struct EnvHit {
+  bool hit = false;
+  const fcl::CollisionObjectd* other = nullptr;
+};
+
+bool env_callback(fcl::CollisionObjectd* a, fcl::CollisionObjectd* b, void* data) {
+  auto* hit = static_cast<EnvHit*>(data);
+  fcl::CollisionRequestd req;
+  fcl::CollisionResultd res;
+  if (fcl::collide(a, b, req, res) > 0) {
+    hit->hit = true;
+    hit->other = a->getUserData() ? a : b;
+    return true;  // stop
+  }
+  return false;
+}
+
+std::vector<char> moving_links(const Kinematics& kin) {
+  const auto& m = kin.model();
+  std::vector<char> moving(m.links.size(), 0);
+  Eigen::VectorXd q0 = 0.5 * (kin.lower() + kin.upper());
+  std::vector<Eigen::Isometry3d> a, b;
+  kin.link_poses(q0, a);
+  for (int i = 0; i < kin.dof(); ++i) {
+    Eigen::VectorXd q = q0;
+    q[i] += 0.1;
+    kin.link_poses(q, b);
+    for (std::size_t l = 0; l < a.size(); ++l) moving[l] |= !a[l].isApprox(b[l], 1e-12);
+  }
+  return moving;
+}
+
+void build_self_pairs(ExactChecker::Impl& impl, const Kinematics& kin) {
+  const auto& allowed = kin.model().allowed_pairs;
+  auto is_allowed = [&](int a, int b) {
+    if (a == b) return true;
+    for (auto [x, y] : allowed)
+      if ((x == a && y == b) || (x == b && y == a)) return true;
+    return false;
+  };
+  impl.self_pairs.clear();
+  for (std::size_t i = 0; i < impl.parts.size(); ++i)
+    for (std::size_t j = i + 1; j < impl.parts.size(); ++j) {
+      const int a = impl.parts[i].link, b = impl.parts[j].link;
+      const bool ao = impl.part_is_object[i], bo = impl.part_is_object[j];
+      if (ao || bo) {
+        const int other = ao ? b : a;
+        if (ao && bo) continue;
+        if (other == (ao ? a : b)) continue;  // the carrier link holds it
+        if (std::find(impl.touching.begin(), impl.touching.end(), other) != impl.touching.end()) continue;
+        impl.self_pairs.emplace_back(int(i), int(j));
+        continue;
+      }
+      if (!impl.moving[std::size_t(a)] && !impl.moving[std::size_t(b)]) continue;
+      if (!is_allowed(a, b)) impl.self_pairs.emplace_back(int(i), int(j));
+    }
+}
+}  // namespace
+
+ExactChecker::ExactChecker(const Kinematics& kin, const Scene& env, double scan_resolution) : kin_(&kin) {
+  auto impl = std::make_shared<Impl>();
+  const auto& m = kin.model();
+  for (std::size_t l = 0; l < m.links.size(); ++l) {
+    impl->link_names.push_back(m.links[l].name);
+    for (const auto& s : m.links[l].collision) {
+      impl->parts.push_back({int(l), make_geometry(s), s.origin});
+      impl->part_is_object.push_back(0);
+    }
+  }
+  impl->moving = moving_links(kin);
+  impl->env_objects = std::make_shared<std::vector<std::unique_ptr<fcl::CollisionObjectd>>>();
+  impl->env_names = std::make_shared<std::vector<std::string>>();
+  impl->env = std::make_shared<fcl::DynamicAABBTreeCollisionManagerd>();
+  for (const auto& o : env.objects)
+    for (const auto& s : o.shapes) {
+      impl->env_names->push_back(o.name);
+      auto obj = std::make_unique<fcl::CollisionObjectd>(make_geometry(s), s.origin.linear(), s.origin.translation());
+      obj->setUserData(reinterpret_cast<void*>(impl->env_names->size()));  // 1-based name index
+      obj->computeAABB();
+      impl->env_objects->push_back(std::move(obj));
+    }
+  if (env.points.rows() > 0) {
+    auto tree = std::make_shared<octomap::OcTree>(scan_resolution);
+    for (Eigen::Index i = 0; i < env.points.rows(); ++i)
+      tree->updateNode(octomap::point3d(float(env.points(i, 0)), float(env.points(i, 1)), float(env.points(i, 2))), true);
+    tree->updateInnerOccupancy();
+    impl->env_names->push_back("scan");
+    auto obj = std::make_unique<fcl::CollisionObjectd>(std::make_shared<fcl::OcTreed>(tree));
+    obj->setUserData(reinterpret_cast<void*>(impl->env_names->size()));
+    obj->computeAABB();
+    impl->env_objects->push_back(std::move(obj));
+  }
+  for (auto& o : *impl->env_objects) impl->env->registerObject(o.get());
+  impl->env->setup();
+  build_self_pairs(*impl, kin);
+  impl_ = impl;
+}
+
+ExactChecker::~ExactChecker() = default;
+ExactChecker::ExactChecker(const ExactChecker& o) = default;
+
+ExactChecker ExactChecker::with_attached(const TriMesh& object, int link, const Eigen::Isometry3d& object_in_link,
+                                         std::vector<int> touching_links) const {
+  if (link < 0 || std::size_t(link) >= kin_->model().links.size())
+    throw Error("ExactChecker", "attached object", "link index out of range");
+  auto impl = std::make_shared<Impl>(*impl_);  // shares the environment and geometry (shared_ptrs)
+  impl->parts.push_back({link, make_mesh(object), object_in_link});
+  impl->part_is_object.push_back(1);
+  impl->touching = std::move(touching_links);
+  build_self_pairs(*impl, *kin_);
+  ExactChecker c(*this);
+  c.impl_ = impl;
+  return c;
+}
+
+ExactCheck ExactChecker::check(const Eigen::VectorXd& q) const {
+  thread_local std::vector<Eigen::Isometry3d> poses;
+  kin_->link_poses(q, poses);
+  const Impl& impl = *impl_;
+  ExactCheck out;
+  std::vector<fcl::CollisionObjectd> objs;
+  objs.reserve(impl.parts.size());
+  for (const auto& p : impl.parts) {
+    const Eigen::Isometry3d t = poses[std::size_t(p.link)] * p.local;
+    objs.emplace_back(p.geometry, t.linear(), t.translation());
+    objs.back().computeAABB();
+  }
+  for (std::size_t i = 0; i < impl.parts.size(); ++i) {
+    if (!impl.moving[std::size_t(impl.parts[i].link)] && !impl.part_is_object[i]) continue;
+    EnvHit hit;
+    impl.env->collide(&objs[i], &hit, env_callback);
+    if (hit.hit) {
+      out.environment_free = false;
+      std::size_t name = reinterpret_cast<std::size_t>(hit.other->getUserData());
+      out.contact = (impl.part_is_object[i] ? std::string("held object") : impl.link_names[std::size_t(impl.parts[i].link)]) +
+                    " / " + (name > 0 ? (*impl.env_names)[name - 1] : std::string("?"));
+      return out;
+    }
+  }
+  fcl::CollisionRequestd req;
+  for (auto [a, b] : impl.self_pairs) {
+    fcl::CollisionResultd res;
+    if (fcl::collide(&objs[std::size_t(a)], &objs[std::size_t(b)], req, res) > 0) {
+      out.self_free = false;
+      auto name = [&](int k) {
+        return impl.part_is_object[std::size_t(k)] ? std::string("held object") : impl.link_names[std::size_t(impl.parts[std::size_t(k)].link)];
+      };
+      out.contact = name(a) + " / " + name(b);
+      return out;
+    }
+  }
+  return out;
+}
+
+bool ExactChecker::link_pairs_free(const Eigen::VectorXd& q, const std::pair<int, int>* pairs, int count) const {
+  thread_local std::vector<Eigen::Isometry3d> poses;
+  kin_->link_poses(q, poses);
+  const Impl& impl = *impl_;
+  fcl::CollisionRequestd req;
+  for (auto [a, b] : impl.self_pairs) {
+    const int la = impl.parts[std::size_t(a)].link, lb = impl.parts[std::size_t(b)].link;
+    if (impl.part_is_object[std::size_t(a)] || impl.part_is_object[std::size_t(b)]) continue;
+    bool wanted = false;
+    for (int i = 0; i < count; ++i)
+      wanted |= (pairs[i].first == la && pairs[i].second == lb) || (pairs[i].first == lb && pairs[i].second == la);
+    if (!wanted) continue;
+    const auto& pa = impl.parts[std::size_t(a)];
+    const auto& pb = impl.parts[std::size_t(b)];
+    const Eigen::Isometry3d ta = poses[std::size_t(la)] * pa.local, tb = poses[std::size_t(lb)] * pb.local;
+    fcl::CollisionObjectd oa(pa.geometry, ta.linear(), ta.translation()), ob(pb.geometry, tb.linear(), tb.translation());
+    fcl::CollisionResultd res;
+    if (fcl::collide(&oa, &ob, req, res) > 0) return false;
+  }
+  return true;
+}
+
+bool ExactChecker::segment_free(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution) const {
+  const double span = (b - a).cwiseAbs().maxCoeff();
+  const int steps = std::max(1, int(std::ceil(span / resolution)));
+  for (int i = 0; i <= steps; ++i)
+    if (!is_free(a + (b - a) * (double(i) / steps))) return false;
+  return true;
+}
+
+}  // namespace dmgplace::runtime

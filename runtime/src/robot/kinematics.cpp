@@ -1,0 +1,163 @@
+#include "dmgplace/runtime/robot/kinematics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "dmgplace/formats/error.hpp"
+
+namespace dmgplace::runtime {
+
+Kinematics::Kinematics(const RobotModel& model, const std::string& base, const std::string& tip) : model_(model) {
+  base_ = model_.link_index(base);
+  tip_ = model_.link_index(tip);
+  if (base_ < 0) throw Error(model_.name, "arm base", "no link named '" + base + "'");
+  if (tip_ < 0) throw Error(model_.name, "arm tip", "no link named '" + tip + "'");
+  const std::size_t nl = model_.links.size(), nj = model_.joints.size();
+  std::vector<int> parent_joint(nl, -1);
+  for (std::size_t j = 0; j < nj; ++j) {
+    const auto& jt = model_.joints[j];
+    if (jt.child < 0 || std::size_t(jt.child) >= nl || jt.parent < 0 || std::size_t(jt.parent) >= nl)
+      throw Error(model_.name, "joint '" + jt.name + "'", "link index out of range");
+    parent_joint[std::size_t(jt.child)] = int(j);
+  }
+  // Path tip -> base.
+  for (int link = tip_, steps = 0; link != base_; ++steps) {
+    int j = parent_joint[std::size_t(link)];
+    if (j < 0 || steps > int(nl)) throw Error(model_.name, "arm chain", "'" + tip + "' does not descend from '" + base + "'");
+    path_joints_.push_back(j);
+    link = model_.joints[std::size_t(j)].parent;
+  }
+  std::reverse(path_joints_.begin(), path_joints_.end());
+  chain_slot_.assign(nj, -1);
+  for (int j : path_joints_) {
+    const auto& jt = model_.joints[std::size_t(j)];
+    if (jt.type == JointType::Fixed || jt.mimic >= 0) continue;
+    chain_slot_[std::size_t(j)] = int(chain_joints_.size());
+    chain_joints_.push_back(j);
+    joint_names_.push_back(jt.name);
+  }
+  lower_.resize(dof());
+  upper_.resize(dof());
+  for (int i = 0; i < dof(); ++i) {
+    const auto& jt = model_.joints[std::size_t(chain_joints_[std::size_t(i)])];
+    const bool unlimited = jt.type == JointType::Continuous;
+    lower_[i] = unlimited ? -M_PI : jt.lower;
+    upper_[i] = unlimited ? M_PI : jt.upper;
+  }
+  fixed_values_.assign(nj, 0.0);
+  // Topological order: a joint after the joint that places its parent link.
+  std::vector<char> done(nj, 0);
+  for (std::size_t pass = 0; pass <= nj && order_.size() < nj; ++pass)
+    for (std::size_t j = 0; j < nj; ++j) {
+      if (done[j]) continue;
+      int pj = parent_joint[std::size_t(model_.joints[j].parent)];
+      if (pj < 0 || done[std::size_t(pj)]) {
+        order_.push_back(int(j));
+        done[j] = 1;
+      }
+    }
+  if (order_.size() != nj) throw Error(model_.name, "joints", "kinematic loop");
+}
+
+void Kinematics::set_joint_value(const std::string& joint, double value) {
+  int j = model_.joint_index(joint);
+  if (j < 0) throw Error(model_.name, "joint", "no joint named '" + joint + "'");
+  if (chain_slot_[std::size_t(j)] >= 0) throw Error(model_.name, "joint '" + joint + "'", "is driven by the chain");
+  fixed_values_[std::size_t(j)] = value;
+}
+
+double Kinematics::joint_value(int j, const Eigen::VectorXd& q) const {
+  const auto& jt = model_.joints[std::size_t(j)];
+  if (jt.mimic >= 0) return jt.mimic_multiplier * joint_value(jt.mimic, q) + jt.mimic_offset;
+  int slot = chain_slot_[std::size_t(j)];
+  return slot >= 0 ? q[slot] : fixed_values_[std::size_t(j)];
+}
+
+Eigen::Isometry3d Kinematics::joint_motion(int j, double v) const {
+  const auto& jt = model_.joints[std::size_t(j)];
+  Eigen::Isometry3d m = jt.origin;
+  switch (jt.type) {
+    case JointType::Revolute:
+    case JointType::Continuous:
+      m.linear() = m.linear() * Eigen::AngleAxisd(v, jt.axis).toRotationMatrix();
+      break;
+    case JointType::Prismatic:
+      m.translation() += m.linear() * (jt.axis * v);
+      break;
+    case JointType::Fixed:
+      break;
+  }
+  return m;
+}
+
+void Kinematics::link_poses(const Eigen::VectorXd& q, std::vector<Eigen::Isometry3d>& poses) const {
+  poses.resize(model_.links.size());
+  // Express the tree in the base frame: first the root-to-base transform, then invert it.
+  std::fill(poses.begin(), poses.end(), Eigen::Isometry3d::Identity());
+  for (int j : order_) {
+    const auto& jt = model_.joints[std::size_t(j)];
+    poses[std::size_t(jt.child)] = poses[std::size_t(jt.parent)] * joint_motion(j, joint_value(j, q));
+  }
+  const Eigen::Isometry3d to_base = poses[std::size_t(base_)].inverse();
+  if (!to_base.isApprox(Eigen::Isometry3d::Identity()))
+    for (auto& p : poses) p = to_base * p;
+}
+
+Eigen::Isometry3d Kinematics::tip_pose(const Eigen::VectorXd& q) const {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  for (int j : path_joints_) t = t * joint_motion(j, joint_value(j, q));
+  return t;
+}
+
+void Kinematics::jacobian(const Eigen::VectorXd& q, Jacobian& J) const { tip_pose_and_jacobian(q, J); }
+
+Eigen::Isometry3d Kinematics::tip_pose_and_jacobian(const Eigen::VectorXd& q, Jacobian& J) const {
+  J.setZero(6, dof());
+  // Joint axes and origins in the base frame, then the tip; a mimic joint on the path adds its
+  // motion to the column of the joint it follows.
+  Eigen::Vector3d axes[64], origins[64];
+  int cols[64];
+  double mult[64];
+  bool prismatic[64];
+  int n = 0;
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  for (int j : path_joints_) {
+    const auto& jt = model_.joints[std::size_t(j)];
+    Eigen::Isometry3d at_joint = t * jt.origin;
+    t = t * joint_motion(j, joint_value(j, q));
+    if (jt.type == JointType::Fixed || n >= 64) continue;
+    int col = chain_slot_[std::size_t(j)];
+    double m = 1.0;
+    if (jt.mimic >= 0) {
+      col = chain_slot_[std::size_t(jt.mimic)];
+      m = jt.mimic_multiplier;
+    }
+    if (col < 0) continue;
+    axes[n] = at_joint.linear() * jt.axis;
+    origins[n] = at_joint.translation();
+    cols[n] = col;
+    mult[n] = m;
+    prismatic[n] = jt.type == JointType::Prismatic;
+    ++n;
+  }
+  const Eigen::Vector3d p = t.translation();
+  for (int i = 0; i < n; ++i) {
+    if (prismatic[i]) {
+      J.block<3, 1>(0, cols[i]) += mult[i] * axes[i];
+    } else {
+      J.block<3, 1>(0, cols[i]) += mult[i] * axes[i].cross(p - origins[i]);
+      J.block<3, 1>(3, cols[i]) += mult[i] * axes[i];
+    }
+  }
+  return t;
+}
+
+bool Kinematics::within_limits(const Eigen::VectorXd& q, double tol) const {
+  if (q.size() != dof()) return false;
+  for (int i = 0; i < dof(); ++i)
+    if (!(q[i] >= lower_[i] - tol && q[i] <= upper_[i] + tol)) return false;
+  return true;
+}
+
+}  // namespace dmgplace::runtime

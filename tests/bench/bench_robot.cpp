@@ -1,0 +1,114 @@
+// Robot model speed (issue "Robot model"): FK + fast sphere check vs the FCL exact check of the
+// same configurations, and IK, for the Panda in the MotionBenchMaker bookshelf scene.
+// Run: build/release/tests/bench_robot   (needs ../shared/datasets)
+#include <benchmark/benchmark.h>
+
+#include <iostream>
+#include <random>
+
+#include "analytic_sdf.hpp"
+#include "dmgplace/runtime/collision/exact_checker.hpp"
+#include "dmgplace/runtime/collision/sphere_field_checker.hpp"
+#include "dmgplace/runtime/collision/two_layer_checker.hpp"
+#include "dmgplace/runtime/robot/ik.hpp"
+#include "dmgplace/tools/io/scene_loader.hpp"
+#include "dmgplace/tools/io/urdf_reader.hpp"
+#include "dmgplace/tools/robot/sphere_cover.hpp"
+#include "test_support.hpp"
+
+using namespace dmgplace;
+
+namespace {
+struct World {
+  RobotModel model;
+  std::vector<formats::LinkSphere> spheres;
+  std::unique_ptr<runtime::Kinematics> kin;
+  Scene scene;
+  std::shared_ptr<runtime::Grid3> sdf;
+  std::unique_ptr<runtime::SphereFieldChecker> fast;
+  std::unique_ptr<runtime::ExactChecker> exact;
+  std::vector<Eigen::VectorXd> configs;
+};
+
+World& world() {
+  static World w = [] {
+    World w;
+    auto shared = test::shared_datasets();
+    if (shared.empty()) throw std::runtime_error("bench_robot needs ../shared/datasets");
+    tools::UrdfOptions o;
+    o.package_paths.push_back(shared / "panda");
+    w.model = tools::read_urdf(shared / "panda/moveit_resources_panda_description/urdf/panda.urdf", o);
+    tools::apply_srdf(w.model, shared / "panda/panda_moveit_config/config/panda.srdf");
+    for (std::size_t l = 0; l < w.model.links.size(); ++l)
+      for (const auto& s : tools::cover_with_spheres(w.model.links[l].collision))
+        w.spheres.push_back({int(l), s.center, s.radius});
+    w.kin = std::make_unique<runtime::Kinematics>(w.model, "panda_link0", "panda_hand");
+    w.kin->set_joint_value("panda_finger_joint1", 0.04);
+    w.scene = tools::load_scene(shared / "mbm_problems/bookshelf_small_panda/scene0001.yaml");
+    w.sdf = test::analytic_sdf(w.scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.3), Eigen::Vector3d(1.6, 1.2, 1.7)),
+                               0.01, 0.2);
+    w.fast = std::make_unique<runtime::SphereFieldChecker>(*w.kin, w.spheres, w.sdf, 0.2);
+    w.exact = std::make_unique<runtime::ExactChecker>(*w.kin, w.scene);
+    std::mt19937_64 rng(1);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (int i = 0; i < 4096; ++i) {
+      Eigen::VectorXd q(7);
+      for (int j = 0; j < 7; ++j) q[j] = w.kin->lower()[j] + u(rng) * (w.kin->upper()[j] - w.kin->lower()[j]);
+      w.configs.push_back(q);
+    }
+    std::cerr << "panda spheres: " << w.spheres.size() << "\n";
+    return w;
+  }();
+  return w;
+}
+
+void BM_FkPlusFastSphereCheck(benchmark::State& st) {
+  auto& w = world();
+  std::size_t i = 0;
+  long free = 0;
+  for (auto _ : st) {
+    free += w.fast->is_free(w.configs[i++ & 4095]);
+  }
+  st.SetItemsProcessed(st.iterations());
+  st.counters["free_fraction"] = double(free) / double(st.iterations());
+}
+BENCHMARK(BM_FkPlusFastSphereCheck);
+
+void BM_TwoLayerCheck(benchmark::State& st) {
+  auto& w = world();
+  runtime::TwoLayerChecker c(*w.fast, *w.exact);
+  std::size_t i = 0;
+  for (auto _ : st) benchmark::DoNotOptimize(c.is_free(w.configs[i++ & 4095]));
+  st.SetItemsProcessed(st.iterations());
+  st.counters["full_exact_fraction"] = double(c.counters().exact_full.load()) / double(st.iterations());
+}
+BENCHMARK(BM_TwoLayerCheck);
+
+void BM_FclMeshCheck(benchmark::State& st) {
+  auto& w = world();
+  std::size_t i = 0;
+  for (auto _ : st) benchmark::DoNotOptimize(w.exact->is_free(w.configs[i++ & 4095]));
+  st.SetItemsProcessed(st.iterations());
+}
+BENCHMARK(BM_FclMeshCheck);
+
+void BM_IkRandomReachablePose(benchmark::State& st) {
+  auto& w = world();
+  runtime::IkSolver ik(*w.kin);
+  std::mt19937_64 rng(5);
+  std::size_t i = 0;
+  long ok = 0;
+  for (auto _ : st) {
+    st.PauseTiming();
+    const Eigen::Isometry3d target = w.kin->tip_pose(w.configs[i & 4095]);
+    const Eigen::VectorXd seed = w.configs[(i * 7 + 3) & 4095];
+    ++i;
+    st.ResumeTiming();
+    ok += ik.solve(target, seed, rng).success;
+  }
+  st.counters["success_rate"] = double(ok) / double(st.iterations());
+}
+BENCHMARK(BM_IkRandomReachablePose)->Unit(benchmark::kMicrosecond);
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,33 @@
+#pragma once
+// Helpers every test program shares: scratch folders and the location of shared data.
+#include <filesystem>
+#include <string>
+
+namespace dmgplace::test {
+
+// A fresh empty folder under the build's temp area, removed when the object dies.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// ../shared/datasets, or "" when it is not beside the checkout.
+std::filesystem::path shared_datasets();
+std::filesystem::path source_dir();
+std::string cli_path();
+void write_text(const std::filesystem::path& p, const std::string& text);
+std::string read_text(const std::filesystem::path& p);
+
+}  // namespace dmgplace::test
+
+// Skips the test when ../shared/datasets is missing (CI always has it).
+#define DMGPLACE_REQUIRE_SHARED()                                                   \
+  do {                                                                              \
+    if (::dmgplace::test::shared_datasets().empty()) GTEST_SKIP() << "no ../shared/datasets"; \
+  } while (0)

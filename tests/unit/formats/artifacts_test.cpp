@@ -1,0 +1,218 @@
+#include <gtest/gtest.h>
+
+#include "dmgplace/formats/environment_artifact.hpp"
+#include "dmgplace/formats/error.hpp"
+#include "dmgplace/formats/h5_writer.hpp"
+#include "dmgplace/formats/object_artifact.hpp"
+#include "dmgplace/formats/robot_artifact.hpp"
+#include "test_support.hpp"
+
+using namespace dmgplace;
+using namespace dmgplace::formats;
+
+namespace {
+TriMesh unit_cube() {
+  TriMesh m;
+  m.vertices.resize(8, 3);
+  for (int i = 0; i < 8; ++i) m.vertices.row(i) << (i & 1), (i >> 1 & 1), (i >> 2 & 1);
+  m.triangles.resize(12, 3);
+  m.triangles << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5;
+  return m;
+}
+
+ObjectArtifact sample_object() {
+  ObjectArtifact a;
+  a.mesh = unit_cube();
+  a.mass.volume = 1;
+  a.mass.mass = 1000;
+  a.mass.com = Eigen::Vector3d(0.5, 0.5, 0.5);
+  a.mass.inertia = Eigen::Matrix3d::Identity() * 1000.0 / 6.0;
+  a.header.parameters_json = R"({"scale":1})";
+  a.header.inputs = {{"cube.stl", std::string(64, 'c')}};
+  return a;
+}
+
+RobotArtifact sample_robot() {
+  RobotArtifact a;
+  RobotModel& m = a.model;
+  m.name = "two_link";
+  for (auto n : {"base", "upper", "tip"}) m.links.push_back({n, {}});
+  Shape box;
+  box.type = ShapeType::Box;
+  box.size = Eigen::Vector3d(0.1, 0.1, 0.3);
+  box.origin.translation() = Eigen::Vector3d(0, 0, 0.15);
+  m.links[1].collision.push_back(box);
+  Shape mesh;
+  mesh.type = ShapeType::Mesh;
+  mesh.size = Eigen::Vector3d::Ones();
+  mesh.mesh = unit_cube();
+  m.links[2].collision.push_back(mesh);
+  Joint j1;
+  j1.name = "j1"; j1.type = JointType::Revolute; j1.parent = 0; j1.child = 1;
+  j1.lower = -2; j1.upper = 2; j1.velocity = 1;
+  j1.origin.translation() = Eigen::Vector3d(0, 0, 0.2);
+  Joint j2 = j1;
+  j2.name = "j2"; j2.type = JointType::Prismatic; j2.parent = 1; j2.child = 2; j2.mimic = 0; j2.mimic_multiplier = 0.5;
+  j2.axis = Eigen::Vector3d::UnitY();
+  m.joints = {j1, j2};
+  m.arm_base = "base";
+  m.arm_tip = "tip";
+  m.allowed_pairs = {{0, 1}};
+  a.spheres = {{1, Eigen::Vector3d(0, 0, 0.15), 0.2}, {2, Eigen::Vector3d(0.5, 0.5, 0.5), 0.9}};
+  return a;
+}
+
+EnvironmentArtifact sample_env() {
+  EnvironmentArtifact a;
+  a.volume = Eigen::AlignedBox3d(Eigen::Vector3d(0, -0.5, 0), Eigen::Vector3d(1, 0.5, 1));
+  SceneObject table{"table", {}};
+  Shape top;
+  top.type = ShapeType::Box;
+  top.size = Eigen::Vector3d(1, 1, 0.05);
+  top.origin.translation() = Eigen::Vector3d(0.6, 0, 0.4);
+  top.origin.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  table.shapes.push_back(top);
+  SceneObject can{"can", {}};
+  Shape cyl;
+  cyl.type = ShapeType::Cylinder;
+  cyl.size = Eigen::Vector3d(0.03, 0.12, 0);
+  can.shapes.push_back(cyl);
+  a.scene.objects = {table, can};
+  a.scene.points.resize(2, 3);
+  a.scene.points << 1, 2, 3, 4, 5, 6;
+  return a;
+}
+}  // namespace
+
+TEST(ObjectArtifact, RoundTripIsExactAndValid) {
+  test::TempDir dir;
+  save_object(sample_object(), dir / "o.h5");
+  auto a = load_object(dir / "o.h5");
+  EXPECT_EQ(a.header.schema, kObjectSchema);
+  EXPECT_EQ(a.mesh.vertices, unit_cube().vertices);
+  EXPECT_EQ(a.mesh.triangles, unit_cube().triangles);
+  EXPECT_EQ(a.mass.com, Eigen::Vector3d(0.5, 0.5, 0.5));
+  EXPECT_DOUBLE_EQ(a.mass.mass, 1000);
+  EXPECT_EQ(a.header.inputs.at(0).path, "cube.stl");
+  EXPECT_TRUE(check_object(a).empty());
+  EXPECT_TRUE(validate_artifact(dir / "o.h5").empty());
+}
+
+TEST(ObjectArtifact, InvariantViolationsAreReported) {
+  auto a = sample_object();
+  a.mesh.triangles(3, 1) = 99;
+  a.mass.com = Eigen::Vector3d(5, 5, 5);
+  a.mass.volume = -1;
+  auto p = check_object(a);
+  ASSERT_GE(p.size(), 2u);
+  EXPECT_NE(p[0].find("index out of range"), std::string::npos);
+  auto b = sample_object();
+  b.mass.com = Eigen::Vector3d(5, 5, 5);
+  ASSERT_EQ(check_object(b).size(), 1u);
+  EXPECT_NE(check_object(b)[0].find("com"), std::string::npos);
+  auto c = sample_object();
+  c.mesh.vertices(0, 0) = NAN;
+  EXPECT_FALSE(check_object(c).empty());
+}
+
+TEST(RobotArtifact, RoundTripKeepsTreeShapesAndPairs) {
+  test::TempDir dir;
+  save_robot(sample_robot(), dir / "r.h5");
+  auto r = load_robot(dir / "r.h5");
+  const auto& m = r.model;
+  ASSERT_EQ(m.links.size(), 3u);
+  ASSERT_EQ(m.joints.size(), 2u);
+  EXPECT_EQ(m.joints[1].type, JointType::Prismatic);
+  EXPECT_EQ(m.joints[1].mimic, 0);
+  EXPECT_DOUBLE_EQ(m.joints[1].mimic_multiplier, 0.5);
+  EXPECT_TRUE(m.joints[0].origin.isApprox(sample_robot().model.joints[0].origin));
+  EXPECT_EQ(m.links[2].collision.at(0).mesh.triangles, unit_cube().triangles);
+  EXPECT_EQ(m.links[1].collision.at(0).size, Eigen::Vector3d(0.1, 0.1, 0.3));
+  EXPECT_EQ(m.allowed_pairs, (std::vector<std::pair<int, int>>{{0, 1}}));
+  EXPECT_EQ(m.arm_tip, "tip");
+  ASSERT_EQ(r.spheres.size(), 2u);
+  EXPECT_EQ(r.spheres[1].link, 2);
+  EXPECT_DOUBLE_EQ(r.spheres[1].radius, 0.9);
+  EXPECT_TRUE(check_robot(r).empty());
+  EXPECT_TRUE(validate_artifact(dir / "r.h5").empty());
+}
+
+TEST(RobotArtifact, BrokenTreesAndLimitsAreReported) {
+  auto loop = sample_robot();
+  loop.model.joints[0].parent = 2;  // base <- tip: a loop and no root
+  EXPECT_FALSE(check_robot(loop).empty());
+  auto limits = sample_robot();
+  std::swap(limits.model.joints[0].lower, limits.model.joints[0].upper);
+  auto p = check_robot(limits);
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_NE(p[0].find("limits"), std::string::npos);
+  auto chain = sample_robot();
+  chain.model.arm_base = "tip";
+  chain.model.arm_tip = "base";
+  p = check_robot(chain);
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_NE(p[0].find("does not descend"), std::string::npos);
+  auto uncovered = sample_robot();
+  uncovered.spheres.pop_back();
+  p = check_robot(uncovered);
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_NE(p[0].find("'tip' has collision geometry but no spheres"), std::string::npos);
+  auto pair = sample_robot();
+  pair.model.allowed_pairs.push_back({1, 1});
+  EXPECT_EQ(check_robot(pair).size(), 1u);
+}
+
+TEST(EnvironmentArtifact, RoundTripKeepsWorldPosesAndPoints) {
+  test::TempDir dir;
+  save_environment(sample_env(), dir / "e.h5");
+  auto e = load_environment(dir / "e.h5");
+  ASSERT_EQ(e.scene.objects.size(), 2u);
+  EXPECT_EQ(e.scene.objects[1].name, "can");
+  EXPECT_TRUE(e.scene.objects[0].shapes.at(0).origin.isApprox(sample_env().scene.objects[0].shapes[0].origin, 1e-12));
+  EXPECT_EQ(e.scene.points, sample_env().scene.points);
+  EXPECT_TRUE(e.volume.isApprox(sample_env().volume));
+  EXPECT_TRUE(check_environment(e).empty());
+  auto bad = sample_env();
+  bad.volume = Eigen::AlignedBox3d(Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 1));
+  bad.scene.objects[1].shapes[0].size.x() = 0;
+  EXPECT_EQ(check_environment(bad).size(), 2u);
+}
+
+TEST(ValidateArtifact, WrongVersionUnknownKindAndCorruptionAreReported) {
+  test::TempDir dir;
+  {
+    ArtifactHeader h;
+    h.schema = kObjectSchema;
+    h.schema_version = 99;
+    H5Writer w(dir / "future.h5", h);
+    w.commit();
+  }
+  auto p = validate_artifact(dir / "future.h5");
+  ASSERT_FALSE(p.empty());
+  EXPECT_NE(p[0].find("schema_version"), std::string::npos);
+  EXPECT_NE(p[0].find("future.h5"), std::string::npos);
+  {
+    ArtifactHeader h;
+    h.schema = "something.else";
+    h.schema_version = 1;
+    H5Writer w(dir / "other.h5", h);
+    w.commit();
+  }
+  p = validate_artifact(dir / "other.h5");
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_NE(p[0].find("unknown artifact kind"), std::string::npos);
+
+  // Flip a byte inside the mesh data: validate must say which dataset is corrupt.
+  auto obj = sample_object();
+  obj.mesh.vertices = RowMatrixX3d::Random(4000, 3);
+  obj.mesh.triangles.resize(1, 3);
+  obj.mesh.triangles << 0, 1, 2;
+  obj.mass.com = Eigen::Vector3d::Zero();
+  save_object(obj, dir / "o.h5");
+  std::string bytes = test::read_text(dir / "o.h5");
+  bytes[bytes.size() / 2] ^= 0x10;
+  test::write_text(dir / "o.h5", bytes);
+  p = validate_artifact(dir / "o.h5");
+  ASSERT_FALSE(p.empty());
+  EXPECT_NE(p[0].find("o.h5"), std::string::npos);
+}

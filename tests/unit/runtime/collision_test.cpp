@@ -1,0 +1,193 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "analytic_sdf.hpp"
+#include "dmgplace/runtime/collision/exact_checker.hpp"
+#include "dmgplace/runtime/collision/sphere_field_checker.hpp"
+#include "dmgplace/runtime/collision/two_layer_checker.hpp"
+#include "dmgplace/tools/io/scene_loader.hpp"
+#include "dmgplace/tools/io/urdf_reader.hpp"
+#include "dmgplace/tools/robot/sphere_cover.hpp"
+#include "test_support.hpp"
+
+using namespace dmgplace;
+using namespace dmgplace::runtime;
+
+namespace {
+struct Arm {
+  RobotModel model;
+  std::vector<formats::LinkSphere> spheres;
+};
+
+Arm built_in_arm() {
+  auto dir = test::source_dir() / "datasets/robots/dmgarm";
+  Arm a;
+  a.model = tools::read_urdf(dir / "dmgarm.urdf");
+  tools::apply_srdf(a.model, dir / "dmgarm.srdf");
+  for (std::size_t l = 0; l < a.model.links.size(); ++l)
+    for (const auto& s : tools::cover_with_spheres(a.model.links[l].collision))
+      a.spheres.push_back({int(l), s.center, s.radius});
+  return a;
+}
+
+Shape box(Eigen::Vector3d size, Eigen::Vector3d at) {
+  Shape s;
+  s.type = ShapeType::Box;
+  s.size = size;
+  s.origin.translation() = at;
+  return s;
+}
+
+Scene shelf_scene() {
+  Scene sc;
+  sc.objects.push_back({"board", {box({0.4, 0.8, 0.03}, {0.6, 0, 0.45})}});
+  sc.objects.push_back({"wall", {box({0.03, 0.8, 0.8}, {0.85, 0, 0.5})}});
+  Shape can;
+  can.type = ShapeType::Cylinder;
+  can.size = Eigen::Vector3d(0.04, 0.15, 0);
+  can.origin.translation() = Eigen::Vector3d(0.5, 0.25, 0.54);
+  sc.objects.push_back({"can", {can}});
+  Shape ball;
+  ball.type = ShapeType::Sphere;
+  ball.size = Eigen::Vector3d(0.06, 0, 0);
+  ball.origin.translation() = Eigen::Vector3d(0.3, -0.4, 0.7);
+  sc.objects.push_back({"ball", {ball}});
+  return sc;
+}
+
+Eigen::VectorXd random_q(const Kinematics& k, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0, 1);
+  Eigen::VectorXd q(k.dof());
+  for (int i = 0; i < k.dof(); ++i) q[i] = k.lower()[i] + u(rng) * (k.upper()[i] - k.lower()[i]);
+  return q;
+}
+}  // namespace
+
+TEST(SphereCover, EverySamplePointOfEveryLinkIsInsideASphere) {
+  Arm arm = built_in_arm();
+  for (std::size_t l = 0; l < arm.model.links.size(); ++l) {
+    const auto& shapes = arm.model.links[l].collision;
+    if (shapes.empty()) continue;
+    std::vector<tools::Sphere> spheres;
+    for (const auto& s : arm.spheres)
+      if (s.link == int(l)) spheres.push_back({s.center, s.radius});
+    ASSERT_FALSE(spheres.empty()) << arm.model.links[l].name;
+    EXPECT_LE(spheres.size(), 32u);
+    // Check on a finer sampling than the one the cover was built from.
+    for (const auto& p : tools::sample_solid(shapes, 0.0025)) {
+      bool inside = false;
+      for (const auto& s : spheres) inside |= (p - s.center).norm() <= s.radius + 1e-9;
+      ASSERT_TRUE(inside) << arm.model.links[l].name << " point " << p.transpose();
+    }
+  }
+}
+
+TEST(Collision, FastLayerNeverSaysFreeWhereExactLayerCollides) {
+  Arm arm = built_in_arm();
+  Kinematics kin(arm.model, "dmgarm_link0", "dmgarm_tcp");
+  kin.set_joint_value("dmgarm_finger_joint1", 0.03);
+  Scene scene = shelf_scene();
+  auto sdf = test::analytic_sdf(scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.4), Eigen::Vector3d(1.2, 1.2, 1.6)),
+                                0.02, 0.3);
+  SphereFieldChecker fast(kin, arm.spheres, sdf, 0.3);
+  ExactChecker exact(kin, scene);
+  TwoLayerChecker both_layers(fast, exact);
+  std::mt19937_64 rng(42);
+  int fast_free = 0, exact_free = 0;
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    Eigen::VectorXd q = random_q(kin, rng);
+    const bool f = fast.is_free(q), e = exact.is_free(q);
+    fast_free += f;
+    exact_free += e;
+    ASSERT_FALSE(f && !e) << "fast layer said free where FCL collides: q = " << q.transpose() << " ("
+                          << exact.check(q).contact << ")";
+    ASSERT_EQ(both_layers.is_free(q), e) << "the two-layer answer must be the exact answer";
+  }
+  // The sphere layer must settle the environment on its own most of the time, or it is no layer.
+  const long full = both_layers.counters().exact_full.load();
+  EXPECT_LT(full, long(n) / 2) << "full exact checks: " << full << " of " << n;
+  RecordProperty("fast_free", fast_free);
+  RecordProperty("exact_full", int(full));
+  RecordProperty("exact_free", exact_free);
+}
+
+TEST(Collision, HomePoseIsFreeAndObstaclesAtTheHandAreCaught) {
+  Arm arm = built_in_arm();
+  Kinematics kin(arm.model, "dmgarm_link0", "dmgarm_tcp");
+  Eigen::VectorXd home(7);
+  home << 0, -0.785, 0, -2.356, 0, 1.571, 0.785;
+  Scene empty;
+  empty.objects.push_back({"far", {box({0.1, 0.1, 0.1}, {3, 3, 3})}});
+  ExactChecker exact(kin, empty);
+  EXPECT_TRUE(exact.check(home).free()) << exact.check(home).contact;
+  auto sdf = test::analytic_sdf(empty, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.4), Eigen::Vector3d(1.2, 1.2, 1.6)), 0.02, 0.3);
+  SphereFieldChecker fast(kin, arm.spheres, sdf, 0.3);
+  // Home folds link 7 close to link 5: the spheres may not tell, the two layers must.
+  EXPECT_TRUE(TwoLayerChecker(fast, exact).is_free(home));
+  // A box around the tool centre point collides in both layers.
+  Scene blocked = empty;
+  const Eigen::Vector3d tcp = kin.tip_pose(home).translation();
+  blocked.objects.push_back({"block", {box({0.05, 0.05, 0.05}, tcp)}});
+  ExactChecker exact2(kin, blocked);
+  auto sdf2 = test::analytic_sdf(blocked, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.4), Eigen::Vector3d(1.2, 1.2, 1.6)), 0.02, 0.3);
+  SphereFieldChecker fast2(kin, arm.spheres, sdf2, 0.3);
+  EXPECT_FALSE(exact2.is_free(home));
+  EXPECT_FALSE(fast2.is_free(home));
+  EXPECT_NE(exact2.check(home).contact.find("block"), std::string::npos);
+}
+
+TEST(Collision, SelfCollisionRespectsAllowedPairs) {
+  Arm arm = built_in_arm();
+  Kinematics kin(arm.model, "dmgarm_link0", "dmgarm_tcp");
+  Scene empty;
+  empty.objects.push_back({"far", {box({0.1, 0.1, 0.1}, {3, 3, 3})}});
+  ExactChecker exact(kin, empty);
+  auto sdf = test::analytic_sdf(empty, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.4), Eigen::Vector3d(1.2, 1.2, 1.6)), 0.02, 0.3);
+  SphereFieldChecker fast(kin, arm.spheres, sdf, 0.3);
+  std::mt19937_64 rng(9);
+  int self_hits = 0;
+  for (int i = 0; i < 5000; ++i) {
+    Eigen::VectorXd q = random_q(kin, rng);
+    auto e = exact.check(q);
+    self_hits += !e.self_free;
+    if (fast.is_free(q)) {
+      ASSERT_TRUE(e.free()) << e.contact;
+    }
+  }
+  EXPECT_GT(self_hits, 0) << "random configurations of a 7-DOF arm fold into themselves sometimes";
+}
+
+TEST(Collision, HeldObjectIsCheckedAndMayTouchTheFingers) {
+  Arm arm = built_in_arm();
+  Kinematics kin(arm.model, "dmgarm_link0", "dmgarm_tcp");
+  Eigen::VectorXd home(7);
+  home << 0, -0.785, 0, -2.356, 0, 1.571, 0.785;
+  Scene scene;
+  scene.objects.push_back({"far", {box({0.1, 0.1, 0.1}, {3, 3, 3})}});
+  ExactChecker exact(kin, scene);
+  const int tcp = arm.model.link_index("dmgarm_tcp");
+  std::vector<int> fingers{arm.model.link_index("dmgarm_leftfinger"), arm.model.link_index("dmgarm_rightfinger")};
+  // A 6 cm cube held between the fingers.
+  Shape cube = box({0.06, 0.06, 0.06}, Eigen::Vector3d::Zero());
+  TriMesh mesh = [&] {
+    TriMesh m;
+    m.vertices.resize(8, 3);
+    for (int i = 0; i < 8; ++i) m.vertices.row(i) << (i & 1 ? 0.03 : -0.03), (i & 2 ? 0.03 : -0.03), (i & 4 ? 0.03 : -0.03);
+    m.triangles.resize(12, 3);
+    m.triangles << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5;
+    return m;
+  }();
+  auto held = exact.with_attached(mesh, tcp, Eigen::Isometry3d::Identity(), fingers);
+  EXPECT_TRUE(held.check(home).free()) << held.check(home).contact;
+  // Put an obstacle where only the object is: the base checker says free, the grasp's says no.
+  const Eigen::Vector3d below = kin.tip_pose(home) * Eigen::Vector3d(0, 0, 0.0);
+  Scene s2 = scene;
+  s2.objects.push_back({"pin", {box({0.01, 0.01, 0.01}, below + Eigen::Vector3d(0, 0, -0.025))}});
+  ExactChecker e2(kin, s2);
+  auto held2 = e2.with_attached(mesh, tcp, Eigen::Isometry3d::Identity(), fingers);
+  EXPECT_FALSE(held2.is_free(home));
+  EXPECT_NE(held2.check(home).contact.find("held object"), std::string::npos);
+  (void)cube;
+}

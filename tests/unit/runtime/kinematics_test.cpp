@@ -1,0 +1,153 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "dmgplace/formats/error.hpp"
+#include "dmgplace/runtime/robot/ik.hpp"
+#include "dmgplace/runtime/robot/kinematics.hpp"
+#include "dmgplace/tools/io/urdf_reader.hpp"
+#include "test_support.hpp"
+
+using namespace dmgplace;
+using namespace dmgplace::runtime;
+
+namespace {
+// Planar 2R arm in the x-y plane: link lengths 0.5 and 0.3, plus a fixed tool offset 0.1.
+RobotModel planar_arm() {
+  RobotModel m;
+  m.name = "planar";
+  for (auto n : {"base", "l1", "l2", "tool"}) m.links.push_back({n, {}});
+  Joint j1;
+  j1.name = "j1"; j1.type = JointType::Revolute; j1.parent = 0; j1.child = 1; j1.lower = -3; j1.upper = 3;
+  Joint j2 = j1;
+  j2.name = "j2"; j2.parent = 1; j2.child = 2; j2.origin.translation() = Eigen::Vector3d(0.5, 0, 0);
+  Joint j3;
+  j3.name = "tool"; j3.type = JointType::Fixed; j3.parent = 2; j3.child = 3;
+  j3.origin.translation() = Eigen::Vector3d(0.4, 0, 0);
+  m.joints = {j1, j2, j3};
+  return m;
+}
+
+RobotModel load(const std::filesystem::path& urdf, const std::filesystem::path& pkg = {}) {
+  tools::UrdfOptions o;
+  if (!pkg.empty()) o.package_paths.push_back(pkg);
+  return tools::read_urdf(urdf, o);
+}
+
+Eigen::VectorXd random_q(const Kinematics& k, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0, 1);
+  Eigen::VectorXd q(k.dof());
+  for (int i = 0; i < k.dof(); ++i) q[i] = k.lower()[i] + u(rng) * (k.upper()[i] - k.lower()[i]);
+  return q;
+}
+
+void expect_jacobian_matches_finite_differences(const Kinematics& k, int samples) {
+  std::mt19937_64 rng(11);
+  Jacobian J;
+  for (int s = 0; s < samples; ++s) {
+    Eigen::VectorXd q = random_q(k, rng);
+    k.jacobian(q, J);
+    const Eigen::Isometry3d t0 = k.tip_pose(q);
+    const double h = 1e-7;
+    for (int c = 0; c < k.dof(); ++c) {
+      Eigen::VectorXd qh = q;
+      qh[c] += h;
+      const Eigen::Isometry3d t1 = k.tip_pose(qh);
+      Eigen::Vector3d v = (t1.translation() - t0.translation()) / h;
+      Eigen::AngleAxisd aa(t1.linear() * t0.linear().transpose());
+      Eigen::Vector3d w = aa.axis() * aa.angle() / h;
+      EXPECT_LT((J.block<3, 1>(0, c) - v).norm(), 1e-5) << "column " << c;
+      EXPECT_LT((J.block<3, 1>(3, c) - w).norm(), 1e-5) << "column " << c;
+    }
+  }
+}
+
+void expect_ik_round_trips(const Kinematics& k, int samples, double min_success) {
+  IkSolver ik(k);
+  std::mt19937_64 rng(21);
+  int ok = 0;
+  for (int s = 0; s < samples; ++s) {
+    Eigen::VectorXd q = random_q(k, rng);
+    Eigen::Isometry3d target = k.tip_pose(q);
+    Eigen::VectorXd seed = random_q(k, rng);
+    IkResult r = ik.solve(target, seed, rng);
+    if (!r.success) continue;
+    ++ok;
+    EXPECT_TRUE(k.within_limits(r.q));
+    Eigen::Isometry3d back = k.tip_pose(r.q);
+    EXPECT_LT((back.translation() - target.translation()).norm(), 1.1e-4);
+    EXPECT_LT(Eigen::AngleAxisd(back.linear() * target.linear().transpose()).angle(), 1.1e-3);
+  }
+  EXPECT_GE(double(ok) / samples, min_success);
+}
+}  // namespace
+
+TEST(Kinematics, PlanarArmMatchesAnalyticForwardKinematicsAndJacobian) {
+  Kinematics k(planar_arm(), "base", "tool");
+  ASSERT_EQ(k.dof(), 2);
+  std::mt19937_64 rng(1);
+  Jacobian J;
+  for (int s = 0; s < 100; ++s) {
+    Eigen::VectorXd q = random_q(k, rng);
+    const double a = q[0], b = q[0] + q[1];
+    Eigen::Vector3d p(0.5 * std::cos(a) + 0.4 * std::cos(b), 0.5 * std::sin(a) + 0.4 * std::sin(b), 0);
+    EXPECT_LT((k.tip_pose(q).translation() - p).norm(), 1e-12);
+    k.jacobian(q, J);
+    EXPECT_NEAR(J(0, 0), -p.y(), 1e-12);
+    EXPECT_NEAR(J(1, 0), p.x(), 1e-12);
+    EXPECT_NEAR(J(0, 1), -0.4 * std::sin(b), 1e-12);
+    EXPECT_NEAR(J(5, 1), 1.0, 1e-12);
+    std::vector<Eigen::Isometry3d> poses;
+    k.link_poses(q, poses);
+    EXPECT_TRUE(poses[3].isApprox(k.tip_pose(q)));
+  }
+}
+
+TEST(Kinematics, RejectsChainsThatDoNotExist) {
+  EXPECT_THROW(Kinematics(planar_arm(), "base", "nope"), Error);
+  EXPECT_THROW(Kinematics(planar_arm(), "tool", "base"), Error);
+}
+
+TEST(Kinematics, BuiltInArmJacobianMatchesFiniteDifferencesAndIkRoundTrips) {
+  auto m = load(test::source_dir() / "datasets/robots/dmgarm/dmgarm.urdf");
+  Kinematics k(m, "dmgarm_link0", "dmgarm_tcp");
+  ASSERT_EQ(k.dof(), 7);
+  expect_jacobian_matches_finite_differences(k, 50);
+  expect_ik_round_trips(k, 200, 0.97);
+}
+
+TEST(Kinematics, PandaMatchesItsPublishedZeroPoseAndRoundTrips) {
+  DMGPLACE_REQUIRE_SHARED();
+  auto root = test::shared_datasets() / "panda";
+  auto m = load(root / "moveit_resources_panda_description/urdf/panda.urdf", root);
+  Kinematics k(m, "panda_link0", "panda_link8");
+  ASSERT_EQ(k.dof(), 7);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(7);
+  // The Panda's flange at q = 0 is at (a7, 0, d1 + d3 + d5 - d_flange) = (0.088, 0, 0.926).
+  EXPECT_LT((k.tip_pose(q).translation() - Eigen::Vector3d(0.088, 0, 0.926)).norm(), 1e-9);
+  expect_jacobian_matches_finite_differences(k, 50);
+  expect_ik_round_trips(k, 200, 0.97);
+  // Fingers follow their mimic joint: both open by the same amount.
+  k.set_joint_value("panda_finger_joint1", 0.03);
+  std::vector<Eigen::Isometry3d> poses;
+  k.link_poses(q, poses);
+  const auto& l = poses[std::size_t(m.link_index("panda_leftfinger"))];
+  const auto& r = poses[std::size_t(m.link_index("panda_rightfinger"))];
+  EXPECT_NEAR((l.translation() - r.translation()).norm(), 0.06, 1e-9);
+}
+
+TEST(Ik, ReportsWhyItFails) {
+  Kinematics k(planar_arm(), "base", "tool");
+  IkSolver ik(k);
+  std::mt19937_64 rng(3);
+  Eigen::Isometry3d far = Eigen::Isometry3d::Identity();
+  far.translation() = Eigen::Vector3d(5, 0, 0);
+  IkResult r = ik.solve(far, Eigen::VectorXd::Zero(2), rng);
+  EXPECT_FALSE(r.success);
+  EXPECT_NE(r.reason.find("not converged"), std::string::npos);
+  Eigen::Isometry3d nan = Eigen::Isometry3d::Identity();
+  nan.translation().x() = NAN;
+  r = ik.solve(nan, Eigen::VectorXd::Zero(2), rng);
+  EXPECT_FALSE(r.success);
+  EXPECT_NE(r.reason.find("invalid target"), std::string::npos);
+}

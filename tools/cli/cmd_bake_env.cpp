@@ -1,0 +1,37 @@
+#include <iostream>
+
+#include "cli_util.hpp"
+#include "commands.hpp"
+#include "dmgplace/formats/environment_artifact.hpp"
+#include "dmgplace/formats/error.hpp"
+#include "dmgplace/tools/io/scene_loader.hpp"
+
+namespace dmgplace::cli {
+
+int run_bake_env(const BakeEnvArgs& a) {
+  formats::EnvironmentArtifact env;
+  const auto& v = a.volume;
+  env.volume = Eigen::AlignedBox3d(Eigen::Vector3d(v[0], v[1], v[2]), Eigen::Vector3d(v[3], v[4], v[5]));
+  if (!env.volume.min().allFinite() || !env.volume.max().allFinite() ||
+      (env.volume.min().array() >= env.volume.max().array()).any())
+    throw Error("--volume", "", "needs xmin,ymin,zmin,xmax,ymax,zmax with each min below its max");
+  tools::SceneLoadOptions opts;
+  for (const auto& p : a.package_paths) opts.urdf.package_paths.emplace_back(p);
+  if (a.frame) {
+    const auto& f = *a.frame;
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    t.translation() = Eigen::Vector3d(f[0], f[1], f[2]);
+    t.linear() = (Eigen::AngleAxisd(f[5], Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(f[4], Eigen::Vector3d::UnitY()) *
+                  Eigen::AngleAxisd(f[3], Eigen::Vector3d::UnitX())).toRotationMatrix();
+    opts.scan_frame = t;
+  }
+  env.scene = tools::load_scene(a.scene, opts);
+  nlohmann::json params = {{"scene", a.scene}, {"volume", a.volume}};
+  if (a.frame) params["frame"] = *a.frame;
+  env.header = make_header(params, {a.scene});
+  formats::save_environment(std::move(env), a.out);
+  report_written(a.out);
+  return 0;
+}
+
+}  // namespace dmgplace::cli

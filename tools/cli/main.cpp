@@ -1,0 +1,117 @@
+// The dmgplace command line: the only file that sees CLI11.
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <iostream>
+#include <sstream>
+
+#include "commands.hpp"
+#include "dmgplace/formats/artifact_header.hpp"
+#include "dmgplace/formats/error.hpp"
+
+namespace {
+
+// "a,b,c" -> exactly N finite numbers, or an error naming the flag.
+template <std::size_t N>
+std::array<double, N> parse_numbers(const std::string& text, const std::string& flag) {
+  std::array<double, N> out{};
+  std::stringstream ss(text);
+  std::string item;
+  std::size_t i = 0;
+  while (std::getline(ss, item, ',')) {
+    if (i >= N) break;
+    try {
+      std::size_t used = 0;
+      out[i] = std::stod(item, &used);
+      if (used != item.size() || !std::isfinite(out[i])) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw dmgplace::Error(flag, "", "'" + item + "' is not a finite number");
+    }
+    ++i;
+  }
+  if (i != N || std::getline(ss, item, ','))
+    throw dmgplace::Error(flag, "", "expected " + std::to_string(N) + " comma-separated numbers, got '" + text + "'");
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace dmgplace::cli;
+  CLI::App app{"dmgplace: placement planning with in-hand regrasping (Dexterous Manipulation Graphs)"};
+  app.set_version_flag("--version", dmgplace::formats::tool_version());
+  app.require_subcommand(1);
+
+  ValidateArgs validate;
+  auto* c_validate = app.add_subcommand("validate", "Check artifacts: schema, checksums, invariants; one line per problem");
+  c_validate->add_option("files", validate.files, "Artifact files (.h5)")->required();
+  c_validate->add_flag("--quiet,-q", validate.quiet, "Print only problems");
+
+  InspectArgs inspect;
+  auto* c_inspect = app.add_subcommand("inspect", "Summarise an artifact (counts, bounds, parameters)");
+  c_inspect->add_option("file", inspect.file, "Artifact file")->required();
+  c_inspect->add_flag("--json", inspect.json, "Print JSON");
+
+  BakeObjectArgs bake_object;
+  std::string com_text;
+  auto* c_obj = app.add_subcommand("bake-object", "Analyse a rigid object mesh once into OBJECT.h5");
+  c_obj->add_option("mesh", bake_object.mesh, "Mesh file (STL, OBJ, PLY, DAE)")->required();
+  c_obj->add_option("--scale", bake_object.scale, "Unit scale (0.001 for millimetre files)")->check(CLI::PositiveNumber);
+  c_obj->add_option("--com", com_text, "Centre of mass x,y,z in the mesh frame (metres), overrides the computed one");
+  c_obj->add_option("--mass", bake_object.mass, "Mass in kg (default: volume x 1000 kg/m^3)")->check(CLI::PositiveNumber);
+  c_obj->add_option("--out", bake_object.out, "Output artifact")->required();
+
+  BakeEnvArgs bake_env;
+  std::string volume_text, frame_text;
+  auto* c_env = app.add_subcommand("bake-env", "Analyse an environment once into ENV.h5");
+  c_env->add_option("scene", bake_env.scene, "Scene: URDF of fixed links, PlanningScene YAML, mesh or PCD scan")->required();
+  c_env->add_option("--volume", volume_text, "Target volume xmin,ymin,zmin,xmax,ymax,zmax (metres)")->required();
+  c_env->add_option("--frame", frame_text, "Scan pose in the world: x,y,z,roll,pitch,yaw");
+  c_env->add_option("--package-path", bake_env.package_paths, "Where package:// resources are found");
+  c_env->add_option("--out", bake_env.out, "Output artifact")->required();
+
+  BakeRobotArgs bake_robot;
+  auto* c_robot = app.add_subcommand("bake-robot", "Analyse a robot (URDF + SRDF) once into ROBOT.h5");
+  c_robot->add_option("urdf", bake_robot.urdf, "Robot URDF")->required();
+  c_robot->add_option("--srdf", bake_robot.srdf, "SRDF with disabled collision pairs");
+  c_robot->add_option("--package-path", bake_robot.package_paths, "Where package:// resources are found");
+  c_robot->add_option("--arm", bake_robot.arm, "Planning chain BASE_LINK:TIP_LINK")->required();
+  c_robot->add_option("--sphere-max-radius", bake_robot.sphere_max_radius,
+                      "Split a link's spheres until none is larger (m)")->check(CLI::PositiveNumber);
+  c_robot->add_option("--sphere-spacing", bake_robot.sphere_spacing,
+                      "Sample spacing that the sphere cover is checked on (m)")->check(CLI::PositiveNumber);
+  c_robot->add_option("--out", bake_robot.out, "Output artifact")->required();
+
+  MakeObjectsArgs make_objects;
+  auto* c_make = app.add_subcommand("make-objects", "Write the built-in procedural object meshes (eraser, bottle)");
+  c_make->add_option("--out", make_objects.out_dir, "Output folder")->required();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+
+  try {
+    if (*c_validate) return run_validate(validate);
+    if (*c_inspect) return run_inspect(inspect);
+    if (*c_obj) {
+      if (!com_text.empty()) bake_object.com = parse_numbers<3>(com_text, "--com");
+      return run_bake_object(bake_object);
+    }
+    if (*c_env) {
+      bake_env.volume = parse_numbers<6>(volume_text, "--volume");
+      if (!frame_text.empty()) bake_env.frame = parse_numbers<6>(frame_text, "--frame");
+      return run_bake_env(bake_env);
+    }
+    if (*c_robot) return run_bake_robot(bake_robot);
+    if (*c_make) return run_make_objects(make_objects);
+  } catch (const dmgplace::Error& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "error: unexpected failure: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,72 @@
+#include "dmgplace/tools/io/mesh_reader.hpp"
+
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <assimp/Importer.hpp>
+#include <cmath>
+#include <system_error>
+#include <vector>
+
+#include "dmgplace/formats/error.hpp"
+
+namespace dmgplace::tools {
+namespace {
+
+// Appends every triangle below `node`, vertices moved by the accumulated node transform.
+void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent, std::vector<Eigen::Vector3d>& verts,
+             std::vector<Eigen::Vector3i>& tris) {
+  const aiMatrix4x4 world = parent * node.mTransformation;
+  for (unsigned m = 0; m < node.mNumMeshes; ++m) {
+    const aiMesh& mesh = *scene.mMeshes[node.mMeshes[m]];
+    const int base = int(verts.size());
+    for (unsigned i = 0; i < mesh.mNumVertices; ++i) {
+      const aiVector3D p = world * mesh.mVertices[i];
+      verts.emplace_back(p.x, p.y, p.z);
+    }
+    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+      const aiFace& face = mesh.mFaces[f];
+      if (face.mNumIndices != 3) continue;  // points and lines are not surfaces
+      tris.emplace_back(base + int(face.mIndices[0]), base + int(face.mIndices[1]), base + int(face.mIndices[2]));
+    }
+  }
+  for (unsigned c = 0; c < node.mNumChildren; ++c) collect(scene, *node.mChildren[c], world, verts, tris);
+}
+
+}  // namespace
+
+TriMesh read_mesh(const std::filesystem::path& path, const MeshReadOptions& options, MeshReport* report) {
+  const std::string file = path.string();
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw Error(file, "", "file not found");
+  if (!std::filesystem::is_regular_file(path, ec)) throw Error(file, "", "not a regular file");
+  const Eigen::Vector3d scale = options.scale * options.axis_scale;
+  if (!scale.allFinite() || (scale.array() == 0).any()) throw Error(file, "scale", "scale must be finite and non-zero");
+
+  Assimp::Importer importer;
+  // Keep the file's own axes: robot meshes are z-up; assimp would turn Collada z-up into y-up.
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
+  const aiScene* scene = importer.ReadFile(file, aiProcess_JoinIdenticalVertices | aiProcess_Triangulate);
+  if (!scene) throw Error(file, "", std::string("cannot read mesh: ") + importer.GetErrorString());
+  if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode)
+    throw Error(file, "", "cannot read mesh: the file is incomplete");
+
+  std::vector<Eigen::Vector3d> verts;
+  std::vector<Eigen::Vector3i> tris;
+  collect(*scene, *scene->mRootNode, aiMatrix4x4(), verts, tris);
+  if (tris.empty()) throw Error(file, "", "no triangles in the file (not a surface mesh?)");
+
+  TriMesh mesh;
+  mesh.vertices.resize(Eigen::Index(verts.size()), 3);
+  for (std::size_t i = 0; i < verts.size(); ++i) mesh.vertices.row(Eigen::Index(i)) = verts[i].cwiseProduct(scale);
+  const bool mirrored = scale.prod() < 0;  // a mirror turns faces inside out: swap the winding back
+  mesh.triangles.resize(Eigen::Index(tris.size()), 3);
+  for (std::size_t f = 0; f < tris.size(); ++f)
+    mesh.triangles.row(Eigen::Index(f)) =
+        mirrored ? Eigen::RowVector3i(tris[f][0], tris[f][2], tris[f][1]) : Eigen::RowVector3i(tris[f].transpose());
+
+  MeshReport local;
+  return clean_mesh(mesh, file, report ? *report : local, options.repair);
+}
+
+}  // namespace dmgplace::tools

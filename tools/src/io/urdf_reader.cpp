@@ -1,0 +1,273 @@
+#include "dmgplace/tools/io/urdf_reader.hpp"
+
+#include <console_bridge/console.h>
+#include <tinyxml2.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+#include "dmgplace/formats/error.hpp"
+#include "dmgplace/tools/io/mesh_reader.hpp"
+#include "dmgplace/tools/io/resource_path.hpp"
+
+namespace dmgplace::tools {
+namespace fs = std::filesystem;
+namespace {
+
+// urdfdom reports its parse errors only through console_bridge: collect them for the Error.
+class CaptureLog : public console_bridge::OutputHandler {
+ public:
+  CaptureLog() { console_bridge::useOutputHandler(this); }
+  ~CaptureLog() override { console_bridge::restorePreviousOutputHandler(); }
+  CaptureLog(const CaptureLog&) = delete;
+  CaptureLog& operator=(const CaptureLog&) = delete;
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) errors += (errors.empty() ? "" : "; ") + text;
+  }
+  std::string errors;
+};
+
+std::string quoted(const std::string& kind, const std::string& name) { return kind + " '" + name + "'"; }
+
+Eigen::Isometry3d to_isometry(const urdf::Pose& p) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.translation() << p.position.x, p.position.y, p.position.z;
+  Eigen::Quaterniond q(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z);
+  t.linear() = q.normalized().toRotationMatrix();
+  return t;
+}
+
+Eigen::Vector3d to_vector(const urdf::Vector3& v) { return {v.x, v.y, v.z}; }
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(path.string(), "", "cannot open file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+Shape convert_geometry(const urdf::Geometry& g, const std::string& file, const std::string& where,
+                       const fs::path& base_dir, const UrdfOptions& options) {
+  Shape s;
+  auto positive = [&](double v, const std::string& what) {
+    if (!std::isfinite(v) || v <= 0) throw Error(file, where, what + " must be positive and finite");
+    return v;
+  };
+  switch (g.type) {
+    case urdf::Geometry::BOX: {
+      const auto& d = static_cast<const urdf::Box&>(g).dim;
+      s.type = ShapeType::Box;
+      s.size << positive(d.x, "box size x"), positive(d.y, "box size y"), positive(d.z, "box size z");
+      return s;
+    }
+    case urdf::Geometry::CYLINDER: {
+      const auto& c = static_cast<const urdf::Cylinder&>(g);
+      s.type = ShapeType::Cylinder;
+      s.size << positive(c.radius, "cylinder radius"), positive(c.length, "cylinder length"), 0;
+      return s;
+    }
+    case urdf::Geometry::SPHERE:
+      s.type = ShapeType::Sphere;
+      s.size << positive(static_cast<const urdf::Sphere&>(g).radius, "sphere radius"), 0, 0;
+      return s;
+    case urdf::Geometry::MESH: {
+      const auto& m = static_cast<const urdf::Mesh&>(g);
+      std::vector<fs::path> tried;
+      const fs::path found = resolve_resource(m.filename, base_dir, options.package_paths, &tried);
+      if (found.empty())
+        throw Error(file, where, "mesh '" + m.filename + "' not found (looked for " + describe_candidates(tried) + ")");
+      MeshReadOptions ro;
+      ro.axis_scale = to_vector(m.scale);
+      s.type = ShapeType::Mesh;
+      s.size = ro.axis_scale;
+      try {
+        s.mesh = read_mesh(found, ro);
+      } catch (const Error& e) {
+        throw Error(file, where, e.what());
+      }
+      return s;
+    }
+  }
+  throw Error(file, where, "unknown geometry type");
+}
+
+Link convert_link(const urdf::Link& l, const std::string& file, const fs::path& base_dir, const UrdfOptions& options) {
+  Link link;
+  link.name = l.name;
+  for (std::size_t i = 0; i < l.collision_array.size(); ++i) {
+    const auto& c = l.collision_array[i];
+    const std::string where = quoted("link", l.name) + " collision " + std::to_string(i);
+    if (!c || !c->geometry) throw Error(file, where, "no geometry");
+    Shape s = convert_geometry(*c->geometry, file, where, base_dir, options);
+    s.origin = to_isometry(c->origin);
+    link.collision.push_back(std::move(s));
+  }
+  return link;
+}
+
+Joint convert_joint(const urdf::Joint& j, const RobotModel& model, const std::string& file) {
+  const std::string where = quoted("joint", j.name);
+  Joint joint;
+  joint.name = j.name;
+  switch (j.type) {
+    case urdf::Joint::FIXED:
+      joint.type = JointType::Fixed;
+      break;
+    case urdf::Joint::REVOLUTE:
+      joint.type = JointType::Revolute;
+      break;
+    case urdf::Joint::CONTINUOUS:
+      joint.type = JointType::Continuous;
+      break;
+    case urdf::Joint::PRISMATIC:
+      joint.type = JointType::Prismatic;
+      break;
+    case urdf::Joint::FLOATING:
+      throw Error(file, where, "type floating is not supported (only fixed, revolute, continuous, prismatic)");
+    case urdf::Joint::PLANAR:
+      throw Error(file, where, "type planar is not supported (only fixed, revolute, continuous, prismatic)");
+    default:
+      throw Error(file, where, "unknown joint type");
+  }
+  joint.parent = model.link_index(j.parent_link_name);
+  joint.child = model.link_index(j.child_link_name);
+  joint.origin = to_isometry(j.parent_to_joint_origin_transform);
+
+  const Eigen::Vector3d axis = to_vector(j.axis);
+  if (joint.type == JointType::Fixed) {
+    joint.axis = axis.allFinite() && axis.norm() > 1e-12 ? axis.normalized() : Eigen::Vector3d::UnitZ();
+    return joint;
+  }
+  if (!axis.allFinite() || axis.norm() < 1e-12) throw Error(file, where + " axis", "axis must be a non-zero vector");
+  joint.axis = axis.normalized();
+
+  if (j.limits) {
+    joint.velocity = j.limits->velocity;
+    if (!std::isfinite(joint.velocity) || joint.velocity < 0)
+      throw Error(file, where + " limit", "velocity must be finite and >= 0");
+  }
+  if (joint.type == JointType::Continuous) {
+    joint.lower = -std::numbers::pi, joint.upper = std::numbers::pi;  // one turn: the joint wraps
+    return joint;
+  }
+  if (!j.limits) throw Error(file, where, "needs a <limit> element");
+  joint.lower = j.limits->lower, joint.upper = j.limits->upper;
+  if (!std::isfinite(joint.lower) || !std::isfinite(joint.upper))
+    throw Error(file, where + " limit", "lower and upper must be finite numbers");
+  if (joint.lower > joint.upper)
+    throw Error(file, where + " limit",
+                "lower " + std::to_string(joint.lower) + " is above upper " + std::to_string(joint.upper));
+  return joint;
+}
+
+}  // namespace
+
+RobotModel read_urdf(const fs::path& urdf, const UrdfOptions& options) {
+  const std::string file = urdf.string();
+  std::error_code ec;
+  if (!fs::is_regular_file(urdf, ec)) throw Error(file, "", "file not found");
+  const std::string text = read_text(urdf);
+
+  urdf::ModelInterfaceSharedPtr parsed;
+  {
+    CaptureLog log;
+    try {
+      parsed = urdf::parseURDF(text);
+    } catch (const std::exception& e) {
+      throw Error(file, "", std::string("not a valid URDF: ") + e.what());
+    }
+    if (!parsed)
+      throw Error(file, "", "not a valid URDF: " + (log.errors.empty() ? "urdfdom rejected it" : log.errors));
+  }
+  const auto root = parsed->getRoot();
+  if (!root) throw Error(file, "", "no root link");
+
+  RobotModel model;
+  model.name = parsed->getName();
+  const fs::path base_dir = urdf.parent_path();
+  // Depth-first from the root so every joint's parent link comes before its child link.
+  std::vector<urdf::LinkConstSharedPtr> order, stack{root};
+  while (!stack.empty()) {
+    const auto link = stack.back();
+    stack.pop_back();
+    order.push_back(link);
+    std::vector<urdf::LinkSharedPtr> children = link->child_links;
+    std::sort(children.begin(), children.end(), [](const auto& a, const auto& b) { return a->name > b->name; });
+    for (const auto& c : children) stack.push_back(c);
+  }
+  for (const auto& l : order) model.links.push_back(convert_link(*l, file, base_dir, options));
+  for (const auto& l : order)
+    if (l->parent_joint) model.joints.push_back(convert_joint(*l->parent_joint, model, file));
+
+  // Mimic targets need every joint in place first.
+  for (const auto& l : order) {
+    const auto& j = l->parent_joint;
+    if (!j || !j->mimic) continue;
+    Joint& joint = model.joints[std::size_t(model.joint_index(j->name))];
+    const std::string where = quoted("joint", j->name) + " mimic";
+    joint.mimic = model.joint_index(j->mimic->joint_name);
+    if (joint.mimic < 0) throw Error(file, where, "unknown joint '" + j->mimic->joint_name + "'");
+    if (j->mimic->joint_name == j->name) throw Error(file, where, "a joint cannot mimic itself");
+    joint.mimic_multiplier = j->mimic->multiplier;
+    joint.mimic_offset = j->mimic->offset;
+    if (!std::isfinite(joint.mimic_multiplier) || !std::isfinite(joint.mimic_offset))
+      throw Error(file, where, "multiplier and offset must be finite");
+  }
+  return model;
+}
+
+void apply_srdf(RobotModel& model, const fs::path& srdf) {
+  const std::string file = srdf.string();
+  std::error_code ec;
+  if (!fs::is_regular_file(srdf, ec)) throw Error(file, "", "file not found");
+  tinyxml2::XMLDocument doc;
+  if (doc.LoadFile(file.c_str()) != tinyxml2::XML_SUCCESS)
+    throw Error(file, "", std::string("not valid XML: ") + (doc.ErrorStr() ? doc.ErrorStr() : "?"));
+  const tinyxml2::XMLElement* robot = doc.RootElement();
+  if (!robot || std::string(robot->Name()) != "robot") throw Error(file, "", "the root element is not <robot>");
+
+  for (auto* e = robot->FirstChildElement("disable_collisions"); e; e = e->NextSiblingElement("disable_collisions")) {
+    const std::string where = "disable_collisions (line " + std::to_string(e->GetLineNum()) + ")";
+    int idx[2];
+    for (int k = 0; k < 2; ++k) {
+      const char* attr = k == 0 ? "link1" : "link2";
+      const char* name = e->Attribute(attr);
+      if (!name) throw Error(file, where, std::string("missing attribute ") + attr);
+      idx[k] = model.link_index(name);
+      if (idx[k] < 0)
+        throw Error(file, where,
+                    std::string(attr) + ": unknown link '" + name + "' (not in robot '" + model.name + "')");
+    }
+    if (idx[0] == idx[1]) continue;  // a link never collides with itself anyway
+    const std::pair<int, int> pair{std::min(idx[0], idx[1]), std::max(idx[0], idx[1])};
+    if (std::find(model.allowed_pairs.begin(), model.allowed_pairs.end(), pair) == model.allowed_pairs.end())
+      model.allowed_pairs.push_back(pair);
+  }
+}
+
+void set_arm_chain(RobotModel& model, const std::string& base, const std::string& tip, const std::string& file) {
+  const int b = model.link_index(base), t = model.link_index(tip);
+  if (b < 0) throw Error(file, "arm base", "unknown link '" + base + "'");
+  if (t < 0) throw Error(file, "arm tip", "unknown link '" + tip + "'");
+  if (b == t) throw Error(file, "arm chain", "base and tip are the same link '" + base + "'");
+  // Walk up from the tip through parent joints; a tree has at most links.size() steps.
+  for (int link = t, steps = 0; steps <= int(model.links.size()); ++steps) {
+    const auto up =
+        std::find_if(model.joints.begin(), model.joints.end(), [&](const Joint& j) { return j.child == link; });
+    if (up == model.joints.end()) break;
+    link = up->parent;
+    if (link == b) {
+      model.arm_base = base;
+      model.arm_tip = tip;
+      return;
+    }
+  }
+  throw Error(file, "arm chain", "tip '" + tip + "' does not descend from base '" + base + "'");
+}
+
+}  // namespace dmgplace::tools

@@ -1,0 +1,102 @@
+#include "dmgplace/tools/robot/sphere_cover.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "dmgplace/tools/geometry/tessellate.hpp"
+
+namespace dmgplace::tools {
+namespace {
+
+// Generalised winding number: ~1 inside a closed outward mesh, ~0 outside (robust to small gaps).
+double winding_number(const TriMesh& m, const Eigen::Vector3d& p) {
+  double total = 0;
+  for (Eigen::Index t = 0; t < m.triangles.rows(); ++t) {
+    Eigen::Vector3d a = m.vertices.row(m.triangles(t, 0)).transpose() - p;
+    Eigen::Vector3d b = m.vertices.row(m.triangles(t, 1)).transpose() - p;
+    Eigen::Vector3d c = m.vertices.row(m.triangles(t, 2)).transpose() - p;
+    const double la = a.norm(), lb = b.norm(), lc = c.norm();
+    const double num = a.dot(b.cross(c));
+    const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+    total += 2 * std::atan2(num, den);
+  }
+  return total / (4 * M_PI);
+}
+
+void sample_surface(const TriMesh& m, double spacing, std::vector<Eigen::Vector3d>& out) {
+  for (Eigen::Index t = 0; t < m.triangles.rows(); ++t) {
+    const Eigen::Vector3d a = m.vertices.row(m.triangles(t, 0)).transpose();
+    const Eigen::Vector3d b = m.vertices.row(m.triangles(t, 1)).transpose();
+    const Eigen::Vector3d c = m.vertices.row(m.triangles(t, 2)).transpose();
+    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+    const int n = std::max(1, int(std::ceil(longest / spacing)));
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j) out.push_back(a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n));
+  }
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3d> sample_solid(const std::vector<Shape>& shapes, double spacing) {
+  std::vector<Eigen::Vector3d> pts;
+  for (const auto& s : shapes) {
+    TriMesh m = tessellate(s, 24);
+    sample_surface(m, spacing, pts);
+    Eigen::AlignedBox3d box;
+    for (Eigen::Index i = 0; i < m.vertices.rows(); ++i) box.extend(m.vertices.row(i).transpose());
+    // Interior on a coarser grid (every 2 spacings): interior points only matter for the volume.
+    const double step = 2 * spacing;
+    for (double x = box.min().x() + step / 2; x < box.max().x(); x += step)
+      for (double y = box.min().y() + step / 2; y < box.max().y(); y += step)
+        for (double z = box.min().z() + step / 2; z < box.max().z(); z += step) {
+          Eigen::Vector3d p(x, y, z);
+          if (winding_number(m, p) > 0.5) pts.push_back(p);
+        }
+  }
+  return pts;
+}
+
+std::vector<Sphere> cover_with_spheres(const std::vector<Shape>& shapes, const SphereCoverOptions& opt) {
+  std::vector<Eigen::Vector3d> pts = sample_solid(shapes, opt.sample_spacing);
+  if (pts.empty()) return {};
+  // Recursive bisection along the widest axis of each cluster's bounding box until every cluster's
+  // bounding sphere is small enough: deterministic, and balanced along long links.
+  // Recursive bisection along the widest axis of the cluster that over-approximates most, until
+  // every sphere is tight. Tightness: radius minus half the median bounding-box extent (a slice of
+  // a cylinder of radius r has excess sqrt(r^2 + t^2/4) - r, which shrinks as slices thin).
+  struct Cluster { std::vector<int> idx; Eigen::Vector3d center; double radius, excess; Eigen::AlignedBox3d box; };
+  auto make = [&](std::vector<int> idx) {
+    Eigen::AlignedBox3d box;
+    for (int i : idx) box.extend(pts[std::size_t(i)]);
+    Cluster c{std::move(idx), box.center(), 0, 0, box};
+    for (int i : c.idx) c.radius = std::max(c.radius, (pts[std::size_t(i)] - c.center).norm());
+    Eigen::Vector3d e = box.sizes();
+    std::sort(e.data(), e.data() + 3);
+    c.excess = c.radius > opt.max_radius ? c.radius : c.radius - 0.5 * e[1];
+    return c;
+  };
+  std::vector<int> all(pts.size());
+  std::iota(all.begin(), all.end(), 0);
+  std::vector<Cluster> clusters{make(all)};
+  while (int(clusters.size()) < opt.max_spheres) {
+    auto worst = std::max_element(clusters.begin(), clusters.end(),
+                                  [](const Cluster& a, const Cluster& b) { return a.excess < b.excess; });
+    if (worst->excess <= opt.max_excess || worst->idx.size() < 2) break;
+    int axis;
+    worst->box.sizes().maxCoeff(&axis);
+    const double mid = worst->box.center()[axis];
+    std::vector<int> lo, hi;
+    for (int i : worst->idx) (pts[std::size_t(i)][axis] < mid ? lo : hi).push_back(i);
+    if (lo.empty() || hi.empty()) break;
+    *worst = make(std::move(lo));
+    clusters.push_back(make(std::move(hi)));
+  }
+  std::vector<Sphere> out;
+  // Inflate by the sample spacing: any geometry point is within one spacing of a sample.
+  for (const auto& c : clusters) out.push_back({c.center, c.radius + opt.sample_spacing});
+  return out;
+}
+
+}  // namespace dmgplace::tools
