@@ -8,11 +8,17 @@ find_package(assimp REQUIRED)
 find_package(urdfdom REQUIRED)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(TINYXML2 REQUIRED IMPORTED_TARGET tinyxml2)
-find_package(PCL 1.12 REQUIRED COMPONENTS common io)
+find_package(PCL 1.12 REQUIRED COMPONENTS common io features filters kdtree sample_consensus search segmentation)
 find_package(CGAL REQUIRED)
+find_package(embree 3 REQUIRED)
 find_package(Threads REQUIRED)
 find_package(fcl 0.7 REQUIRED)
 find_package(octomap REQUIRED)
+find_package(ompl REQUIRED)
+# OMPL ships no imported target.
+add_library(dmgplace_ompl INTERFACE)
+target_include_directories(dmgplace_ompl SYSTEM INTERFACE ${OMPL_INCLUDE_DIRS})
+target_link_libraries(dmgplace_ompl INTERFACE ${OMPL_LIBRARIES})
 
 # HDF5 as one imported target with SYSTEM includes.
 add_library(dmgplace_hdf5 INTERFACE)
@@ -23,7 +29,7 @@ target_compile_definitions(dmgplace_hdf5 INTERFACE ${HDF5_DEFINITIONS})
 # PCL: only the modules we use (PCL_LIBRARIES would drag in VTK).
 add_library(dmgplace_pcl INTERFACE)
 target_include_directories(dmgplace_pcl SYSTEM INTERFACE ${PCL_INCLUDE_DIRS})
-target_link_libraries(dmgplace_pcl INTERFACE pcl_common pcl_io)
+target_link_libraries(dmgplace_pcl INTERFACE pcl_common pcl_io pcl_features pcl_filters pcl_kdtree pcl_sample_consensus pcl_search pcl_segmentation)
 
 add_library(dmgplace_urdfdom INTERFACE)
 target_include_directories(dmgplace_urdfdom SYSTEM INTERFACE ${urdfdom_INCLUDE_DIRS})

@@ -46,7 +46,7 @@ World& world() {
     w.kin->set_joint_value("panda_finger_joint1", 0.04);
     w.scene = tools::load_scene(shared / "mbm_problems/bookshelf_small_panda/scene0001.yaml");
     w.sdf = test::analytic_sdf(w.scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.3), Eigen::Vector3d(1.6, 1.2, 1.7)),
-                               0.01, 0.2);
+                               std::getenv("SDF_RES") ? std::atof(std::getenv("SDF_RES")) : 0.01, 0.2);
     w.fast = std::make_unique<runtime::SphereFieldChecker>(*w.kin, w.spheres, w.sdf, 0.2);
     w.exact = std::make_unique<runtime::ExactChecker>(*w.kin, w.scene);
     std::mt19937_64 rng(1);

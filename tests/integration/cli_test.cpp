@@ -43,7 +43,7 @@ TEST(Cli, BakesValidatesAndInspectsTheBuiltInObjects) {
   CliRun j = run("inspect --json " + q(dir / "eraser.h5"));
   ASSERT_EQ(j.code, 0) << j.out;
   auto doc = nlohmann::json::parse(j.out);
-  EXPECT_EQ(doc["schema"], "dmgplace.object v1");
+  EXPECT_EQ(doc["schema"], "dmgplace.object v2");
   EXPECT_EQ(doc["inputs"].size(), 1u);
   // The eraser is a box: its volume integral is exact and its COM is its centre.
   auto obj = dmgplace::formats::load_object(dir / "eraser.h5");

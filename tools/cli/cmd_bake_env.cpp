@@ -4,6 +4,7 @@
 #include "commands.hpp"
 #include "dmgplace/formats/environment_artifact.hpp"
 #include "dmgplace/formats/error.hpp"
+#include "dmgplace/tools/env/bake_environment.hpp"
 #include "dmgplace/tools/io/scene_loader.hpp"
 
 namespace dmgplace::cli {
@@ -26,7 +27,17 @@ int run_bake_env(const BakeEnvArgs& a) {
     opts.scan_frame = t;
   }
   env.scene = tools::load_scene(a.scene, opts);
-  nlohmann::json params = {{"scene", a.scene}, {"volume", a.volume}};
+  tools::EnvBakeOptions bake;
+  bake.resolution = a.resolution;
+  bake.band = a.band;
+  bake.clearance_band = a.clearance_band;
+  bake.regions.split_size = a.region_split;
+  bake.regions.min_free_height = a.min_free_height;
+  tools::bake_environment(env, bake);
+  nlohmann::json params = {{"scene", a.scene},       {"volume", a.volume},
+                           {"resolution", a.resolution}, {"band", a.band},
+                           {"clearance_band", a.clearance_band}, {"region_split", a.region_split},
+                           {"min_free_height", a.min_free_height}};
   if (a.frame) params["frame"] = *a.frame;
   env.header = make_header(params, {a.scene});
   formats::save_environment(std::move(env), a.out);

@@ -4,7 +4,10 @@
 #include "commands.hpp"
 #include "dmgplace/formats/object_artifact.hpp"
 #include "dmgplace/tools/io/mesh_reader.hpp"
+#include "dmgplace/tools/object/dmg_builder.hpp"
+#include "dmgplace/tools/object/gripper_model.hpp"
 #include "dmgplace/tools/object/mass_properties.hpp"
+#include "dmgplace/tools/object/placement_faces.hpp"
 
 namespace dmgplace::cli {
 
@@ -20,9 +23,30 @@ int run_bake_object(const BakeObjectArgs& a) {
     obj.mass.com = Eigen::Vector3d((*a.com)[0], (*a.com)[1], (*a.com)[2]);
     obj.mass.com_overridden = true;
   }
-  nlohmann::json params = {{"mesh", a.mesh}, {"scale", a.scale}, {"mass", a.mass}};
+  tools::PlacementOptions place;
+  place.merge_angle = a.face_merge_angle;
+  place.margin = a.stability_margin;
+  obj.placement = tools::compute_placement_faces(obj.mesh, obj.mass.com, place, a.mesh);
+  const auto gripper = a.gripper.empty() ? tools::default_gripper() : tools::load_gripper_yaml(a.gripper);
+  tools::DmgOptions dmg;
+  dmg.seed_resolution = a.seed_resolution;
+  dmg.angle_step_deg = a.angle_step;
+  dmg.normal_threshold = a.normal_threshold;
+  obj.dmg = tools::build_dmg(obj.mesh, gripper, dmg, a.mesh);
+
+  nlohmann::json params = {{"mesh", a.mesh},
+                           {"scale", a.scale},
+                           {"mass", a.mass},
+                           {"gripper", a.gripper.empty() ? "built-in dmgarm hand" : a.gripper},
+                           {"seed_resolution", a.seed_resolution},
+                           {"angle_step", a.angle_step},
+                           {"normal_threshold", a.normal_threshold},
+                           {"face_merge_angle", a.face_merge_angle},
+                           {"stability_margin", a.stability_margin}};
   if (a.com) params["com"] = *a.com;
-  obj.header = make_header(params, {a.mesh});
+  std::vector<std::filesystem::path> inputs{a.mesh};
+  if (!a.gripper.empty()) inputs.emplace_back(a.gripper);
+  obj.header = make_header(params, inputs);
   formats::save_object(std::move(obj), a.out);
   report_written(a.out);
   return 0;

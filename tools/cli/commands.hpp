@@ -1,6 +1,7 @@
 #pragma once
 // One plain function per subcommand; the command line itself (CLI11) lives only in main.cpp.
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,24 +19,58 @@ struct BakeObjectArgs {
   double scale = 1.0;
   std::optional<std::array<double, 3>> com;
   double mass = 0;  // <= 0: from volume at 1000 kg/m^3
+  std::string gripper;              // YAML; empty: the built-in dmgarm hand
+  double seed_resolution = 0.01;    // DMG patch size (m)
+  double angle_step = 10;           // DMG finger angle step (deg)
+  double normal_threshold = 0.07;   // DMG facets: |n_i - n_j|^2 below this
+  double face_merge_angle = 0.2;    // placement faces (rad)
+  double stability_margin = 0.01;   // placement faces (m), scaled down for small objects
 };
 int run_bake_object(const BakeObjectArgs& a);
+
+struct GraspsArgs {
+  std::string object;
+  std::array<double, 7> initial{};  // TCP pose in the object frame: x y z qx qy qz qw
+  double opening = -1;              // < 0: not used when snapping
+  bool json = false;
+};
+int run_grasps(const GraspsArgs& a);
 
 struct BakeEnvArgs {
   std::string scene, out;
   std::array<double, 6> volume{};
   std::optional<std::array<double, 6>> frame;  // x y z roll pitch yaw for scans
   std::vector<std::string> package_paths;
+  double resolution = 0.01;      // distance grid and region cells (m)
+  double band = 0.10;            // distance field clamp (m)
+  double clearance_band = 0.25;  // clearance field clamp (m)
+  double region_split = 0.30;    // split regions longer than this (m)
+  double min_free_height = 0.02; // least free space above a region cell (m)
 };
 int run_bake_env(const BakeEnvArgs& a);
 
 struct BakeRobotArgs {
   std::string urdf, srdf, arm, out;
-  double sphere_max_radius = 0.08;  // metres
+  double sphere_max_radius = 0.08;  // metres (SphereCoverOptions default)
   double sphere_spacing = 0.005;    // metres between coverage samples
   std::vector<std::string> package_paths;
 };
 int run_bake_robot(const BakeRobotArgs& a);
+
+struct PlanArgs {
+  std::string scene, request, robot, out;
+  double time_limit = 10, resolution = 0.01, sdf_resolution = 0.02;
+  std::uint64_t seed = 1;
+};
+int run_plan(const PlanArgs& a);
+
+struct BenchMbmArgs {
+  std::vector<std::string> dirs;
+  std::string robot, csv;
+  int runs = 1, limit = 0;
+  double time_limit = 10, resolution = 0.01;
+};
+int run_bench_mbm(const BenchMbmArgs& a);
 
 struct MakeObjectsArgs { std::string out_dir; };
 int run_make_objects(const MakeObjectsArgs& a);

@@ -59,7 +59,21 @@ int main(int argc, char** argv) {
   c_obj->add_option("--scale", bake_object.scale, "Unit scale (0.001 for millimetre files)")->check(CLI::PositiveNumber);
   c_obj->add_option("--com", com_text, "Centre of mass x,y,z in the mesh frame (metres), overrides the computed one");
   c_obj->add_option("--mass", bake_object.mass, "Mass in kg (default: volume x 1000 kg/m^3)")->check(CLI::PositiveNumber);
+  c_obj->add_option("--gripper", bake_object.gripper, "Gripper YAML (default: the built-in dmgarm hand)");
+  c_obj->add_option("--seed-resolution", bake_object.seed_resolution, "DMG patch size (m)")->check(CLI::PositiveNumber);
+  c_obj->add_option("--angle-step", bake_object.angle_step, "DMG finger angle step (deg, divides 360)")->check(CLI::PositiveNumber);
+  c_obj->add_option("--normal-threshold", bake_object.normal_threshold, "DMG facets: |n_i - n_j|^2 below this")->check(CLI::PositiveNumber);
+  c_obj->add_option("--face-merge-angle", bake_object.face_merge_angle, "Placement faces: merge hull facets closer than this (rad)")->check(CLI::NonNegativeNumber);
+  c_obj->add_option("--stability-margin", bake_object.stability_margin, "Placement faces: COM margin (m)")->check(CLI::NonNegativeNumber);
   c_obj->add_option("--out", bake_object.out, "Output artifact")->required();
+
+  GraspsArgs grasps;
+  std::string initial_text;
+  auto* c_grasps = app.add_subcommand("grasps", "Grasps reachable in-hand from an initial grasp (DMG + Dijkstra)");
+  c_grasps->add_option("object", grasps.object, "Object artifact (OBJECT.h5)")->required();
+  c_grasps->add_option("--initial", initial_text, "Initial TCP pose in the object frame: x,y,z,qx,qy,qz,qw")->required();
+  c_grasps->add_option("--opening", grasps.opening, "Initial finger opening (m)")->check(CLI::NonNegativeNumber);
+  c_grasps->add_flag("--json", grasps.json, "Print JSON");
 
   BakeEnvArgs bake_env;
   std::string volume_text, frame_text;
@@ -68,6 +82,11 @@ int main(int argc, char** argv) {
   c_env->add_option("--volume", volume_text, "Target volume xmin,ymin,zmin,xmax,ymax,zmax (metres)")->required();
   c_env->add_option("--frame", frame_text, "Scan pose in the world: x,y,z,roll,pitch,yaw");
   c_env->add_option("--package-path", bake_env.package_paths, "Where package:// resources are found");
+  c_env->add_option("--resolution", bake_env.resolution, "Distance grid and region cell size (m)")->check(CLI::PositiveNumber);
+  c_env->add_option("--band", bake_env.band, "Distance field clamp (m)")->check(CLI::PositiveNumber);
+  c_env->add_option("--clearance-band", bake_env.clearance_band, "Clearance field clamp (m)")->check(CLI::PositiveNumber);
+  c_env->add_option("--region-split", bake_env.region_split, "Split regions longer than this (m)")->check(CLI::PositiveNumber);
+  c_env->add_option("--min-free-height", bake_env.min_free_height, "Least free space above a region cell (m)")->check(CLI::NonNegativeNumber);
   c_env->add_option("--out", bake_env.out, "Output artifact")->required();
 
   BakeRobotArgs bake_robot;
@@ -81,6 +100,27 @@ int main(int argc, char** argv) {
   c_robot->add_option("--sphere-spacing", bake_robot.sphere_spacing,
                       "Sample spacing that the sphere cover is checked on (m)")->check(CLI::PositiveNumber);
   c_robot->add_option("--out", bake_robot.out, "Output artifact")->required();
+
+  PlanArgs plan;
+  auto* c_plan = app.add_subcommand("plan", "Plan one MoveIt/MotionBenchMaker problem (scene + joint-space request)");
+  c_plan->add_option("scene", plan.scene, "PlanningScene YAML")->required();
+  c_plan->add_option("request", plan.request, "MotionPlanRequest YAML with a joint-space goal")->required();
+  c_plan->add_option("--robot", plan.robot, "Robot artifact from bake-robot")->required();
+  c_plan->add_option("--time-limit", plan.time_limit, "Seconds")->check(CLI::PositiveNumber);
+  c_plan->add_option("--resolution", plan.resolution, "Motion check step in radians")->check(CLI::PositiveNumber);
+  c_plan->add_option("--sdf-resolution", plan.sdf_resolution, "Workspace distance grid cell (m)")->check(CLI::PositiveNumber);
+  c_plan->add_option("--seed", plan.seed, "Random seed");
+  c_plan->add_option("--out", plan.out, "Write the path as JSON");
+
+  BenchMbmArgs bench_mbm;
+  auto* c_bench = app.add_subcommand("bench-mbm", "Run MotionBenchMaker problem folders with ours and stock OMPL RRTConnect+FCL");
+  c_bench->add_option("dirs", bench_mbm.dirs, "Problem folders (sceneNNNN.yaml + requestNNNN.yaml)")->required();
+  c_bench->add_option("--robot", bench_mbm.robot, "Robot artifact from bake-robot")->required();
+  c_bench->add_option("--runs", bench_mbm.runs, "Runs per problem and planner")->check(CLI::PositiveNumber);
+  c_bench->add_option("--limit", bench_mbm.limit, "Use only the first N problems of each folder");
+  c_bench->add_option("--time-limit", bench_mbm.time_limit, "Seconds per run")->check(CLI::PositiveNumber);
+  c_bench->add_option("--resolution", bench_mbm.resolution, "Motion check step in radians")->check(CLI::PositiveNumber);
+  c_bench->add_option("--csv", bench_mbm.csv, "Write every run as CSV");
 
   MakeObjectsArgs make_objects;
   auto* c_make = app.add_subcommand("make-objects", "Write the built-in procedural object meshes (eraser, bottle)");
@@ -99,6 +139,10 @@ int main(int argc, char** argv) {
       if (!com_text.empty()) bake_object.com = parse_numbers<3>(com_text, "--com");
       return run_bake_object(bake_object);
     }
+    if (*c_grasps) {
+      grasps.initial = parse_numbers<7>(initial_text, "--initial");
+      return run_grasps(grasps);
+    }
     if (*c_env) {
       bake_env.volume = parse_numbers<6>(volume_text, "--volume");
       if (!frame_text.empty()) bake_env.frame = parse_numbers<6>(frame_text, "--frame");
@@ -106,6 +150,8 @@ int main(int argc, char** argv) {
     }
     if (*c_robot) return run_bake_robot(bake_robot);
     if (*c_make) return run_make_objects(make_objects);
+    if (*c_plan) return run_plan(plan);
+    if (*c_bench) return run_bench_mbm(bench_mbm);
   } catch (const dmgplace::Error& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 1;

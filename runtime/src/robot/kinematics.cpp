@@ -58,6 +58,7 @@ Kinematics::Kinematics(const RobotModel& model, const std::string& base, const s
       }
     }
   if (order_.size() != nj) throw Error(model_.name, "joints", "kinematic loop");
+  base_is_root_ = parent_joint[std::size_t(base_)] < 0;
 }
 
 void Kinematics::set_joint_value(const std::string& joint, double value) {
@@ -99,9 +100,9 @@ void Kinematics::link_poses(const Eigen::VectorXd& q, std::vector<Eigen::Isometr
     const auto& jt = model_.joints[std::size_t(j)];
     poses[std::size_t(jt.child)] = poses[std::size_t(jt.parent)] * joint_motion(j, joint_value(j, q));
   }
+  if (base_is_root_) return;
   const Eigen::Isometry3d to_base = poses[std::size_t(base_)].inverse();
-  if (!to_base.isApprox(Eigen::Isometry3d::Identity()))
-    for (auto& p : poses) p = to_base * p;
+  for (auto& p : poses) p = to_base * p;
 }
 
 Eigen::Isometry3d Kinematics::tip_pose(const Eigen::VectorXd& q) const {

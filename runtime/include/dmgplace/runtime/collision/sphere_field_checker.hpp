@@ -31,6 +31,7 @@ struct SphereCheck {
   std::array<std::pair<int, int>, kMaxPairs> pairs{};
   int pair_count = 0;
   bool pairs_overflow = false;
+  bool attached_involved = false;  // a flagged pair involves the held object
   bool outside_grid = false;  // a sphere left the distance grid: only the exact layer can tell
   double min_clearance = 0;   // smallest (distance - radius - margin) seen, metres
   bool free() const { return environment_free && self_free; }
@@ -50,25 +51,32 @@ class SphereFieldChecker {
   bool is_free(const Eigen::VectorXd& q) const { return check(q).free(); }
 
   std::size_t sphere_count() const { return spheres_.size(); }
-  // True when a flagged pair involves the link carrying an attached object (whose spheres share
-  // that link's index), so a robot-only exact pair check would not cover it.
-  bool is_attached_link_pair(const std::pair<int, int>& p) const {
-    return attached_link_ >= 0 && (p.first == attached_link_ || p.second == attached_link_);
-  }
   double interpolation_margin() const { return margin_; }
 
  private:
-  struct Pair { int a, b; };
-  void build_pairs();
+  // A body is one link's spheres (or the attached object's), with a bounding sphere that is
+  // tested first: most bodies are far from obstacles and from each other, so one lookup settles them.
+  struct Body {
+    int link = -1;
+    int begin = 0, end = 0;  // sphere range
+    Eigen::Vector3d center = Eigen::Vector3d::Zero();
+    double radius = 0;
+    bool moving = false;
+    bool attached = false;
+  };
+  struct Pair { int a, b; };  // body indices
+  void build_bodies();
   const Kinematics* kin_;
-  std::vector<formats::LinkSphere> spheres_;  // robot + attached, link frames
-  std::vector<char> check_env_;               // per sphere: link moves with q
-  std::vector<Pair> pairs_;                   // sphere pairs checked for self-collision
+  std::vector<formats::LinkSphere> spheres_;  // robot + attached, link frames, grouped by body
+  std::vector<Body> bodies_;
+  std::vector<Pair> pairs_;                   // body pairs checked for self-collision
   std::vector<std::pair<int, int>> allowed_;  // link pairs
+  std::vector<int> touching_;                 // links the attached object may touch
   std::shared_ptr<const Grid3> sdf_;
   double band_, padding_, margin_;
   Eigen::Vector3d lo_, hi_;  // grid bounds
-  int attached_link_ = -1;
+  int attached_link_ = -1;   // link carrying the attached object, -1 when none
+  int attached_begin_ = 0;   // first sphere of the attached object
 };
 
 }  // namespace dmgplace::runtime

@@ -27,7 +27,7 @@ class TwoLayerChecker {
     if (f.free()) return true;
     // Spheres clear of the environment but overlapping between some links: check only those
     // link pairs exactly (the held object is among the spheres, so it is covered by the fast env test).
-    if (f.environment_free && !f.pairs_overflow && !held_object_pairs(f)) {
+    if (f.environment_free && !f.pairs_overflow && !f.attached_involved) {
       ++counters_->exact_pairs;
       return exact_.link_pairs_free(q, f.pairs.data(), f.pair_count);
     }
@@ -39,11 +39,6 @@ class TwoLayerChecker {
   const CheckCounters& counters() const { return *counters_; }
 
  private:
-  bool held_object_pairs(const SphereCheck& f) const {
-    for (int i = 0; i < f.pair_count; ++i)
-      if (fast_.is_attached_link_pair(f.pairs[std::size_t(i)])) return true;
-    return false;
-  }
   SphereFieldChecker fast_;
   ExactChecker exact_;
   std::shared_ptr<CheckCounters> counters_;

@@ -31,6 +31,7 @@ class Grid3 {
  private:
   Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
   double resolution_ = 1.0;
+  double inv_resolution_ = 1.0;
   std::array<int, 3> dims_{0, 0, 0};
   std::vector<float> values_;
 };

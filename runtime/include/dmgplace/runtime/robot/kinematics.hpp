@@ -45,6 +45,7 @@ class Kinematics {
 
   RobotModel model_;
   int base_ = -1, tip_ = -1;
+  bool base_is_root_ = false;
   std::vector<int> chain_joints_;        // independent moving joints from base to tip
   std::vector<int> path_joints_;         // every joint from base to tip (fixed included), in order
   std::vector<int> order_;               // joints in topological order (parents first)

@@ -1,0 +1,20 @@
+#pragma once
+// The joint space of an arm chain as OMPL sees it: bounds from the joint limits, validity from a
+// collision checker, and motions checked every `resolution` radians (L2 step, so no joint moves
+// more than that between checks).
+#include <ompl/base/SpaceInformation.h>
+
+#include <functional>
+
+#include "dmgplace/runtime/robot/kinematics.hpp"
+
+namespace dmgplace::runtime {
+
+using ValidityFn = std::function<bool(const Eigen::VectorXd&)>;
+
+ompl::base::SpaceInformationPtr make_arm_space(const Kinematics& kin, ValidityFn valid, double resolution);
+
+// Every segment of `path` valid when checked at `resolution` (max joint step).
+bool path_valid(const std::vector<std::vector<double>>& path, const ValidityFn& valid, double resolution);
+
+}  // namespace dmgplace::runtime

@@ -1,0 +1,84 @@
+#pragma once
+// An anytime multi-goal RRT-Connect (an ompl::base::Planner): one forward tree from the start, one
+// backward tree per goal. Goals can be added and removed from another thread while solve() runs;
+// when a backward tree connects, the path is reported at once (shortcut and re-validated) and
+// planning continues toward the remaining goals.
+#include <ompl/base/Planner.h>
+#include <ompl/datastructures/NearestNeighbors.h>
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <random>
+#include <vector>
+
+namespace dmgplace::runtime {
+
+using JointPath = std::vector<std::vector<double>>;
+
+struct FoundPath {
+  int goal_id = -1;
+  JointPath path;        // start ... goal, every segment valid at the motion resolution
+  double length = 0;     // joint-space length
+  double time_found = 0; // seconds since solve() started
+};
+
+class MultiGoalRRTConnect : public ompl::base::Planner {
+ public:
+  explicit MultiGoalRRTConnect(const ompl::base::SpaceInformationPtr& si);
+  ~MultiGoalRRTConnect() override;
+
+  // Thread-safe while solve() runs. A goal state must be valid; invalid goals are ignored
+  // (reported by the return value).
+  bool add_goal(int id, const std::vector<double>& q);
+  void remove_goal(int id);
+  std::size_t goal_count() const;
+  // Paths found since the last call (thread-safe).
+  std::vector<FoundPath> take_paths();
+  // Called (from the solving thread) for each path as soon as it is found.
+  void set_path_callback(std::function<void(const FoundPath&)> cb) { callback_ = std::move(cb); }
+  // Optional last word on a path before it is reported (e.g. an exact checker); false drops it.
+  void set_path_validator(std::function<bool(const JointPath&)> v) { validator_ = std::move(v); }
+  void set_range(double r) { range_ = r; }
+  void set_seed(std::uint64_t seed) { rng_.seed(seed); }
+  // solve() keeps going after a connection until the condition says stop (anytime mode) or, when
+  // false, returns after the first path (single-query mode).
+  void set_anytime(bool anytime) { anytime_ = anytime; }
+
+  ompl::base::PlannerStatus solve(const ompl::base::PlannerTerminationCondition& ptc) override;
+  void clear() override;
+  void setup() override;
+  void getPlannerData(ompl::base::PlannerData& data) const override;
+
+  struct Node;
+  struct Tree;
+
+ private:
+  enum class Grow { Trapped, Advanced, Reached };
+  Grow extend(Tree& tree, const std::vector<double>& target, Node*& added);
+  Grow connect(Tree& tree, const std::vector<double>& target, Node*& added);
+  void take_pending();
+  FoundPath make_path(Node* from_start, Node* from_goal, int goal_id);
+  void shortcut(JointPath& path);
+  bool motion_valid(const std::vector<double>& a, const std::vector<double>& b) const;
+  bool state_valid(const std::vector<double>& q) const;
+  void sample(std::vector<double>& q);
+  double distance(const std::vector<double>& a, const std::vector<double>& b) const;
+
+  std::unique_ptr<Tree> start_tree_;
+  std::map<int, std::unique_ptr<Tree>> goal_trees_;
+  mutable std::mutex mutex_;
+  std::vector<std::pair<int, std::vector<double>>> pending_add_;
+  std::vector<int> pending_remove_;
+  std::vector<FoundPath> found_;
+  std::function<void(const FoundPath&)> callback_;
+  std::function<bool(const JointPath&)> validator_;
+  std::mt19937_64 rng_{1};
+  double range_ = 0;  // 0: 20% of the space's maximum extent
+  bool anytime_ = true;
+  std::size_t dim_ = 0;
+  std::vector<double> lo_, hi_;
+};
+
+}  // namespace dmgplace::runtime

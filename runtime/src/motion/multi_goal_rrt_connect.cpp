@@ -1,0 +1,261 @@
+#include "dmgplace/runtime/motion/multi_goal_rrt_connect.hpp"
+
+#include <ompl/base/PlannerData.h>
+#include <ompl/base/ProblemDefinition.h>
+#include <ompl/base/ScopedState.h>
+#include <ompl/base/spaces/RealVectorStateSpace.h>
+#include <ompl/datastructures/NearestNeighborsGNATNoThreadSafety.h>
+#include <ompl/geometric/PathGeometric.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+namespace ob = ompl::base;
+
+namespace dmgplace::runtime {
+
+struct MultiGoalRRTConnect::Node {
+  std::vector<double> q;
+  Node* parent = nullptr;
+};
+
+struct MultiGoalRRTConnect::Tree {
+  std::vector<std::unique_ptr<Node>> nodes;
+  std::unique_ptr<ompl::NearestNeighbors<Node*>> nn;
+  Node* add(std::vector<double> q, Node* parent) {
+    nodes.push_back(std::make_unique<Node>(Node{std::move(q), parent}));
+    nn->add(nodes.back().get());
+    return nodes.back().get();
+  }
+};
+
+MultiGoalRRTConnect::MultiGoalRRTConnect(const ob::SpaceInformationPtr& si) : ob::Planner(si, "MultiGoalRRTConnect") {
+  specs_.multithreaded = false;
+  specs_.directed = false;
+}
+
+MultiGoalRRTConnect::~MultiGoalRRTConnect() = default;
+
+void MultiGoalRRTConnect::setup() {
+  ob::Planner::setup();
+  dim_ = si_->getStateDimension();
+  auto* rv = si_->getStateSpace()->as<ob::RealVectorStateSpace>();
+  lo_ = rv->getBounds().low;
+  hi_ = rv->getBounds().high;
+  if (range_ <= 0) range_ = 0.2 * si_->getMaximumExtent();
+}
+
+void MultiGoalRRTConnect::clear() {
+  ob::Planner::clear();
+  start_tree_.reset();
+  std::lock_guard<std::mutex> lock(mutex_);
+  goal_trees_.clear();
+  pending_add_.clear();
+  pending_remove_.clear();
+  found_.clear();
+}
+
+namespace {
+std::unique_ptr<MultiGoalRRTConnect::Tree> new_tree(
+    const std::function<double(MultiGoalRRTConnect::Node* const&, MultiGoalRRTConnect::Node* const&)>& dist) {
+  auto t = std::make_unique<MultiGoalRRTConnect::Tree>();
+  t->nn = std::make_unique<ompl::NearestNeighborsGNATNoThreadSafety<MultiGoalRRTConnect::Node*>>();
+  t->nn->setDistanceFunction(dist);
+  return t;
+}
+}  // namespace
+
+double MultiGoalRRTConnect::distance(const std::vector<double>& a, const std::vector<double>& b) const {
+  double s = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) s += (a[i] - b[i]) * (a[i] - b[i]);
+  return std::sqrt(s);
+}
+
+bool MultiGoalRRTConnect::state_valid(const std::vector<double>& q) const {
+  thread_local ob::State* scratch = nullptr;
+  thread_local const ob::SpaceInformation* owner = nullptr;
+  if (owner != si_.get()) {
+    scratch = si_->allocState();  // one per thread and space; kept for the thread's life
+    owner = si_.get();
+  }
+  si_->getStateSpace()->copyFromReals(scratch, q);
+  return si_->isValid(scratch);
+}
+
+bool MultiGoalRRTConnect::motion_valid(const std::vector<double>& a, const std::vector<double>& b) const {
+  // Discrete checks no further apart than the space's longest valid segment (the resolution).
+  const double step = si_->getStateSpace()->getLongestValidSegmentLength();
+  const int n = std::max(1, int(std::ceil(distance(a, b) / step)));
+  std::vector<double> q(a.size());
+  for (int i = 1; i <= n; ++i) {
+    const double t = double(i) / n;
+    for (std::size_t k = 0; k < a.size(); ++k) q[k] = a[k] + t * (b[k] - a[k]);
+    if (!state_valid(q)) return false;
+  }
+  return true;
+}
+
+void MultiGoalRRTConnect::sample(std::vector<double>& q) {
+  q.resize(dim_);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (std::size_t k = 0; k < dim_; ++k) q[k] = lo_[k] + u(rng_) * (hi_[k] - lo_[k]);
+}
+
+MultiGoalRRTConnect::Grow MultiGoalRRTConnect::extend(Tree& tree, const std::vector<double>& target, Node*& added) {
+  Node probe{target, nullptr};
+  Node* near = tree.nn->nearest(&probe);
+  const double d = distance(near->q, target);
+  std::vector<double> q = target;
+  bool reached = true;
+  if (d > range_) {
+    for (std::size_t k = 0; k < q.size(); ++k) q[k] = near->q[k] + (target[k] - near->q[k]) * (range_ / d);
+    reached = false;
+  }
+  if (!motion_valid(near->q, q)) return Grow::Trapped;
+  added = tree.add(std::move(q), near);
+  return reached ? Grow::Reached : Grow::Advanced;
+}
+
+MultiGoalRRTConnect::Grow MultiGoalRRTConnect::connect(Tree& tree, const std::vector<double>& target, Node*& added) {
+  Grow g;
+  do g = extend(tree, target, added);
+  while (g == Grow::Advanced);
+  return g;
+}
+
+bool MultiGoalRRTConnect::add_goal(int id, const std::vector<double>& q) {
+  if (q.size() != si_->getStateDimension() || !state_valid(q)) return false;
+  std::lock_guard<std::mutex> lock(mutex_);
+  pending_add_.emplace_back(id, q);
+  return true;
+}
+
+void MultiGoalRRTConnect::remove_goal(int id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  pending_remove_.push_back(id);
+  pending_add_.erase(std::remove_if(pending_add_.begin(), pending_add_.end(), [&](auto& p) { return p.first == id; }),
+                     pending_add_.end());
+}
+
+std::size_t MultiGoalRRTConnect::goal_count() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return goal_trees_.size() + pending_add_.size();
+}
+
+std::vector<FoundPath> MultiGoalRRTConnect::take_paths() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return std::exchange(found_, {});
+}
+
+void MultiGoalRRTConnect::take_pending() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto dist = [this](Node* const& a, Node* const& b) { return distance(a->q, b->q); };
+  for (auto& [id, q] : pending_add_) {
+    auto t = new_tree(dist);
+    t->add(q, nullptr);
+    goal_trees_[id] = std::move(t);
+  }
+  pending_add_.clear();
+  for (int id : pending_remove_) goal_trees_.erase(id);
+  pending_remove_.clear();
+}
+
+void MultiGoalRRTConnect::shortcut(JointPath& path) {
+  std::uniform_int_distribution<std::size_t> pick;
+  for (int attempt = 0; attempt < 100 && path.size() > 2; ++attempt) {
+    std::size_t i = pick(rng_) % path.size(), j = pick(rng_) % path.size();
+    if (i > j) std::swap(i, j);
+    if (j - i < 2) continue;
+    if (motion_valid(path[i], path[j])) path.erase(path.begin() + std::ptrdiff_t(i) + 1, path.begin() + std::ptrdiff_t(j));
+  }
+}
+
+FoundPath MultiGoalRRTConnect::make_path(Node* a, Node* b, int goal_id) {
+  FoundPath f;
+  f.goal_id = goal_id;
+  for (Node* n = a; n; n = n->parent) f.path.push_back(n->q);
+  std::reverse(f.path.begin(), f.path.end());
+  for (Node* n = b; n; n = n->parent)
+    if (distance(n->q, f.path.back()) > 1e-12) f.path.push_back(n->q);
+  shortcut(f.path);
+  for (std::size_t i = 1; i < f.path.size(); ++i) f.length += distance(f.path[i - 1], f.path[i]);
+  return f;
+}
+
+ob::PlannerStatus MultiGoalRRTConnect::solve(const ob::PlannerTerminationCondition& ptc) {
+  // Goals come through add_goal(), not the problem definition: only a start is required.
+  if (!pdef_ || pdef_->getStartStateCount() == 0) return ob::PlannerStatus::INVALID_START;
+  const auto t0 = std::chrono::steady_clock::now();
+  auto dist = [this](Node* const& a, Node* const& b) { return distance(a->q, b->q); };
+  if (!start_tree_) {
+    const ob::State* st = pis_.nextStart();
+    if (!st) return ob::PlannerStatus::INVALID_START;
+    std::vector<double> q;
+    si_->getStateSpace()->copyToReals(q, st);
+    if (!state_valid(q)) return ob::PlannerStatus::INVALID_START;
+    start_tree_ = new_tree(dist);
+    start_tree_->add(q, nullptr);
+  }
+  std::vector<double> q_rand;
+  std::size_t turn = 0;
+  bool solved = false;
+  while (!ptc) {
+    take_pending();
+    if (goal_trees_.empty()) {
+      if (!anytime_ && solved) break;
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+      continue;
+    }
+    sample(q_rand);
+    // Pick one goal tree per iteration, round robin, so every goal gets attention.
+    auto it = goal_trees_.begin();
+    std::advance(it, std::ptrdiff_t(turn++ % goal_trees_.size()));
+    const int goal_id = it->first;
+    Tree& goal = *it->second;
+    // Alternate which tree grows toward the sample (RRT-Connect).
+    const bool forward = turn % 2 == 0;
+    Tree& grow = forward ? *start_tree_ : goal;
+    Tree& other = forward ? goal : *start_tree_;
+    Node* a = nullptr;
+    if (extend(grow, q_rand, a) == Grow::Trapped) continue;
+    Node* b = nullptr;
+    if (connect(other, a->q, b) != Grow::Reached) continue;
+    FoundPath f = forward ? make_path(a, b, goal_id) : make_path(b, a, goal_id);
+    f.time_found = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    goal_trees_.erase(goal_id);  // reported once; the caller decides what to add next
+    if (validator_ && !validator_(f.path)) continue;
+    solved = true;
+    if (callback_) callback_(f);
+    if (pdef_) {
+      auto path = std::make_shared<ompl::geometric::PathGeometric>(si_);
+      ob::State* s = si_->allocState();
+      for (const auto& q : f.path) {
+        si_->getStateSpace()->copyFromReals(s, q);
+        path->append(s);
+      }
+      si_->freeState(s);
+      pdef_->addSolutionPath(path, false, 0.0, getName());
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      found_.push_back(std::move(f));
+    }
+    if (!anytime_) break;
+  }
+  return solved ? ob::PlannerStatus::EXACT_SOLUTION : ob::PlannerStatus::TIMEOUT;
+}
+
+void MultiGoalRRTConnect::getPlannerData(ob::PlannerData& data) const {
+  ob::Planner::getPlannerData(data);
+  if (!start_tree_) return;
+  ob::State* s = si_->allocState();
+  for (const auto& n : start_tree_->nodes) {
+    si_->getStateSpace()->copyFromReals(s, n->q);
+    data.addVertex(ob::PlannerDataVertex(s));
+  }
+  si_->freeState(s);
+}
+
+}  // namespace dmgplace::runtime

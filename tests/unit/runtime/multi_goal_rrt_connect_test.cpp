@@ -1,0 +1,134 @@
+#include <gtest/gtest.h>
+
+#include <ompl/base/ProblemDefinition.h>
+#include <ompl/base/ScopedState.h>
+#include <ompl/base/SpaceInformation.h>
+#include <ompl/base/spaces/RealVectorStateSpace.h>
+
+#include <chrono>
+#include <thread>
+
+#include "dmgplace/runtime/motion/multi_goal_rrt_connect.hpp"
+
+namespace ob = ompl::base;
+using dmgplace::runtime::FoundPath;
+using dmgplace::runtime::MultiGoalRRTConnect;
+
+namespace {
+struct Box { double x0, y0, x1, y1; };
+// A wall with a gap at the top, and a closed enclosure around (8, 2).
+const std::vector<Box> kBoxes = {
+    {4.8, 0, 5.2, 8},                                                   // wall, gap y in (8, 10)
+    {7, 1, 9, 1.2}, {7, 2.8, 9, 3}, {7, 1, 7.2, 3}, {8.8, 1, 9, 3},  // enclosure
+};
+
+bool free_point(double x, double y) {
+  for (const auto& b : kBoxes)
+    if (x >= b.x0 && x <= b.x1 && y >= b.y0 && y <= b.y1) return false;
+  return true;
+}
+
+struct Problem {
+  ob::SpaceInformationPtr si;
+  ob::ProblemDefinitionPtr pdef;
+  std::shared_ptr<MultiGoalRRTConnect> planner;
+};
+
+Problem make(std::uint64_t seed) {
+  auto space = std::make_shared<ob::RealVectorStateSpace>(2);
+  space->setBounds(0, 10);
+  Problem p;
+  p.si = std::make_shared<ob::SpaceInformation>(space);
+  p.si->setStateValidityChecker([](const ob::State* s) {
+    const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
+    return free_point(v->values[0], v->values[1]);
+  });
+  p.si->setStateValidityCheckingResolution(0.002);  // 0.002 * extent ~ 0.028
+  p.si->setup();
+  p.pdef = std::make_shared<ob::ProblemDefinition>(p.si);
+  ob::ScopedState<> start(space);
+  start[0] = 1;
+  start[1] = 1;
+  p.pdef->addStartState(start);
+  p.planner = std::make_shared<MultiGoalRRTConnect>(p.si);
+  p.planner->setProblemDefinition(p.pdef);
+  p.planner->set_seed(seed);
+  p.planner->setup();
+  return p;
+}
+
+// Every segment free when checked far finer than the planner's resolution.
+void expect_valid_path(const FoundPath& f, double gx, double gy) {
+  ASSERT_GE(f.path.size(), 2u);
+  EXPECT_DOUBLE_EQ(f.path.front()[0], 1);
+  EXPECT_DOUBLE_EQ(f.path.front()[1], 1);
+  EXPECT_NEAR(f.path.back()[0], gx, 1e-12);
+  EXPECT_NEAR(f.path.back()[1], gy, 1e-12);
+  for (std::size_t i = 1; i < f.path.size(); ++i) {
+    const auto &a = f.path[i - 1], &b = f.path[i];
+    const int n = 2000;
+    for (int k = 0; k <= n; ++k) {
+      const double t = double(k) / n;
+      ASSERT_TRUE(free_point(a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]))) << "segment " << i;
+    }
+  }
+}
+}  // namespace
+
+TEST(MultiGoalRRTConnect, FindsReachableGoalsNeverWalledOffOrRemovedOnes) {
+  Problem p = make(7);
+  ASSERT_TRUE(p.planner->add_goal(1, {8, 8}));    // behind the wall, through the gap
+  ASSERT_TRUE(p.planner->add_goal(2, {8, 2}));    // walled off: never reachable
+  ASSERT_TRUE(p.planner->add_goal(3, {2, 8}));    // same side as the start
+  ASSERT_TRUE(p.planner->add_goal(4, {9.5, 9.5}));
+  p.planner->remove_goal(4);                      // removed before it could connect
+  EXPECT_FALSE(p.planner->add_goal(5, {5, 4}));   // inside the wall: refused
+  std::vector<FoundPath> found;
+  std::thread solver([&] { p.planner->solve(ob::timedPlannerTerminationCondition(1.5)); });
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(p.planner->add_goal(6, {9.5, 5}));  // added while solving
+  solver.join();
+  found = p.planner->take_paths();
+  std::map<int, FoundPath> by_id;
+  for (auto& f : found) by_id[f.goal_id] = f;
+  EXPECT_EQ(by_id.count(1), 1u);
+  EXPECT_EQ(by_id.count(3), 1u);
+  EXPECT_EQ(by_id.count(6), 1u) << "a goal added mid-run gets connected";
+  EXPECT_EQ(by_id.count(2), 0u) << "walled-off goal reported";
+  EXPECT_EQ(by_id.count(4), 0u) << "removed goal reported";
+  EXPECT_EQ(found.size(), by_id.size()) << "each goal is reported once";
+  if (by_id.count(1)) expect_valid_path(by_id[1], 8, 8);
+  if (by_id.count(3)) expect_valid_path(by_id[3], 2, 8);
+  if (by_id.count(6)) expect_valid_path(by_id[6], 9.5, 5);
+  // The walled-off goal is still being searched for; nothing else remains.
+  EXPECT_EQ(p.planner->goal_count(), 1u);
+}
+
+TEST(MultiGoalRRTConnect, SingleThreadRunsAreDeterministicUnderASeed) {
+  auto run = [](std::uint64_t seed) {
+    Problem p = make(seed);
+    p.planner->set_anytime(false);
+    p.planner->add_goal(1, {8, 8});
+    p.planner->solve(ob::timedPlannerTerminationCondition(5.0));
+    auto f = p.planner->take_paths();
+    return f.empty() ? dmgplace::runtime::JointPath{} : f[0].path;
+  };
+  auto a = run(3), b = run(3), c = run(4);
+  ASSERT_FALSE(a.empty());
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a, c);
+}
+
+TEST(MultiGoalRRTConnect, ValidatorCanRejectAPathAndSingleQueryModeFillsTheProblemDefinition) {
+  Problem p = make(5);
+  p.planner->set_anytime(false);
+  int calls = 0;
+  p.planner->set_path_validator([&](const dmgplace::runtime::JointPath&) { return ++calls > 1; });
+  p.planner->add_goal(1, {2, 8});
+  p.planner->add_goal(2, {3, 9});
+  auto status = p.planner->solve(ob::timedPlannerTerminationCondition(5.0));
+  EXPECT_EQ(status, ob::PlannerStatus::EXACT_SOLUTION);
+  EXPECT_EQ(calls, 2) << "the first path was rejected, the second accepted";
+  EXPECT_TRUE(p.pdef->hasSolution());
+  EXPECT_EQ(p.planner->take_paths().size(), 1u);
+}

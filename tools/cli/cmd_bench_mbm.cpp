@@ -1,0 +1,87 @@
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+
+#include "commands.hpp"
+#include "dmgplace/formats/error.hpp"
+#include "dmgplace/tools/motion/arm_problem.hpp"
+
+namespace dmgplace::cli {
+namespace fs = std::filesystem;
+namespace {
+struct Stats {
+  int runs = 0, solved = 0, valid = 0;
+  std::vector<double> times, lengths;
+};
+
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, std::size_t(q * double(v.size() - 1) + 0.5))];
+}
+
+void add(Stats& s, const tools::PlanOutcome& o) {
+  ++s.runs;
+  s.solved += o.solved;
+  s.valid += o.solved && o.valid;
+  s.times.push_back(o.seconds);  // unsolved runs count with their full time
+  if (o.solved) s.lengths.push_back(o.length);
+}
+
+void print(const std::string& name, const Stats& s) {
+  std::cout << std::left << std::setw(28) << name << " solved " << s.solved << "/" << s.runs << " (valid " << s.valid
+            << "), median " << quantile(s.times, 0.5) * 1e3 << " ms, p95 " << quantile(s.times, 0.95) * 1e3
+            << " ms, median length " << quantile(s.lengths, 0.5) << "\n";
+}
+}  // namespace
+
+int run_bench_mbm(const BenchMbmArgs& a) {
+  std::ofstream csv;
+  if (!a.csv.empty()) {
+    csv.open(a.csv);
+    if (!csv) throw Error(a.csv, "", "cannot write");
+    csv << "set,problem,planner,run,solved,valid,seconds,length\n";
+  }
+  Stats ours_all, stock_all;
+  for (const auto& dir : a.dirs) {
+    std::vector<fs::path> requests;
+    for (const auto& e : fs::directory_iterator(dir))
+      if (e.path().filename().string().rfind("request", 0) == 0 && e.path().extension() == ".yaml") requests.push_back(e.path());
+    std::sort(requests.begin(), requests.end());
+    if (a.limit > 0 && int(requests.size()) > a.limit) requests.resize(std::size_t(a.limit));
+    if (requests.empty()) throw Error(dir, "", "no requestNNNN.yaml files");
+    Stats ours, stock;
+    const std::string set = fs::path(dir).filename().string();
+    for (std::size_t i = 0; i < requests.size(); ++i) {
+      const std::string id = requests[i].filename().string().substr(7, 4);
+      const fs::path scene = fs::path(dir) / ("scene" + id + ".yaml");
+      tools::ArmProblemOptions opt;
+      auto problem = tools::load_arm_problem(a.robot, scene, requests[i], opt);
+      for (int r = 0; r < a.runs; ++r) {
+        auto o = tools::plan_ours(problem, a.time_limit, a.resolution, std::uint64_t(r + 1));
+        auto s = tools::plan_stock(problem, a.time_limit, a.resolution, std::uint64_t(r + 1));
+        add(ours, o);
+        add(stock, s);
+        add(ours_all, o);
+        add(stock_all, s);
+        if (csv) {
+          csv << set << "," << id << ",ours," << r << "," << o.solved << "," << o.valid << "," << o.seconds << "," << o.length << "\n";
+          csv << set << "," << id << ",ompl_rrtconnect_fcl," << r << "," << s.solved << "," << s.valid << "," << s.seconds << ","
+              << s.length << "\n";
+        }
+      }
+      std::cerr << "\r" << set << ": " << (i + 1) << "/" << requests.size() << std::flush;
+    }
+    std::cerr << "\n";
+    print(set + " ours", ours);
+    print(set + " OMPL RRTConnect+FCL", stock);
+  }
+  print("all ours", ours_all);
+  print("all OMPL RRTConnect+FCL", stock_all);
+  std::cout << "ratio of medians (stock / ours): " << quantile(stock_all.times, 0.5) / quantile(ours_all.times, 0.5) << "\n";
+  return 0;
+}
+
+}  // namespace dmgplace::cli

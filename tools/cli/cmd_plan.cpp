@@ -1,0 +1,35 @@
+#include <fstream>
+#include <iostream>
+
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "dmgplace/formats/error.hpp"
+#include "dmgplace/tools/motion/arm_problem.hpp"
+
+namespace dmgplace::cli {
+
+int run_plan(const PlanArgs& a) {
+  tools::ArmProblemOptions opt;
+  opt.sdf_resolution = a.sdf_resolution;
+  auto problem = tools::load_arm_problem(a.robot, a.scene, a.request, opt);
+  std::cerr << "distance field: " << problem.bake_seconds << " s\n";
+  auto ours = tools::plan_ours(problem, a.time_limit, a.resolution, a.seed);
+  nlohmann::ordered_json j;
+  j["solved"] = ours.solved;
+  j["valid"] = ours.valid;
+  j["seconds"] = ours.seconds;
+  j["length"] = ours.length;
+  j["waypoints"] = ours.path;
+  std::cout << (ours.solved ? (ours.valid ? "solved" : "solved but INVALID") : "no solution") << " in " << ours.seconds * 1e3
+            << " ms, " << ours.path.size() << " waypoints, joint-space length " << ours.length << "\n";
+  if (!a.out.empty()) {
+    std::ofstream f(a.out);
+    f << j.dump(2) << "\n";
+    if (!f) throw Error(a.out, "", "cannot write");
+    std::cout << "wrote " << a.out << "\n";
+  }
+  return ours.solved && ours.valid ? 0 : 3;
+}
+
+}  // namespace dmgplace::cli

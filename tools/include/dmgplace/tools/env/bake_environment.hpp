@@ -1,0 +1,25 @@
+#pragma once
+// The offline environment analysis behind `dmgplace bake-env`: distance fields and placement
+// regions for the scene and volume of an environment artifact.
+#include "dmgplace/formats/environment_artifact.hpp"
+#include "dmgplace/tools/env/region_builder.hpp"
+
+namespace dmgplace::tools {
+
+struct EnvBakeOptions {
+  double resolution = 0.01;            // distance grid and region cells (m)
+  double band = 0.10;                  // distance field clamp (m)
+  double margin = 0.05;                // the distance grid covers V grown by this (m)
+  double clearance_resolution = 0.02;  // clearance grid (m)
+  double clearance_band = 0.25;        // clearance clamp (m)
+  double scan_voxel = 0.005;           // scan points kept per voxel of this edge (m); <= 0 keeps all
+  RegionOptions regions;               // its resolution is replaced by `resolution`
+  int segments = 32;                   // polygon segments of tessellated cylinders and spheres
+  int threads = 0;                     // <= 0: all cores
+};
+
+// Fills env.sdf, env.sdf_signed, env.clearance and env.regions from env.scene and env.volume,
+// and voxel-filters env.scene.points. Bad options or volume: dmgplace::Error naming them.
+void bake_environment(formats::EnvironmentArtifact& env, const EnvBakeOptions& options);
+
+}  // namespace dmgplace::tools

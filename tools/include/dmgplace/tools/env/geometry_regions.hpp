@@ -1,0 +1,14 @@
+#pragma once
+// Support surfaces of triangle geometry: one vertical ray per cell of V's footprint; every
+// upward-facing crossing inside V's height range with free space above becomes a sample.
+#include <vector>
+
+#include "dmgplace/tools/env/embree_scene.hpp"
+#include "dmgplace/tools/env/region_builder.hpp"
+
+namespace dmgplace::tools {
+
+std::vector<SurfaceSample> geometry_surface_samples(const EmbreeScene& scene, const Eigen::AlignedBox3d& volume,
+                                                    const CellGrid& grid, const RegionOptions& options);
+
+}  // namespace dmgplace::tools

@@ -1,0 +1,58 @@
+#include "dmgplace/tools/env/bake_environment.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "dmgplace/formats/error.hpp"
+#include "dmgplace/tools/env/distance_field.hpp"
+#include "dmgplace/tools/env/embree_scene.hpp"
+#include "dmgplace/tools/env/env_geometry.hpp"
+#include "dmgplace/tools/env/geometry_regions.hpp"
+#include "dmgplace/tools/env/scan_regions.hpp"
+
+namespace dmgplace::tools {
+namespace {
+
+void require_positive(double v, const char* flag) {
+  if (!(v > 0) || !std::isfinite(v)) throw Error(flag, "", "must be a positive finite number, got " + std::to_string(v));
+}
+
+}  // namespace
+
+void bake_environment(formats::EnvironmentArtifact& env, const EnvBakeOptions& o) {
+  require_positive(o.resolution, "--resolution");
+  require_positive(o.band, "--band");
+  require_positive(o.clearance_resolution, "--clearance-resolution");
+  require_positive(o.clearance_band, "--clearance-band");
+  require_positive(o.regions.split_size, "--region-split");
+  if (!(o.margin >= 0) || !std::isfinite(o.margin)) throw Error("--margin", "", "must be a finite length >= 0");
+  if (!(o.regions.min_free_height >= 0)) throw Error("--min-free-height", "", "must be >= 0");
+  const Eigen::AlignedBox3d& v = env.volume;
+  if (!v.min().allFinite() || !v.max().allFinite() || (v.min().array() >= v.max().array()).any())
+    throw Error("--volume", "", "needs each min below its max");
+
+  env.scene.points = voxel_filter(env.scene.points, o.scan_voxel);
+  const EnvGeometry geometry = make_env_geometry(env.scene, o.segments);
+  if (geometry.meshes.empty() && geometry.points.rows() == 0)
+    throw Error("scene", "", "no obstacles and no scan points to analyse");
+  const EmbreeScene scene(geometry);
+
+  Eigen::AlignedBox3d grown = v;
+  grown.min().array() -= o.margin;
+  grown.max().array() += o.margin;
+  env.sdf = distance_field(scene, grid_covering(grown, o.resolution), o.band, o.threads);
+  env.sdf_signed = geometry.any_closed();
+  env.clearance = clearance_field(scene, grid_covering(v, o.clearance_resolution), o.clearance_band, o.threads);
+
+  RegionOptions ro = o.regions;
+  ro.resolution = o.resolution;
+  const CellGrid cells = cell_grid(v, ro.resolution);
+  auto samples = geometry_surface_samples(scene, v, cells, ro);
+  if (geometry.points.rows() > 0) {
+    auto more = scan_surface_samples(geometry.points, v, cells, ro);
+    samples.insert(samples.end(), more.begin(), more.end());
+  }
+  env.regions = build_regions(cells, std::move(samples), ro);
+}
+
+}  // namespace dmgplace::tools

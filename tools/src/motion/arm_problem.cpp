@@ -1,0 +1,138 @@
+#include "dmgplace/tools/motion/arm_problem.hpp"
+
+#include <ompl/base/ProblemDefinition.h>
+#include <ompl/base/ScopedState.h>
+#include <ompl/base/goals/GoalState.h>
+#include <ompl/geometric/PathGeometric.h>
+#include <ompl/geometric/planners/rrt/RRTConnect.h>
+#include <ompl/util/RandomNumbers.h>
+
+#include <chrono>
+
+#include "dmgplace/formats/error.hpp"
+#include "dmgplace/runtime/environment/environment_model.hpp"
+#include "dmgplace/runtime/motion/arm_space.hpp"
+#include "dmgplace/tools/env/distance_field.hpp"
+#include "dmgplace/tools/env/embree_scene.hpp"
+#include "dmgplace/tools/env/env_geometry.hpp"
+#include "dmgplace/tools/io/motion_request_reader.hpp"
+#include "dmgplace/tools/io/scene_loader.hpp"
+
+namespace ob = ompl::base;
+namespace og = ompl::geometric;
+
+namespace dmgplace::tools {
+namespace {
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+Eigen::VectorXd chain_values(const runtime::Kinematics& kin, const std::map<std::string, double>& values,
+                             const std::string& file, const std::string& what) {
+  Eigen::VectorXd q(kin.dof());
+  for (int i = 0; i < kin.dof(); ++i) {
+    auto it = values.find(kin.joint_names()[std::size_t(i)]);
+    if (it == values.end()) throw Error(file, what, "no value for joint '" + kin.joint_names()[std::size_t(i)] + "'");
+    q[i] = it->second;
+  }
+  return q;
+}
+
+double path_length(const runtime::JointPath& path) {
+  double len = 0;
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    double s = 0;
+    for (std::size_t k = 0; k < path[i].size(); ++k) s += (path[i][k] - path[i - 1][k]) * (path[i][k] - path[i - 1][k]);
+    len += std::sqrt(s);
+  }
+  return len;
+}
+}  // namespace
+
+ArmProblem load_arm_problem(const std::filesystem::path& robot_h5, const std::filesystem::path& scene_yaml,
+                            const std::filesystem::path& request_yaml, const ArmProblemOptions& o) {
+  ArmProblem p;
+  p.robot = formats::load_robot(robot_h5);
+  p.scene = load_scene(scene_yaml);
+  const MotionRequest req = read_motion_request(request_yaml);
+  p.kin = std::make_unique<runtime::Kinematics>(p.robot.model, p.robot.model.arm_base, p.robot.model.arm_tip);
+  for (const auto& [name, value] : req.start) {
+    const int j = p.robot.model.joint_index(name);
+    if (j < 0) throw Error(request_yaml.string(), "start_state", "robot has no joint '" + name + "'");
+    const bool in_chain = std::find(p.kin->joint_names().begin(), p.kin->joint_names().end(), name) != p.kin->joint_names().end();
+    if (!in_chain && p.robot.model.joints[std::size_t(j)].mimic < 0 && p.robot.model.joints[std::size_t(j)].type != JointType::Fixed)
+      p.kin->set_joint_value(name, value);
+  }
+  p.start = chain_values(*p.kin, req.start, request_yaml.string(), "start_state");
+  p.goal = chain_values(*p.kin, req.goal, request_yaml.string(), "goal_constraints");
+  const auto t0 = Clock::now();
+  const EnvGeometry geometry = make_env_geometry(p.scene);
+  const EmbreeScene embree(geometry);
+  const Eigen::AlignedBox3d box(Eigen::Vector3d(-o.reach, -o.reach, -0.3), Eigen::Vector3d(o.reach, o.reach, o.reach + 0.5));
+  p.sdf = std::make_shared<runtime::Grid3>(runtime::to_grid(distance_field(embree, grid_covering(box, o.sdf_resolution), o.sdf_band, 1)));
+  p.bake_seconds = since(t0);
+  runtime::SphereFieldChecker fast(*p.kin, p.robot.spheres, p.sdf, o.sdf_band);
+  p.exact = std::make_unique<runtime::ExactChecker>(*p.kin, p.scene);
+  p.checker = std::make_unique<runtime::TwoLayerChecker>(std::move(fast), *p.exact);
+  return p;
+}
+
+PlanOutcome plan_ours(const ArmProblem& p, double time_limit, double resolution, std::uint64_t seed) {
+  PlanOutcome out;
+  const auto t0 = Clock::now();
+  auto si = runtime::make_arm_space(*p.kin, [&](const Eigen::VectorXd& q) { return p.checker->is_free(q); }, resolution);
+  auto pdef = std::make_shared<ob::ProblemDefinition>(si);
+  ob::ScopedState<> start(si->getStateSpace());
+  for (int i = 0; i < p.kin->dof(); ++i) start[unsigned(i)] = p.start[i];
+  pdef->addStartState(start);
+  runtime::MultiGoalRRTConnect planner(si);
+  planner.setProblemDefinition(pdef);
+  planner.set_seed(seed);
+  planner.set_anytime(false);
+  planner.setup();
+  std::vector<double> goal(p.goal.data(), p.goal.data() + p.goal.size());
+  if (!planner.add_goal(0, goal)) {
+    out.seconds = since(t0);
+    return out;
+  }
+  planner.solve(ob::timedPlannerTerminationCondition(time_limit));
+  out.seconds = since(t0);
+  auto paths = planner.take_paths();
+  if (paths.empty()) return out;
+  out.solved = true;
+  out.path = paths[0].path;
+  out.length = path_length(out.path);
+  out.valid = runtime::path_valid(out.path, [&](const Eigen::VectorXd& q) { return p.exact->is_free(q); }, resolution);
+  return out;
+}
+
+PlanOutcome plan_stock(const ArmProblem& p, double time_limit, double resolution, std::uint64_t seed) {
+  PlanOutcome out;
+  ompl::RNG::setSeed(seed);
+  const auto t0 = Clock::now();
+  auto si = runtime::make_arm_space(*p.kin, [&](const Eigen::VectorXd& q) { return p.exact->is_free(q); }, resolution);
+  auto pdef = std::make_shared<ob::ProblemDefinition>(si);
+  ob::ScopedState<> start(si->getStateSpace()), goal(si->getStateSpace());
+  for (int i = 0; i < p.kin->dof(); ++i) {
+    start[unsigned(i)] = p.start[i];
+    goal[unsigned(i)] = p.goal[i];
+  }
+  pdef->setStartAndGoalStates(start, goal);
+  og::RRTConnect planner(si);
+  planner.setProblemDefinition(pdef);
+  planner.setup();
+  const auto status = planner.solve(ob::timedPlannerTerminationCondition(time_limit));
+  out.seconds = since(t0);
+  if (status != ob::PlannerStatus::EXACT_SOLUTION) return out;
+  auto* path = pdef->getSolutionPath()->as<og::PathGeometric>();
+  for (std::size_t i = 0; i < path->getStateCount(); ++i) {
+    std::vector<double> q;
+    si->getStateSpace()->copyToReals(q, path->getState(i));
+    out.path.push_back(q);
+  }
+  out.solved = true;
+  out.length = path_length(out.path);
+  out.valid = runtime::path_valid(out.path, [&](const Eigen::VectorXd& q) { return p.exact->is_free(q); }, resolution);
+  return out;
+}
+
+}  // namespace dmgplace::tools
