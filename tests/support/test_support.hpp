@@ -3,6 +3,8 @@
 #include <filesystem>
 #include <string>
 
+#include "dmgplace/formats/error.hpp"
+
 namespace dmgplace::test {
 
 // A fresh empty folder under the build's temp area, removed when the object dies.
@@ -23,6 +25,17 @@ std::filesystem::path source_dir();
 std::string cli_path();
 void write_text(const std::filesystem::path& p, const std::string& text);
 std::string read_text(const std::filesystem::path& p);
+
+// The message of the dmgplace::Error that f() throws, or a marker when it throws none.
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const ::dmgplace::Error& e) {
+    return e.what();
+  }
+  return "(no dmgplace::Error)";
+}
 
 }  // namespace dmgplace::test
 

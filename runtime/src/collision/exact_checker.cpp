@@ -77,20 +77,6 @@ bool env_callback(fcl::CollisionObjectd* a, fcl::CollisionObjectd* b, void* data
   return false;
 }
 
-std::vector<char> moving_links(const Kinematics& kin) {
-  const auto& m = kin.model();
-  std::vector<char> moving(m.links.size(), 0);
-  Eigen::VectorXd q0 = 0.5 * (kin.lower() + kin.upper());
-  std::vector<Eigen::Isometry3d> a, b;
-  kin.link_poses(q0, a);
-  for (int i = 0; i < kin.dof(); ++i) {
-    Eigen::VectorXd q = q0;
-    q[i] += 0.1;
-    kin.link_poses(q, b);
-    for (std::size_t l = 0; l < a.size(); ++l) moving[l] |= !a[l].isApprox(b[l], 1e-12);
-  }
-  return moving;
-}
 
 void build_self_pairs(ExactChecker::Impl& impl, const Kinematics& kin) {
   const auto& allowed = kin.model().allowed_pairs;
@@ -129,7 +115,7 @@ ExactChecker::ExactChecker(const Kinematics& kin, const Scene& env, double scan_
       impl->part_is_object.push_back(0);
     }
   }
-  impl->moving = moving_links(kin);
+  impl->moving = kin.moving_links();
   impl->env_objects = std::make_shared<std::vector<std::unique_ptr<fcl::CollisionObjectd>>>();
   impl->env_names = std::make_shared<std::vector<std::string>>();
   impl->env = std::make_shared<fcl::DynamicAABBTreeCollisionManagerd>();

@@ -6,25 +6,6 @@
 #include "dmgplace/formats/error.hpp"
 
 namespace dmgplace::runtime {
-namespace {
-// Links whose pose depends on the chain's joints (descendants of its first moving joint).
-std::vector<char> moving_links(const Kinematics& kin) {
-  const auto& m = kin.model();
-  std::vector<char> moving(m.links.size(), 0);
-  Eigen::VectorXd q0 = 0.5 * (kin.lower() + kin.upper());
-  std::vector<Eigen::Isometry3d> a, b;
-  kin.link_poses(q0, a);
-  // Perturb every joint: a link that moves under any perturbation is moving.
-  for (int i = 0; i < kin.dof(); ++i) {
-    Eigen::VectorXd q = q0;
-    q[i] += 0.1;
-    kin.link_poses(q, b);
-    for (std::size_t l = 0; l < a.size(); ++l) moving[l] |= !a[l].isApprox(b[l], 1e-12);
-  }
-  return moving;
-}
-}  // namespace
-
 SphereFieldChecker::SphereFieldChecker(const Kinematics& kin, std::vector<formats::LinkSphere> spheres,
                                        std::shared_ptr<const Grid3> sdf, double band, double padding)
     : kin_(&kin), spheres_(std::move(spheres)), allowed_(kin.model().allowed_pairs), sdf_(std::move(sdf)),
@@ -44,7 +25,7 @@ SphereFieldChecker::SphereFieldChecker(const Kinematics& kin, std::vector<format
 }
 
 void SphereFieldChecker::build_bodies() {
-  const auto moving = moving_links(*kin_);
+  const auto moving = kin_->moving_links();
   bodies_.clear();
   const int robot_end = attached_link_ >= 0 ? attached_begin_ : int(spheres_.size());
   for (int i = 0; i < robot_end;) {

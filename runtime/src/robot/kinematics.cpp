@@ -154,6 +154,21 @@ Eigen::Isometry3d Kinematics::tip_pose_and_jacobian(const Eigen::VectorXd& q, Ja
   return t;
 }
 
+std::vector<char> Kinematics::moving_links() const {
+  std::vector<char> moving(model_.links.size(), 0);
+  const Eigen::VectorXd q0 = 0.5 * (lower_ + upper_);
+  std::vector<Eigen::Isometry3d> a, b;
+  link_poses(q0, a);
+  // A link moves when perturbing any chain joint moves it.
+  for (int i = 0; i < dof(); ++i) {
+    Eigen::VectorXd q = q0;
+    q[i] += 0.1;
+    link_poses(q, b);
+    for (std::size_t l = 0; l < a.size(); ++l) moving[l] |= !a[l].isApprox(b[l], 1e-12);
+  }
+  return moving;
+}
+
 bool Kinematics::within_limits(const Eigen::VectorXd& q, double tol) const {
   if (q.size() != dof()) return false;
   for (int i = 0; i < dof(); ++i)

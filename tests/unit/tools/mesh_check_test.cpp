@@ -1,4 +1,5 @@
 // check_mesh / clean_mesh: topology counts, rejections, and orientation repair on small meshes.
+#include "test_support.hpp"
 #include "dmgplace/tools/io/mesh_check.hpp"
 
 #include <gmock/gmock.h>
@@ -48,15 +49,7 @@ bool all_outward(const TriMesh& m) {
   return true;
 }
 
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no dmgplace::Error)";
-}
+using ::dmgplace::test::error_of;
 
 bool has_warning(const MeshReport& r, const std::string& text) {
   for (const auto& w : r.warnings)

@@ -93,15 +93,7 @@ std::string cube_dae() {
 )";
 }
 
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no dmgplace::Error)";
-}
+using ::dmgplace::test::error_of;
 
 Eigen::RowVector3d extent(const TriMesh& m) {
   return m.vertices.colwise().maxCoeff() - m.vertices.colwise().minCoeff();

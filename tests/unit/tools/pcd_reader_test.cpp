@@ -33,15 +33,7 @@ std::string binary_body(const std::vector<float>& values) {
   return std::string(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(float));
 }
 
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no dmgplace::Error)";
-}
+using ::dmgplace::test::error_of;
 
 TEST(PcdReader, AsciiDropsNonFinitePoints) {
   TempDir dir;

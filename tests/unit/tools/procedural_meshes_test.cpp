@@ -109,14 +109,7 @@ void expect_valid_solid(const TriMesh& m) {
 // Area of a regular n-gon inscribed in the circle of radius r.
 double polygon_area(int n, double r) { return 0.5 * n * r * r * std::sin(2 * std::numbers::pi / n); }
 
-std::string error_of(auto&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no dmgplace::Error)";
-}
+using ::dmgplace::test::error_of;
 
 TEST(ProceduralMeshChecks, CatchBrokenMeshes) {
   const TriMesh good = make_box_mesh(Eigen::Vector3d(1, 2, 3));

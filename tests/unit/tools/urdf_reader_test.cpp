@@ -58,15 +58,7 @@ std::string robot(const std::string& mesh_uri, const std::string& shoulder_type 
 )";
 }
 
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no dmgplace::Error)";
-}
+using ::dmgplace::test::error_of;
 
 // <tmp>/pkgs/my_pkg/meshes/cube.obj and <tmp>/robots/arm.urdf.
 struct Fixture {

@@ -38,6 +38,9 @@ class Kinematics {
   Eigen::Isometry3d tip_pose_and_jacobian(const Eigen::VectorXd& q, Jacobian& J) const;
 
   bool within_limits(const Eigen::VectorXd& q, double tol = 1e-9) const;
+  // Per link: does its pose depend on the chain's joints? (Static links need no collision checks
+  // against a static world.)
+  std::vector<char> moving_links() const;
 
  private:
   Eigen::Isometry3d joint_motion(int joint, double value) const;
