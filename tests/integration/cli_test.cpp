@@ -1,6 +1,12 @@
 // End-to-end: the dmgplace command on the built-in data, its exit codes and its error messages.
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <random>
+#include <thread>
 
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -141,4 +147,48 @@ TEST(Cli, SharedRealDataBakes) {
   CliRun v = run("validate " + q(dir / "panda.h5") + " " + q(dir / "mustard.h5") + " " + q(dir / "shelf.h5") + " " +
               q(dir / "scan.h5") + " " + q(dir / "kitchen.h5"));
   EXPECT_EQ(v.code, 0) << v.out;
+}
+
+// kill -9 at random moments of a bake: the previous artifact stays intact and valid, and the only
+// leftovers are hidden temporary files, which the next bake of the same target removes.
+TEST(Cli, KilledBakesLeaveThePreviousArtifactIntact) {
+  TempDir dir;
+  const std::string volume = "0.55,-0.40,0.45,0.88,0.40,1.05";
+  const std::string args = "bake-env " + q(data() / "scenes/cabinet.yaml") + " --volume " + volume +
+                           " --resolution 0.004 --out " + q(dir / "env.h5");
+  ASSERT_EQ(run(args).code, 0);
+  const std::string before = dmgplace::test::read_text(dir / "env.h5");
+  std::mt19937 rng(99);
+  int killed = 0;
+  for (int i = 0; i < 20; ++i) {
+    pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      std::string cmd = dmgplace::test::cli_path() + " " + args + " >/dev/null 2>&1";
+      execl("/bin/sh", "sh", "-c", ("exec " + cmd).c_str(), static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20 + rng() % 400));
+    killed += ::kill(pid, SIGKILL) == 0;
+    int status = 0;
+    waitpid(pid, &status, 0);
+    // Either the bake finished (a new, complete artifact) or it died: never a partial file.
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+      EXPECT_EQ(run("validate " + q(dir / "env.h5")).code, 0);
+    } else {
+      const std::string now = dmgplace::test::read_text(dir / "env.h5");
+      if (now != before) {
+        EXPECT_EQ(run("validate " + q(dir / "env.h5")).code, 0);
+      }
+    }
+    for (auto& e : fs::directory_iterator(dir.path())) {
+      const std::string name = e.path().filename().string();
+      EXPECT_TRUE(name == "env.h5" || (name.rfind(".env.h5.tmp.", 0) == 0)) << "unexpected file " << name;
+    }
+  }
+  EXPECT_GT(killed, 10);
+  ASSERT_EQ(run(args).code, 0);
+  std::size_t files = 0;
+  for (auto& e : fs::directory_iterator(dir.path())) files += e.is_regular_file();
+  EXPECT_EQ(files, 1u) << "a completed bake removes the temporary files of killed ones";
 }

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "dmgplace/formats/error.hpp"
+#include "dmgplace/formats/geometry_types.hpp"
 
 namespace dmgplace::test {
 
@@ -25,6 +26,15 @@ std::filesystem::path source_dir();
 std::string cli_path();
 void write_text(const std::filesystem::path& p, const std::string& text);
 std::string read_text(const std::filesystem::path& p);
+
+// An axis-aligned box primitive of full extents `size` centred at `at`.
+inline Shape box_shape(const Eigen::Vector3d& size, const Eigen::Vector3d& at) {
+  Shape s;
+  s.type = ShapeType::Box;
+  s.size = size;
+  s.origin.translation() = at;
+  return s;
+}
 
 // The message of the dmgplace::Error that f() throws, or a marker when it throws none.
 template <class F>

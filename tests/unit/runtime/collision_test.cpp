@@ -31,13 +31,7 @@ Arm built_in_arm() {
   return a;
 }
 
-Shape box(Eigen::Vector3d size, Eigen::Vector3d at) {
-  Shape s;
-  s.type = ShapeType::Box;
-  s.size = size;
-  s.origin.translation() = at;
-  return s;
-}
+Shape box(const Eigen::Vector3d& size, const Eigen::Vector3d& at) { return test::box_shape(size, at); }
 
 Scene shelf_scene() {
   Scene sc;

@@ -18,13 +18,7 @@ using formats::PlacementRegion;
 
 namespace {
 
-Shape box(Eigen::Vector3d size, Eigen::Vector3d at) {
-  Shape s;
-  s.type = ShapeType::Box;
-  s.size = size;
-  s.origin.translation() = at;
-  return s;
-}
+Shape box(const Eigen::Vector3d& size, const Eigen::Vector3d& at) { return test::box_shape(size, at); }
 
 std::vector<PlacementRegion> geometry_regions(const Scene& scene, const Eigen::AlignedBox3d& v, RegionOptions o) {
   const EnvGeometry geo = make_env_geometry(scene);
