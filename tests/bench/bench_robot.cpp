@@ -3,6 +3,8 @@
 // Run: build/release/tests/bench_robot   (needs ../shared/datasets)
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <chrono>
 #include <iostream>
 #include <random>
 
@@ -98,15 +100,20 @@ void BM_IkRandomReachablePose(benchmark::State& st) {
   std::mt19937_64 rng(5);
   std::size_t i = 0;
   long ok = 0;
+  std::vector<double> seconds;
   for (auto _ : st) {
     st.PauseTiming();
     const Eigen::Isometry3d target = w.kin->tip_pose(w.configs[i & 4095]);
     const Eigen::VectorXd seed = w.configs[(i * 7 + 3) & 4095];
     ++i;
     st.ResumeTiming();
+    const auto t0 = std::chrono::steady_clock::now();
     ok += ik.solve(target, seed, rng).success;
+    seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
+  std::sort(seconds.begin(), seconds.end());
   st.counters["success_rate"] = double(ok) / double(st.iterations());
+  st.counters["median_us"] = seconds.empty() ? 0.0 : 1e6 * seconds[seconds.size() / 2];
 }
 BENCHMARK(BM_IkRandomReachablePose)->Unit(benchmark::kMicrosecond);
 }  // namespace
