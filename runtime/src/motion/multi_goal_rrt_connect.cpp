@@ -36,7 +36,9 @@ MultiGoalRRTConnect::MultiGoalRRTConnect(const ob::SpaceInformationPtr& si) : ob
   specs_.directed = false;
 }
 
-MultiGoalRRTConnect::~MultiGoalRRTConnect() = default;
+MultiGoalRRTConnect::~MultiGoalRRTConnect() {
+  if (scratch_) si_->freeState(scratch_);
+}
 
 void MultiGoalRRTConnect::setup() {
   ob::Planner::setup();
@@ -74,14 +76,10 @@ double MultiGoalRRTConnect::distance(const std::vector<double>& a, const std::ve
 }
 
 bool MultiGoalRRTConnect::state_valid(const std::vector<double>& q) const {
-  thread_local ob::State* scratch = nullptr;
-  thread_local const ob::SpaceInformation* owner = nullptr;
-  if (owner != si_.get()) {
-    scratch = si_->allocState();  // one per thread and space; kept for the thread's life
-    owner = si_.get();
-  }
-  si_->getStateSpace()->copyFromReals(scratch, q);
-  return si_->isValid(scratch);
+  // The solving thread's scratch state; only one thread solves a planner at a time.
+  if (!scratch_) scratch_ = si_->allocState();
+  si_->getStateSpace()->copyFromReals(scratch_, q);
+  return si_->isValid(scratch_);
 }
 
 bool MultiGoalRRTConnect::motion_valid(const std::vector<double>& a, const std::vector<double>& b) const {
@@ -126,7 +124,13 @@ MultiGoalRRTConnect::Grow MultiGoalRRTConnect::connect(Tree& tree, const std::ve
 }
 
 bool MultiGoalRRTConnect::add_goal(int id, const std::vector<double>& q) {
-  if (q.size() != si_->getStateDimension() || !state_valid(q)) return false;
+  if (q.size() != si_->getStateDimension()) return false;
+  // Called from other threads while solve() runs: a state of its own, not the solver's scratch.
+  ob::State* s = si_->allocState();
+  si_->getStateSpace()->copyFromReals(s, q);
+  const bool valid = si_->isValid(s);
+  si_->freeState(s);
+  if (!valid) return false;
   std::lock_guard<std::mutex> lock(mutex_);
   pending_add_.emplace_back(id, q);
   return true;

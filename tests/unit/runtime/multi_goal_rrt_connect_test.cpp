@@ -5,10 +5,13 @@
 #include <ompl/base/SpaceInformation.h>
 #include <ompl/base/spaces/RealVectorStateSpace.h>
 
+#include <atomic>
 #include <chrono>
+#include <set>
 #include <thread>
 
 #include "dmgplace/runtime/motion/multi_goal_rrt_connect.hpp"
+#include "dmgplace/runtime/motion/multi_grasp_planner.hpp"
 
 namespace ob = ompl::base;
 using dmgplace::runtime::FoundPath;
@@ -131,4 +134,50 @@ TEST(MultiGoalRRTConnect, ValidatorCanRejectAPathAndSingleQueryModeFillsTheProbl
   EXPECT_EQ(calls, 2) << "the first path was rejected, the second accepted";
   EXPECT_TRUE(p.pdef->hasSolution());
   EXPECT_EQ(p.planner->take_paths().size(), 1u);
+}
+
+// Two grasps, two collision spaces: in grasp 1 the gap in the wall is closed, so its goal behind
+// the wall is unreachable; grasp 0's is reachable. Two workers serve both.
+TEST(MultiGraspPlanner, ServesEachGraspInItsOwnSpace) {
+  auto factory = [](int grasp) {
+    auto space = std::make_shared<ob::RealVectorStateSpace>(2);
+    space->setBounds(0, 10);
+    auto si = std::make_shared<ob::SpaceInformation>(space);
+    si->setStateValidityChecker([grasp](const ob::State* s) {
+      const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
+      const double x = v->values[0], y = v->values[1];
+      if (grasp == 1 && x >= 4.8 && x <= 5.2) return false;  // wall without a gap
+      return free_point(x, y);
+    });
+    si->setStateValidityCheckingResolution(0.002);
+    si->setup();
+    return ob::SpaceInformationPtr(si);
+  };
+  dmgplace::runtime::MultiGraspPlanner mgp(factory, {1, 1}, 2, 11);
+  std::atomic<int> validated{0};
+  mgp.set_path_validator([&](int, const dmgplace::runtime::JointPath&) {
+    ++validated;
+    return true;
+  });
+  ASSERT_TRUE(mgp.add_goal(0, 10, {8, 8}));
+  ASSERT_TRUE(mgp.add_goal(1, 11, {8, 8}));
+  ASSERT_TRUE(mgp.add_goal(1, 12, {2, 8}));
+  mgp.start();
+  std::vector<dmgplace::runtime::GraspPath> all;
+  for (int i = 0; i < 150 && all.size() < 2; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    for (auto& p : mgp.take_paths()) all.push_back(p);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  mgp.stop();
+  for (auto& p : mgp.take_paths()) all.push_back(p);
+  std::set<std::pair<int, int>> got;
+  for (auto& p : all) {
+    got.insert({p.grasp, p.found.goal_id});
+    expect_valid_path(p.found, p.found.path.back()[0], p.found.path.back()[1]);
+  }
+  EXPECT_TRUE(got.count({0, 10}));
+  EXPECT_TRUE(got.count({1, 12}));
+  EXPECT_FALSE(got.count({1, 11})) << "unreachable in grasp 1's space";
+  EXPECT_EQ(validated.load(), int(all.size()));
 }

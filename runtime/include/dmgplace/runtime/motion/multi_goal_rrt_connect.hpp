@@ -79,6 +79,7 @@ class MultiGoalRRTConnect : public ompl::base::Planner {
   bool anytime_ = true;
   std::size_t dim_ = 0;
   std::vector<double> lo_, hi_;
+  mutable ompl::base::State* scratch_ = nullptr;  // owned; used by the solving thread only
 };
 
 }  // namespace dmgplace::runtime

@@ -1,0 +1,102 @@
+#include "dmgplace/runtime/motion/multi_grasp_planner.hpp"
+
+#include <ompl/base/ProblemDefinition.h>
+#include <ompl/base/ScopedState.h>
+
+#include <chrono>
+
+namespace ob = ompl::base;
+
+namespace dmgplace::runtime {
+
+MultiGraspPlanner::MultiGraspPlanner(SpaceFactory factory, std::vector<double> start, int threads, std::uint64_t seed,
+                                     double slice_seconds)
+    : factory_(std::move(factory)), start_(std::move(start)),
+      threads_(threads > 0 ? threads : std::max(1, int(std::thread::hardware_concurrency()))), seed_(seed),
+      slice_(slice_seconds) {}
+
+MultiGraspPlanner::~MultiGraspPlanner() { stop(); }
+
+MultiGraspPlanner::Entry& MultiGraspPlanner::entry(int grasp) {
+  auto it = entries_.find(grasp);
+  if (it != entries_.end()) return it->second;
+  auto si = factory_(grasp);
+  auto pdef = std::make_shared<ob::ProblemDefinition>(si);
+  ob::ScopedState<> s(si->getStateSpace());
+  si->getStateSpace()->copyFromReals(s.get(), start_);
+  pdef->addStartState(s);
+  auto planner = std::make_shared<MultiGoalRRTConnect>(si);
+  planner->setProblemDefinition(pdef);
+  planner->set_seed(seed_ + std::uint64_t(grasp) * 7919);
+  planner->set_anytime(true);
+  planner->setup();
+  planner->set_path_validator([this, grasp](const JointPath& p) { return !validator_ || validator_(grasp, p); });
+  return entries_[grasp] = Entry{planner, false};
+}
+
+bool MultiGraspPlanner::add_goal(int grasp, int goal_id, const std::vector<double>& q) {
+  std::shared_ptr<MultiGoalRRTConnect> planner;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    planner = entry(grasp).planner;
+  }
+  return planner->add_goal(goal_id, q);
+}
+
+void MultiGraspPlanner::remove_goal(int grasp, int goal_id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = entries_.find(grasp);
+  if (it != entries_.end()) it->second.planner->remove_goal(goal_id);
+}
+
+std::vector<GraspPath> MultiGraspPlanner::take_paths() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return std::exchange(found_, {});
+}
+
+void MultiGraspPlanner::start() {
+  if (running_.exchange(true)) return;
+  for (int i = 0; i < threads_; ++i) workers_.emplace_back([this] { work(); });
+}
+
+void MultiGraspPlanner::stop() {
+  running_ = false;
+  for (auto& t : workers_) t.join();
+  workers_.clear();
+}
+
+void MultiGraspPlanner::work() {
+  while (running_) {
+    int grasp = -1;
+    std::shared_ptr<MultiGoalRRTConnect> planner;
+    {
+      // Round robin over grasps that have goals and no worker.
+      std::lock_guard<std::mutex> lock(mutex_);
+      const std::size_t n = entries_.size();
+      for (std::size_t k = 0; k < n && !planner; ++k) {
+        auto it = entries_.begin();
+        std::advance(it, std::ptrdiff_t((turn_ + k) % n));
+        if (!it->second.busy && it->second.planner->goal_count() > 0) {
+          it->second.busy = true;
+          grasp = it->first;
+          planner = it->second.planner;
+          turn_ = (turn_ + k + 1) % n;
+        }
+      }
+    }
+    if (!planner) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      continue;
+    }
+    // One slice, then the worker picks again so every grasp with goals gets served.
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(slice_);
+    planner->solve(ob::PlannerTerminationCondition(
+        [this, deadline] { return !running_ || std::chrono::steady_clock::now() >= deadline; }));
+    auto paths = planner->take_paths();
+    std::lock_guard<std::mutex> lock(mutex_);
+    entries_[grasp].busy = false;
+    for (auto& f : paths) found_.push_back({grasp, std::move(f)});
+  }
+}
+
+}  // namespace dmgplace::runtime
