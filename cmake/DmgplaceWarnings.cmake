@@ -5,6 +5,10 @@ function(dmgplace_target_defaults target)
   if(DMGPLACE_SANITIZE)
     target_compile_options(${target} PRIVATE -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
     target_link_options(${target} PRIVATE -fsanitize=address,undefined)
+    # Under ASan, Eigen switches to its own aligned malloc (it checks __SANITIZE_ADDRESS__), while
+    # the uninstrumented libraries (PCL) keep glibc's: point clouds allocated there and freed here
+    # then look like heap overflows. glibc's malloc is 16-byte aligned on x86_64, which is all Eigen needs.
+    target_compile_definitions(${target} PRIVATE EIGEN_MALLOC_ALREADY_ALIGNED=1)
   endif()
   if(DMGPLACE_TSAN)
     target_compile_options(${target} PRIVATE -fsanitize=thread -fno-omit-frame-pointer)
