@@ -5,19 +5,13 @@
 #include <cmath>
 
 #include "dmgplace/formats/error.hpp"
+#include "dmgplace/tools/io/yaml_file.hpp"
 
 namespace dmgplace::tools {
 
 MotionRequest read_motion_request(const std::filesystem::path& path) {
   const std::string file = path.string();
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(file);
-  } catch (const YAML::BadFile&) {
-    throw Error(file, "", "cannot open file");
-  } catch (const YAML::Exception& e) {
-    throw Error(file, "", std::string("invalid YAML: ") + e.what());
-  }
+  const YAML::Node root = load_yaml_file(path);
   MotionRequest r;
   try {
     const YAML::Node js = root["start_state"]["joint_state"];

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "dmgplace/formats/error.hpp"
+#include "dmgplace/tools/io/yaml_file.hpp"
 
 namespace dmgplace::tools {
 namespace {
@@ -50,14 +51,7 @@ formats::GripperModel default_gripper() { return formats::GripperModel{}; }
 
 formats::GripperModel load_gripper_yaml(const std::filesystem::path& path) {
   const std::string file = path.string();
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(file);
-  } catch (const YAML::BadFile&) {
-    throw Error(file, "", "cannot read the file");
-  } catch (const YAML::Exception& e) {
-    throw Error(file, "", std::string("not valid YAML: ") + e.what());
-  }
+  const YAML::Node root = load_yaml_file(path);
   only_keys(root, {"name", "max_opening", "finger", "palm", "contact_tolerance"}, file, "");
   only_keys(root["finger"], {"length", "width", "thickness", "tip_offset"}, file, "finger");
   only_keys(root["palm"], {"size", "center"}, file, "palm");
