@@ -72,6 +72,16 @@ struct BenchMbmArgs {
 };
 int run_bench_mbm(const BenchMbmArgs& a);
 
+struct PlaceArgs {
+  std::string query, out;  // out empty: ./place-<query stem>
+  std::optional<double> time_limit;
+  std::optional<std::uint64_t> seed;
+  std::optional<int> threads;
+  std::string variant;  // empty: the query's
+  bool json = false;
+};
+int run_place(const PlaceArgs& a);
+
 struct MakeObjectsArgs { std::string out_dir; };
 int run_make_objects(const MakeObjectsArgs& a);
 

@@ -67,6 +67,16 @@ int main(int argc, char** argv) {
   c_obj->add_option("--stability-margin", bake_object.stability_margin, "Placement faces: COM margin (m)")->check(CLI::NonNegativeNumber);
   c_obj->add_option("--out", bake_object.out, "Output artifact")->required();
 
+  PlaceArgs place;
+  auto* c_place = app.add_subcommand("place", "Plan a placement (anytime): in-hand regrasp, arm path, best pose so far");
+  c_place->add_option("query", place.query, "Query YAML (artifacts, start, initial grasp, volume, objective)")->required();
+  c_place->add_option("--out", place.out, "Output folder for result.json, trace.csv, path.csv");
+  c_place->add_option("--time-limit", place.time_limit, "Seconds (overrides the query's)")->check(CLI::NonNegativeNumber);
+  c_place->add_option("--seed", place.seed, "Random seed (overrides the query's)");
+  c_place->add_option("--threads", place.threads, "Motion planner threads; 0: synchronous, deterministic")->check(CLI::NonNegativeNumber);
+  c_place->add_option("--variant", place.variant, "full, random-grasp or no-regrasp (overrides the query's)");
+  c_place->add_flag("--json", place.json, "Also print result.json to stdout");
+
   GraspsArgs grasps;
   std::string initial_text;
   auto* c_grasps = app.add_subcommand("grasps", "Grasps reachable in-hand from an initial grasp (DMG + Dijkstra)");
@@ -139,6 +149,7 @@ int main(int argc, char** argv) {
       if (!com_text.empty()) bake_object.com = parse_numbers<3>(com_text, "--com");
       return run_bake_object(bake_object);
     }
+    if (*c_place) return run_place(place);
     if (*c_grasps) {
       grasps.initial = parse_numbers<7>(initial_text, "--initial");
       return run_grasps(grasps);

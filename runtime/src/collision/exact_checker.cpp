@@ -46,6 +46,17 @@ struct Part {
 };
 }  // namespace
 
+struct CollisionMesh::Impl {
+  Geometry geometry;
+};
+
+CollisionMesh::CollisionMesh(const TriMesh& mesh) {
+  if (mesh.empty()) throw Error("CollisionMesh", "mesh", "empty");
+  auto impl = std::make_shared<Impl>();
+  impl->geometry = make_mesh(mesh);
+  this->impl = impl;
+}
+
 struct ExactChecker::Impl {
   std::vector<Part> parts;  // robot link geometry (+ attached object, link = its carrier link)
   std::vector<int> part_is_object;
@@ -149,10 +160,15 @@ ExactChecker::ExactChecker(const ExactChecker& o) = default;
 
 ExactChecker ExactChecker::with_attached(const TriMesh& object, int link, const Eigen::Isometry3d& object_in_link,
                                          std::vector<int> touching_links) const {
+  return with_attached(CollisionMesh(object), link, object_in_link, std::move(touching_links));
+}
+
+ExactChecker ExactChecker::with_attached(const CollisionMesh& object, int link, const Eigen::Isometry3d& object_in_link,
+                                         std::vector<int> touching_links) const {
   if (link < 0 || std::size_t(link) >= kin_->model().links.size())
     throw Error("ExactChecker", "attached object", "link index out of range");
   auto impl = std::make_shared<Impl>(*impl_);  // shares the environment and geometry (shared_ptrs)
-  impl->parts.push_back({link, make_mesh(object), object_in_link});
+  impl->parts.push_back({link, object.impl->geometry, object_in_link});
   impl->part_is_object.push_back(1);
   impl->touching = std::move(touching_links);
   build_self_pairs(*impl, *kin_);
@@ -198,6 +214,34 @@ ExactCheck ExactChecker::check(const Eigen::VectorXd& q) const {
     }
   }
   return out;
+}
+
+bool ExactChecker::links_free(const std::vector<std::pair<int, Eigen::Isometry3d>>& link_poses) const {
+  for (const auto& p : impl_->parts) {
+    if (p.link < 0) continue;
+    for (const auto& [link, pose] : link_poses) {
+      if (link != p.link) continue;
+      const Eigen::Isometry3d t = pose * p.local;
+      fcl::CollisionObjectd obj(p.geometry, t.linear(), t.translation());
+      obj.computeAABB();
+      EnvHit hit;
+      impl_->env->collide(&obj, &hit, env_callback);
+      if (hit.hit) return false;
+    }
+  }
+  return true;
+}
+
+bool ExactChecker::mesh_free(const CollisionMesh& mesh, const Eigen::Isometry3d& pose, std::string* contact) const {
+  fcl::CollisionObjectd obj(mesh.impl->geometry, pose.linear(), pose.translation());
+  obj.computeAABB();
+  EnvHit hit;
+  impl_->env->collide(&obj, &hit, env_callback);
+  if (hit.hit && contact) {
+    const std::size_t name = reinterpret_cast<std::size_t>(hit.other->getUserData());
+    *contact = name > 0 ? (*impl_->env_names)[name - 1] : std::string("?");
+  }
+  return !hit.hit;
 }
 
 bool ExactChecker::link_pairs_free(const Eigen::VectorXd& q, const std::pair<int, int>* pairs, int count) const {

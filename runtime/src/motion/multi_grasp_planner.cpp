@@ -54,6 +54,24 @@ std::vector<GraspPath> MultiGraspPlanner::take_paths() {
   return std::exchange(found_, {});
 }
 
+void MultiGraspPlanner::run_round(int iterations) {
+  std::vector<std::pair<int, std::shared_ptr<MultiGoalRRTConnect>>> work;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (auto& [grasp, e] : entries_)
+      if (e.planner->goal_count() > 0) work.emplace_back(grasp, e.planner);
+  }
+  for (auto& [grasp, planner] : work) {
+    auto left = std::make_shared<int>(iterations);
+    // Stop early once its goals are all connected: an idle planner would only wait.
+    auto* p = planner.get();
+    planner->solve(ob::PlannerTerminationCondition([left, p] { return (*left)-- <= 0 || p->goal_count() == 0; }));
+    auto paths = planner->take_paths();
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (auto& f : paths) found_.push_back({grasp, std::move(f)});
+  }
+}
+
 void MultiGraspPlanner::start() {
   if (running_.exchange(true)) return;
   for (int i = 0; i < threads_; ++i) workers_.emplace_back([this] { work(); });

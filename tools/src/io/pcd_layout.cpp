@@ -101,21 +101,32 @@ void check_pcd_layout(const std::string& file) {
                 std::to_string(points) + " points but WIDTH x HEIGHT is " + std::to_string(width * height));
   if (points == 0) throw Error(file, "POINTS", "the cloud is empty");
 
+  // PCL allocates POINTS x point size before reading: that product must not wrap around (COUNT
+  // and POINTS may each be 2^31, so it can exceed 64 bits and then pass the size checks below).
+  std::size_t bytes = 0;
+  if (__builtin_mul_overflow(points, point_step, &bytes))
+    throw Error(file, "POINTS", "POINTS x point size overflows (corrupt header)");
+
   const std::string data = h["DATA"].empty() ? std::string() : h["DATA"][0];
   in.seekg(0, std::ios::end);
   const std::size_t body = std::size_t(in.tellg()) - data_offset;
   if (data == "binary") {
-    if (body < points * point_step)
+    if (body < bytes)
       throw Error(file, "DATA",
-                  "binary body holds " + std::to_string(body) + " bytes, the header promises " +
-                      std::to_string(points * point_step));
+                  "binary body holds " + std::to_string(body) + " bytes, the header promises " + std::to_string(bytes));
   } else if (data == "binary_compressed") {
     std::uint32_t sizes[2] = {0, 0};  // compressed, uncompressed
     in.seekg(std::streamoff(data_offset));
     if (body < 8 || !in.read(reinterpret_cast<char*>(sizes), 8))
       throw Error(file, "DATA", "binary_compressed body too short");
-    if (sizes[0] == 0 || sizes[0] > body - 8 || sizes[1] != points * point_step)
+    if (sizes[0] == 0 || sizes[0] > body - 8 || sizes[1] != bytes)
       throw Error(file, "DATA", "binary_compressed sizes disagree with the header or the file (truncated?)");
+    // LZF turns 3 bytes into at most 264: a larger claimed ratio is a lie, and PCL would allocate
+    // the claimed size first (gigabytes for an 18-byte body).
+    if (std::uint64_t(sizes[1]) > std::uint64_t(sizes[0]) * 88 + 264)
+      throw Error(file, "DATA",
+                  "binary_compressed claims " + std::to_string(sizes[1]) + " bytes from " + std::to_string(sizes[0]) +
+                      " compressed (LZF expands at most 88:1; corrupt)");
   } else if (data == "ascii") {
     check_ascii_body(file, in, data_offset, points, values_per_point);
   } else {

@@ -11,6 +11,15 @@
 
 namespace dmgplace::runtime {
 
+// One mesh's FCL bounding-volume hierarchy, built once and shared by every checker that attaches
+// it (one per grasp), so a per-grasp checker costs a copy of a few pointers, not a BVH build.
+class CollisionMesh {
+ public:
+  explicit CollisionMesh(const TriMesh& mesh);
+  struct Impl;
+  std::shared_ptr<const Impl> impl;
+};
+
 struct ExactCheck {
   bool environment_free = true;
   bool self_free = true;
@@ -27,10 +36,18 @@ class ExactChecker {
   ExactChecker& operator=(const ExactChecker&) = delete;
 
   // A checker for one grasp: shares robot and environment geometry, adds the object mesh on `link`
-  // at `object_in_link`; it may touch `touching_links` (fingers) and the support below it within
-  // `support_tolerance` (the scene's top-facing surfaces are not exempt otherwise).
+  // at `object_in_link`; it may touch `touching_links` (fingers). Contact with the support is not
+  // exempt: placements are checked with the object lifted a little above it.
   ExactChecker with_attached(const TriMesh& object, int link, const Eigen::Isometry3d& object_in_link,
                              std::vector<int> touching_links) const;
+  ExactChecker with_attached(const CollisionMesh& object, int link, const Eigen::Isometry3d& object_in_link,
+                             std::vector<int> touching_links) const;
+
+  // The listed links' geometry alone at the given poses (world), against the environment: a hand
+  // without its arm, for instance.
+  bool links_free(const std::vector<std::pair<int, Eigen::Isometry3d>>& link_poses) const;
+  // The mesh alone at `pose` (world) against the environment; `contact` names the obstacle hit.
+  bool mesh_free(const CollisionMesh& mesh, const Eigen::Isometry3d& pose, std::string* contact = nullptr) const;
 
   ExactCheck check(const Eigen::VectorXd& q) const;
   // Self-collision of just these link pairs (the ones the sphere layer flagged).

@@ -37,6 +37,9 @@ class MultiGraspPlanner {
   // Optional last check of every path of a grasp (e.g. the exact checker); set it before start().
   void set_path_validator(std::function<bool(int grasp, const JointPath&)> v) { validator_ = std::move(v); }
 
+  // Synchronous and deterministic alternative to start(): serves every grasp with goals once, in
+  // grasp order, for `iterations` planner iterations each, on the calling thread.
+  void run_round(int iterations);
   void start();
   void stop();  // joins the workers; also done by the destructor
   int threads() const { return threads_; }

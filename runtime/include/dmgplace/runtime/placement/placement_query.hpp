@@ -1,0 +1,72 @@
+#pragma once
+// What a placement query asks for: start configuration, initial grasp, target volume, objective,
+// variant and the algorithm's parameters (defaults from the paper and its authors' code).
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace dmgplace::runtime {
+
+enum class PlacementVariant { Full, RandomGrasp, NoRegrasp };
+const char* to_string(PlacementVariant v);
+std::optional<PlacementVariant> parse_variant(const std::string& s);  // "full", "random-grasp", "no-regrasp"
+
+// One weighted term of the objective (maximised).
+struct ObjectiveTerm {
+  enum class Kind {
+    Clearance,  // mean clearance of the object's points from obstacles above and to the side (m)
+    Depth,      // COM position along `vector` (unit; the paper's "deeper into the shelf")
+    Distance,   // minus the COM's distance to the point `vector`
+    Upright,    // cosine between the object axis `vector` (object frame) and world z
+  };
+  Kind kind = Kind::Clearance;
+  double weight = 1.0;
+  Eigen::Vector3d vector = Eigen::Vector3d::Zero();
+};
+const char* to_string(ObjectiveTerm::Kind k);
+std::optional<ObjectiveTerm::Kind> parse_objective_kind(const std::string& s);  // clearance, depth, distance, upright
+
+struct PlacementOptions {
+  // Goal sampling (Algorithm 2).
+  int max_depth = 4;            // quadtree x theta levels below a region (smallest theta 2 pi / 4^4)
+  double ucb_c = 0.5;           // UCB1 exploration constant
+  int goal_iterations = 25;     // i_max: MCTS iterations per goal-sampling call
+  // Relaxed rewards of invalid samples (the authors' weights), normalised by their sum.
+  double reward_arm_free = 0.1, reward_object_free = 0.15, reward_contact = 0.15, reward_objective = 0.25,
+         reward_reachable = 0.2;
+  // Grasp selection (Algorithm 3).
+  double p_accept = 0.9;
+  int grasp_tries = 8;          // untried grasps drawn per selection before giving up
+  // Validity.
+  double lift = 0.004;          // goal configurations hold the object this far above the support (m)
+  int ik_restarts = 4;          // random restarts after the seed
+  // Motion planning.
+  double motion_resolution = 0.05;  // joint-space collision check step (rad)
+  int threads = 0;                  // 0: synchronous and deterministic; N > 0: N planner worker threads
+  int slice_iterations = 200;       // synchronous mode: planner iterations per grasp and round
+  int max_open_goals = 64;          // goal sampling pauses while this many wait for a path
+  // Local optimisation (OPTIMIZELOCALLY).
+  bool optimize_locally = true;
+  double local_step = 0.01;     // initial step of the object along the gradient (m; rad for theta)
+  double local_min_step = 0.0005;
+  int local_iterations = 100;
+  // Beyond the paper.
+  bool check_retreat = true;
+  double retreat_distance = 0.08;  // withdraw the gripper this far along -approach after release (m)
+  double tie_tolerance = 1e-4;     // objective values this close count as equal: fewer in-hand actions win
+};
+
+struct PlacementQuery {
+  Eigen::VectorXd q0;                                   // arm chain joints, the kinematics' order
+  Eigen::Isometry3d g0 = Eigen::Isometry3d::Identity();  // initial grasp: TCP pose in the object frame
+  double g0_opening = -1;                               // m; < 0: the grasp graph's own
+  std::optional<Eigen::AlignedBox3d> volume;            // target volume; unset: the environment's
+  std::vector<ObjectiveTerm> objective{ObjectiveTerm{}};
+  PlacementVariant variant = PlacementVariant::Full;
+  std::uint64_t seed = 1;
+  PlacementOptions options;
+};
+
+}  // namespace dmgplace::runtime

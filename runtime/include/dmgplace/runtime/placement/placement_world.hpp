@@ -1,0 +1,69 @@
+#pragma once
+// Everything a placement query runs against, built once from the three artifacts: the arm's
+// kinematics, both collision layers with the environment, the held object's grasp graph, mesh and
+// sphere cover, and the hand (the links rigid with the tool centre point).
+#include <memory>
+#include <vector>
+
+#include "dmgplace/formats/environment_artifact.hpp"
+#include "dmgplace/formats/object_artifact.hpp"
+#include "dmgplace/formats/robot_artifact.hpp"
+#include "dmgplace/runtime/collision/exact_checker.hpp"
+#include "dmgplace/runtime/collision/object_spheres.hpp"
+#include "dmgplace/runtime/collision/two_layer_checker.hpp"
+#include "dmgplace/runtime/environment/environment_model.hpp"
+#include "dmgplace/runtime/grasp/grasp_graph.hpp"
+#include "dmgplace/runtime/robot/kinematics.hpp"
+
+namespace dmgplace::runtime {
+
+struct HandModel {
+  std::vector<int> links;    // links rigid with the TCP (flange, hand, fingers)
+  std::vector<int> fingers;  // hand links behind a finger joint: they may touch the held object
+  std::vector<std::pair<int, Eigen::Isometry3d>> in_tcp;  // each hand link's pose in the TCP frame
+};
+
+class PlacementWorld {
+ public:
+  // The arm chain is the robot artifact's; its tip must be the gripper's TCP (z approach, y
+  // closing). Finger joints are set to half of `finger_opening` (< 0: the gripper's maximum).
+  PlacementWorld(formats::RobotArtifact robot, formats::ObjectArtifact object, formats::EnvironmentArtifact env,
+                 double finger_opening = -1);
+  PlacementWorld(const PlacementWorld&) = delete;
+  PlacementWorld& operator=(const PlacementWorld&) = delete;
+
+  const Kinematics& kin() const { return *kin_; }
+  const formats::RobotArtifact& robot() const { return robot_; }
+  const formats::ObjectArtifact& object() const { return object_; }
+  const EnvironmentModel& env() const { return env_; }
+  const Scene& scene() const { return scene_; }
+  const GraspGraph& grasp_graph() const { return *grasps_; }
+  const ExactChecker& exact() const { return *exact_; }
+  const CollisionMesh& object_mesh() const { return *object_mesh_; }
+  const SphereSet& object_spheres() const { return object_spheres_; }
+  const HandModel& hand() const { return hand_; }
+
+  // Both layers with the object held at `tcp_in_object` (a grasp): shares all geometry.
+  TwoLayerChecker grasp_checker(const Eigen::Isometry3d& tcp_in_object, std::shared_ptr<CheckCounters> counters) const;
+  ExactChecker grasp_exact(const Eigen::Isometry3d& tcp_in_object) const;
+  // The object released at `object_pose` (world), the arm free to move around it.
+  ExactChecker released_exact(const Eigen::Isometry3d& object_pose) const;
+  // Hand-only exact test at a TCP pose (no arm, no IK): the grasp filter of Algorithm 3. Exact
+  // because the hand works close to the support, where conservative spheres would reject it.
+  bool hand_free(const Eigen::Isometry3d& tcp_world) const;
+
+ private:
+  formats::RobotArtifact robot_;
+  formats::ObjectArtifact object_;
+  Scene scene_;
+  EnvironmentModel env_;
+  std::unique_ptr<Kinematics> kin_;
+  std::unique_ptr<GraspGraph> grasps_;
+  std::unique_ptr<ExactChecker> exact_;
+  std::unique_ptr<SphereFieldChecker> fast_;
+  std::unique_ptr<CollisionMesh> object_mesh_;
+  SphereSet object_spheres_;
+  HandModel hand_;
+};
+
+}  // namespace dmgplace::runtime

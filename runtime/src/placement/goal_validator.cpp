@@ -1,0 +1,61 @@
+#include "dmgplace/runtime/placement/goal_validator.hpp"
+
+namespace dmgplace::runtime {
+namespace {
+IkOptions ik_options(const PlacementOptions& o) {
+  IkOptions ik;
+  ik.max_restarts = o.ik_restarts;
+  return ik;
+}
+}  // namespace
+
+double GoalCheck::reward(const PlacementOptions& o) const {
+  if (valid()) return 1.0;
+  const double total = o.reward_arm_free + o.reward_object_free + o.reward_contact + o.reward_objective + o.reward_reachable;
+  if (!(total > 0)) return 0.0;
+  return (o.reward_arm_free * arm_free + o.reward_object_free * object_free + o.reward_contact * stable +
+          o.reward_objective * improves + o.reward_reachable * reachable) /
+         total;
+}
+
+GoalValidator::GoalValidator(const PlacementWorld& world, const SearchSpace& space, const Objective& objective,
+                             GraspSpaces& spaces, GraspSelector& selector, const PlacementQuery& query)
+    : world_(&world), space_(&space), objective_(&objective), spaces_(&spaces), selector_(&selector), query_(&query),
+      ik_(world.kin(), ik_options(query.options)) {}
+
+Eigen::Isometry3d GoalValidator::lifted(const Eigen::Isometry3d& resting) const {
+  Eigen::Isometry3d x = resting;
+  x.translation().z() += query_->options.lift;
+  return x;
+}
+
+GoalCheck GoalValidator::check(const PlacementTree& tree, const PlacementSample& s,
+                               const std::function<bool(double)>& better, std::mt19937_64& rng) {
+  GoalCheck c;
+  ++counters_.samples;
+  if (s.face < 0 || s.region < 0) return c;
+  c.stable = space_->stable(s.face, s.region, s.pose);
+  const Eigen::Isometry3d up = lifted(s.pose);
+  ++counters_.object_checks;
+  c.object_free = world_->exact().mesh_free(world_->object_mesh(), up);
+  c.objective = objective_->value(s.pose);
+  c.improves = better(c.objective);
+  counters_.stable += c.stable;
+  counters_.object_free += c.stable && c.object_free;
+  if (!c.stable || !c.object_free || !c.improves) return c;
+  c.grasp = selector_->select(tree, s.node, up, rng);
+  if (c.grasp < 0) return c;
+  ++counters_.with_grasp;
+  ++counters_.ik_calls;
+  const IkResult ik = ik_.solve(up * spaces_->grasp(c.grasp).pose, query_->q0, rng);
+  c.reachable = ik.success;
+  if (!c.reachable) return c;
+  ++counters_.ik_solutions;
+  ++counters_.arm_checks;
+  c.arm_free = spaces_->checker(c.grasp)->is_free(ik.q);
+  c.q = ik.q;
+  counters_.goals += c.valid();
+  return c;
+}
+
+}  // namespace dmgplace::runtime

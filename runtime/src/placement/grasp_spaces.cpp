@@ -1,0 +1,30 @@
+#include "dmgplace/runtime/placement/grasp_spaces.hpp"
+
+namespace dmgplace::runtime {
+
+GraspSpaces::GraspSpaces(const PlacementWorld& world, std::vector<ReachableGrasp> grasps, Eigen::VectorXd q0)
+    : world_(&world), grasps_(std::move(grasps)), q0_(std::move(q0)) {}
+
+std::shared_ptr<const TwoLayerChecker> GraspSpaces::checker(int g) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = checkers_.find(g);
+  if (it != checkers_.end()) return it->second;
+  auto c = std::make_shared<const TwoLayerChecker>(world_->grasp_checker(grasps_[std::size_t(g)].pose, counters_));
+  checkers_[g] = c;
+  return c;
+}
+
+bool GraspSpaces::usable(int g) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = usable_.find(g);
+    if (it != usable_.end()) return it->second;
+  }
+  // Exact: a wrong "usable" would hand the planner a start state it cannot leave.
+  const bool ok = checker(g)->exact().is_free(q0_);
+  std::lock_guard<std::mutex> lock(mutex_);
+  usable_[g] = ok;
+  return ok;
+}
+
+}  // namespace dmgplace::runtime

@@ -1,0 +1,110 @@
+#include "dmgplace/runtime/placement/placement_world.hpp"
+
+#include <algorithm>
+
+#include "dmgplace/formats/error.hpp"
+
+namespace dmgplace::runtime {
+namespace {
+// Links whose pose relative to the tip no chain joint changes.
+std::vector<int> rigid_with_tip(const Kinematics& kin) {
+  const int n = kin.dof();
+  const Eigen::VectorXd q0 = 0.5 * (kin.lower() + kin.upper());
+  std::vector<Eigen::Isometry3d> a, b;
+  kin.link_poses(q0, a);
+  const Eigen::Isometry3d tip_a = a[std::size_t(kin.tip_link())];
+  std::vector<char> rigid(a.size(), 1);
+  for (int i = 0; i < n; ++i) {
+    Eigen::VectorXd q = q0;
+    q[i] += 0.1;
+    kin.link_poses(q, b);
+    const Eigen::Isometry3d tip_b = b[std::size_t(kin.tip_link())];
+    for (std::size_t l = 0; l < a.size(); ++l)
+      rigid[l] &= (tip_a.inverse() * a[l]).isApprox(tip_b.inverse() * b[l], 1e-9);
+  }
+  // A link that no joint moves at all (the base) is rigid with nothing that moves.
+  const auto moving = kin.moving_links();
+  std::vector<int> out;
+  for (std::size_t l = 0; l < a.size(); ++l)
+    if (rigid[l] && moving[l]) out.push_back(int(l));
+  return out;
+}
+
+bool in_chain(const Kinematics& kin, const std::string& joint) {
+  return std::find(kin.joint_names().begin(), kin.joint_names().end(), joint) != kin.joint_names().end();
+}
+}  // namespace
+
+PlacementWorld::PlacementWorld(formats::RobotArtifact robot, formats::ObjectArtifact object,
+                               formats::EnvironmentArtifact env, double finger_opening)
+    : robot_(std::move(robot)), object_(std::move(object)) {
+  if (env.sdf.empty())
+    throw Error("environment", "/fields/sdf", "the artifact has no distance field; bake it with `dmgplace bake-env`");
+  if (env.clearance.empty())
+    throw Error("environment", "/fields/clearance", "the artifact has no clearance field; bake it with `dmgplace bake-env`");
+  if (object_.mesh.empty()) throw Error("object", "/mesh", "empty mesh");
+  scene_ = env.scene;
+  env_ = make_environment_model(std::move(env));
+  kin_ = std::make_unique<Kinematics>(robot_.model, robot_.model.arm_base, robot_.model.arm_tip);
+  const auto& model = robot_.model;
+  hand_.links = rigid_with_tip(*kin_);
+  // Finger joints: movable joints outside the chain whose child is a hand link.
+  const double opening = finger_opening >= 0 ? finger_opening : object_.dmg.gripper.max_opening;
+  for (const auto& j : model.joints) {
+    if (j.type == JointType::Fixed || in_chain(*kin_, j.name)) continue;
+    if (std::find(hand_.links.begin(), hand_.links.end(), j.child) == hand_.links.end()) continue;
+    if (j.mimic < 0) kin_->set_joint_value(j.name, std::clamp(0.5 * opening, j.lower, j.upper));
+  }
+  // Fingers: hand links below a movable non-chain joint (children first reached through one).
+  for (int l : hand_.links) {
+    int link = l;
+    bool finger = false;
+    while (!finger) {
+      auto it = std::find_if(model.joints.begin(), model.joints.end(), [&](const Joint& j) { return j.child == link; });
+      if (it == model.joints.end() || link == kin_->tip_link()) break;
+      finger = it->type != JointType::Fixed && !in_chain(*kin_, it->name);
+      link = it->parent;
+      if (std::find(hand_.links.begin(), hand_.links.end(), link) == hand_.links.end()) break;
+    }
+    if (finger) hand_.fingers.push_back(l);
+  }
+  std::vector<Eigen::Isometry3d> poses;
+  kin_->link_poses(0.5 * (kin_->lower() + kin_->upper()), poses);
+  const Eigen::Isometry3d tip_inv = poses[std::size_t(kin_->tip_link())].inverse();
+  for (int l : hand_.links) hand_.in_tcp.emplace_back(l, tip_inv * poses[std::size_t(l)]);
+  grasps_ = std::make_unique<GraspGraph>(object_.dmg);
+  exact_ = std::make_unique<ExactChecker>(*kin_, scene_);
+  fast_ = std::make_unique<SphereFieldChecker>(*kin_, robot_.spheres, env_.sdf, env_.sdf_band);
+  object_mesh_ = std::make_unique<CollisionMesh>(object_.mesh);
+  object_spheres_ = cover_object(object_.mesh);
+}
+
+TwoLayerChecker PlacementWorld::grasp_checker(const Eigen::Isometry3d& tcp_in_object,
+                                              std::shared_ptr<CheckCounters> counters) const {
+  const Eigen::Isometry3d object_in_tip = tcp_in_object.inverse();
+  AttachedSpheres att;
+  att.link = kin_->tip_link();
+  att.touching_links = hand_.fingers;
+  for (std::size_t i = 0; i < object_spheres_.centers.size(); ++i) {
+    att.centers.push_back(object_in_tip * object_spheres_.centers[i]);
+    att.radii.push_back(object_spheres_.radii[i]);
+  }
+  return TwoLayerChecker(fast_->with_attached(std::move(att)), grasp_exact(tcp_in_object), std::move(counters));
+}
+
+ExactChecker PlacementWorld::grasp_exact(const Eigen::Isometry3d& tcp_in_object) const {
+  return exact_->with_attached(*object_mesh_, kin_->tip_link(), tcp_in_object.inverse(), hand_.fingers);
+}
+
+ExactChecker PlacementWorld::released_exact(const Eigen::Isometry3d& object_pose) const {
+  return exact_->with_attached(*object_mesh_, kin_->base_link(), object_pose, hand_.fingers);
+}
+
+bool PlacementWorld::hand_free(const Eigen::Isometry3d& tcp_world) const {
+  thread_local std::vector<std::pair<int, Eigen::Isometry3d>> poses;
+  poses = hand_.in_tcp;
+  for (auto& [link, pose] : poses) pose = tcp_world * pose;
+  return exact_->links_free(poses);
+}
+
+}  // namespace dmgplace::runtime

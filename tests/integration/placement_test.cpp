@@ -1,0 +1,208 @@
+// The placement planner end to end on the built-in data: the cabinet, dmgarm and the bottle,
+// baked through the CLI once for the suite, then driven through the C++ API.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <memory>
+
+#include "dmgplace/formats/environment_artifact.hpp"
+#include "dmgplace/formats/object_artifact.hpp"
+#include "dmgplace/formats/robot_artifact.hpp"
+#include "dmgplace/runtime/placement/placement_planner.hpp"
+#include "test_support.hpp"
+
+namespace fs = std::filesystem;
+using namespace dmgplace;
+using namespace dmgplace::runtime;
+
+namespace {
+
+int run_cli(const std::string& args) {
+  const std::string cmd = test::cli_path() + " " + args + " > /dev/null 2>&1";
+  const int status = std::system(cmd.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+
+// Top-down grasp near the bottle's top: placing it upright deep on the lower shelf would put the
+// hand and wrist into the shelf above, so only an in-hand regrasp can place it there.
+Eigen::Isometry3d top_grasp() {
+  return Eigen::Translation3d(0, 0, 0.13) * Eigen::Quaterniond(0, 1, 0, 0);
+}
+Eigen::Isometry3d side_grasp() {
+  return Eigen::Translation3d(0, 0, 0.06) * Eigen::Quaterniond(0.7071068, 0, 0.7071068, 0);
+}
+
+class Placement : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new test::TempDir();
+    const fs::path data = test::source_dir() / "datasets";
+    const fs::path d = dir_->path();
+    ASSERT_EQ(run_cli("make-objects --out " + q(d)), 0);
+    ASSERT_EQ(run_cli("bake-robot " + q(data / "robots/dmgarm/dmgarm.urdf") + " --srdf " + q(data / "robots/dmgarm/dmgarm.srdf") +
+                      " --arm dmgarm_link0:dmgarm_tcp --out " + q(d / "arm.h5")),
+              0);
+    ASSERT_EQ(run_cli("bake-object " + q(d / "bottle.stl") + " --mass 0.15 --out " + q(d / "bottle.h5")), 0);
+    std::string volume = test::read_text(data / "scenes/cabinet.volume");
+    volume.erase(volume.find_last_not_of(" \n\r") + 1);
+    ASSERT_EQ(run_cli("bake-env " + q(data / "scenes/cabinet.yaml") + " --volume " + volume +
+                      " --out " + q(d / "cabinet.h5")),
+              0);
+    world_ = new PlacementWorld(formats::load_robot(d / "arm.h5"), formats::load_object(d / "bottle.h5"),
+                                formats::load_environment(d / "cabinet.h5"));
+  }
+  static void TearDownTestSuite() {
+    delete world_;
+    delete dir_;
+  }
+
+  static PlacementQuery query(const Eigen::Isometry3d& g0) {
+    PlacementQuery qr;
+    qr.q0 = Eigen::VectorXd(7);
+    qr.q0 << 0, -0.785, 0, -2.356, 0, 1.571, 0.785;
+    qr.g0 = g0;
+    qr.seed = 3;
+    return qr;
+  }
+  // Lower shelf, right of the compartment, from 7 cm behind the cabinet's front edge.
+  static Eigen::AlignedBox3d deep_lower_shelf() { return {Eigen::Vector3d(0.62, -0.07, 0.45), Eigen::Vector3d(0.85, 0.39, 0.72)}; }
+
+  static PlacementResult solve(const PlacementQuery& qr, long iterations, bool until_first = false) {
+    PlacementPlanner planner(*world_, qr);
+    bool found = false;
+    auto budget = stop_after_iterations(iterations);
+    return planner.run([&] { return (until_first && found) || budget(); }, [&](const PlacementSolution&) { found = true; });
+  }
+
+  static test::TempDir* dir_;
+  static PlacementWorld* world_;
+};
+test::TempDir* Placement::dir_ = nullptr;
+PlacementWorld* Placement::world_ = nullptr;
+
+Eigen::VectorXd vec(const std::vector<double>& v) { return Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size())); }
+
+}  // namespace
+
+TEST_F(Placement, BlockingGraspIsPlacedOnlyAfterRegrasp) {
+  PlacementQuery qr = query(top_grasp());
+  qr.volume = deep_lower_shelf();
+  qr.variant = PlacementVariant::NoRegrasp;
+  const PlacementResult none = solve(qr, 1500);
+  EXPECT_FALSE(none.solved());
+  EXPECT_NE(none.reason.find("no placement found"), std::string::npos) << none.reason;
+
+  qr.variant = PlacementVariant::Full;
+  const PlacementResult full = solve(qr, 4000, true);
+  ASSERT_TRUE(full.solved()) << full.reason;
+  const PlacementSolution& s = full.best();
+  ASSERT_FALSE(s.in_hand.empty());
+  // The in-hand sequence is a chain of grasp-graph moves from g0's state to g*'s.
+  EXPECT_EQ(s.in_hand.front().from_state, full.initial_state);
+  for (std::size_t i = 1; i < s.in_hand.size(); ++i) EXPECT_EQ(s.in_hand[i].from_state, s.in_hand[i - 1].to_state);
+  EXPECT_EQ(s.in_hand.back().to_state, s.grasp_state);
+  EXPECT_TRUE(deep_lower_shelf().contains(s.pose * world_->object().mass.com - Eigen::Vector3d(0, 0, 0.05)) ||
+              s.pose.translation().z() < 0.72);
+}
+
+TEST_F(Placement, EveryPublishedSolutionIsStableFreeAndImproving) {
+  PlacementQuery qr = query(side_grasp());
+  const PlacementResult r = solve(qr, 1500);
+  ASSERT_TRUE(r.solved()) << r.reason;
+  const Kinematics& kin = world_->kin();
+  const auto& env = world_->env();
+  for (std::size_t k = 0; k < r.improvements.size(); ++k) {
+    const PlacementSolution& s = r.improvements[k];
+    SCOPED_TRACE("improvement " + std::to_string(k));
+    if (k > 0) {
+      const auto& prev = r.improvements[k - 1];
+      const bool up = s.objective > prev.objective + qr.options.tie_tolerance;
+      const bool tie = std::abs(s.objective - prev.objective) <= qr.options.tie_tolerance && s.in_hand.size() < prev.in_hand.size();
+      EXPECT_TRUE(up || tie) << prev.objective << " -> " << s.objective;
+      EXPECT_GE(s.time, prev.time);
+    }
+    // Starts at q0; every segment collision-free for the exact layer at the checking resolution.
+    ASSERT_GE(s.path.size(), 2u);
+    EXPECT_LT((vec(s.path.front()) - qr.q0).norm(), 1e-9);
+    const ExactChecker exact = world_->grasp_exact(s.grasp);
+    for (std::size_t i = 1; i < s.path.size(); ++i)
+      ASSERT_TRUE(exact.segment_free(vec(s.path[i - 1]), vec(s.path[i]), qr.options.motion_resolution)) << "segment " << i;
+    // The arm at the end of the path holds the object just above its resting pose.
+    const Eigen::Isometry3d held = kin.tip_pose(vec(s.path.back())) * s.grasp.inverse();
+    EXPECT_LT((held.translation() - s.pose.translation() - Eigen::Vector3d(0, 0, qr.options.lift)).norm(), 1e-3);
+    EXPECT_LT(Eigen::AngleAxisd(held.linear() * s.pose.linear().transpose()).angle(), 1e-2);
+    // Stable: the face's polygon lies on the region's surface, over supported cells, COM too.
+    const auto& region = env.regions.at(std::size_t(s.region));
+    const auto& face = world_->object().placement.faces.at(std::size_t(s.face));
+    auto supported = [&](const Eigen::Vector3d& p) {
+      const Eigen::Vector2d u = (p.head<2>() - region.origin) / region.resolution;
+      const int i = int(std::floor(u.x())), j = int(std::floor(u.y()));
+      return i >= 0 && j >= 0 && i < region.width && j < region.depth &&
+             region.mask[std::size_t(i) + std::size_t(region.width) * std::size_t(j)];
+    };
+    for (const auto& v : face.polygon) {
+      const Eigen::Vector3d w = s.pose * v;
+      EXPECT_NEAR(w.z(), region.height, 1e-6);
+      EXPECT_TRUE(supported(w));
+    }
+    EXPECT_TRUE(supported(s.pose * world_->object().mass.com));
+    Eigen::Isometry3d lifted = s.pose;
+    lifted.translation().z() += qr.options.lift;
+    EXPECT_TRUE(world_->exact().mesh_free(world_->object_mesh(), lifted));
+    // The retreat leaves from the placement configuration.
+    ASSERT_FALSE(s.retreat.empty());
+    EXPECT_LT((vec(s.retreat.front()) - vec(s.path.back())).norm(), 1e-9);
+  }
+}
+
+TEST_F(Placement, SameSeedOneThreadGivesIdenticalResults) {
+  PlacementQuery qr = query(side_grasp());
+  qr.seed = 11;
+  const PlacementResult a = solve(qr, 400), b = solve(qr, 400);
+  ASSERT_EQ(a.improvements.size(), b.improvements.size());
+  ASSERT_TRUE(a.solved());
+  for (std::size_t k = 0; k < a.improvements.size(); ++k) {
+    const auto &x = a.improvements[k], &y = b.improvements[k];
+    EXPECT_EQ(x.objective, y.objective);
+    EXPECT_EQ(x.grasp_state, y.grasp_state);
+    EXPECT_TRUE(x.pose.isApprox(y.pose, 0));
+    EXPECT_EQ(x.path, y.path);
+    EXPECT_EQ(x.retreat, y.retreat);
+  }
+  EXPECT_EQ(a.counters.samples, b.counters.samples);
+  EXPECT_EQ(a.counters.goals, b.counters.goals);
+}
+
+TEST_F(Placement, ImpossibleQueriesEndWithAReason) {
+  PlacementQuery qr = query(side_grasp());
+  qr.volume = Eigen::AlignedBox3d(Eigen::Vector3d(3, 3, 0), Eigen::Vector3d(4, 4, 1));  // no region there
+  PlacementResult r = solve(qr, 10);
+  EXPECT_FALSE(r.solved());
+  EXPECT_NE(r.reason.find("no placement region inside the target volume"), std::string::npos) << r.reason;
+
+  qr.volume.reset();
+  r = solve(qr, 0);  // zero budget
+  EXPECT_FALSE(r.solved());
+  EXPECT_NE(r.reason.find("no placement found"), std::string::npos) << r.reason;
+
+  qr.q0[2] = std::nan("");
+  EXPECT_NE(test::error_of([&] { PlacementPlanner p(*world_, qr); }).find("q0"), std::string::npos);
+  qr.q0[2] = 10;  // beyond the limit
+  EXPECT_NE(test::error_of([&] { PlacementPlanner p(*world_, qr); }).find("joint limits"), std::string::npos);
+}
+
+TEST_F(Placement, ThreadedPlannerFindsSolutionsToo) {
+  PlacementQuery qr = query(side_grasp());
+  qr.options.threads = 2;
+  PlacementPlanner planner(*world_, qr);
+  bool found = false;
+  auto deadline = stop_after_seconds(20);
+  const PlacementResult r = planner.run([&] { return found || deadline(); }, [&](const PlacementSolution&) { found = true; });
+  ASSERT_TRUE(r.solved()) << r.reason;
+  const ExactChecker exact = world_->grasp_exact(r.best().grasp);
+  for (std::size_t i = 1; i < r.best().path.size(); ++i)
+    EXPECT_TRUE(exact.segment_free(vec(r.best().path[i - 1]), vec(r.best().path[i]), qr.options.motion_resolution));
+}

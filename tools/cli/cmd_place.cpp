@@ -1,0 +1,71 @@
+#include <chrono>
+#include <cmath>
+#include <iostream>
+
+#include "commands.hpp"
+#include "dmgplace/formats/environment_artifact.hpp"
+#include "dmgplace/formats/error.hpp"
+#include "dmgplace/formats/object_artifact.hpp"
+#include "dmgplace/formats/robot_artifact.hpp"
+#include "dmgplace/runtime/placement/placement_planner.hpp"
+#include "dmgplace/tools/placement/placement_report.hpp"
+
+namespace dmgplace::cli {
+
+int run_place(const PlaceArgs& a) {
+  tools::PlacementQueryFile q = tools::read_placement_query(a.query);
+  if (a.time_limit) q.time_limit = *a.time_limit;
+  if (a.seed) q.query.seed = *a.seed;
+  if (a.threads) q.query.options.threads = *a.threads;
+  if (!a.variant.empty()) {
+    const auto v = runtime::parse_variant(a.variant);
+    if (!v) throw Error("--variant", "", "unknown variant '" + a.variant + "' (full, random-grasp, no-regrasp)");
+    q.query.variant = *v;
+  }
+  const auto t_load = std::chrono::steady_clock::now();
+  runtime::PlacementWorld world(formats::load_robot(q.robot), formats::load_object(q.object),
+                                formats::load_environment(q.environment), q.query.g0_opening);
+  q.query.q0 = tools::resolve_start(q, world.kin());
+  const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
+  std::cerr << "loaded " << q.robot.filename().string() << ", " << q.object.filename().string() << ", "
+            << q.environment.filename().string() << " in " << load_s << " s; variant " << runtime::to_string(q.query.variant)
+            << ", seed " << q.query.seed << ", " << q.time_limit << " s\n";
+  runtime::PlacementPlanner planner(world, q.query);
+  const auto deadline = runtime::stop_after_seconds(q.time_limit);
+  // Progress on stderr every few seconds; improvements on stdout as they come.
+  auto last = std::chrono::steady_clock::now();
+  const auto stop = [&] {
+    const auto now = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(now - last).count() >= 5) {
+      last = now;
+      std::cerr << "  ... still searching\n";
+    }
+    return deadline();
+  };
+  const auto result = planner.run(stop, [&](const runtime::PlacementSolution& s) {
+    std::cout << tools::solution_line(s) << std::endl;
+  });
+  if (result.solved()) {
+    const auto& b = result.best();
+    std::cout << "best: objective " << b.objective << " after " << b.time << " s with grasp " << b.grasp_state << " ("
+              << b.in_hand.size() << " in-hand actions from g0); " << result.improvements.size() << " improvements, "
+              << result.counters.samples << " samples, " << result.counters.goals << " goals in " << result.seconds << " s\n";
+    for (std::size_t i = 0; i < b.in_hand.size(); ++i) {
+      const auto& act = b.in_hand[i];
+      std::cout << "  in-hand " << i + 1 << ": "
+                << (act.type == runtime::GraspMove::Translation
+                        ? "push " + std::to_string(act.distance * 1000) + " mm"
+                        : "rotate " + std::to_string(act.angle * 180 / M_PI) + " deg")
+                << " (state " << act.from_state << " -> " << act.to_state << ")\n";
+    }
+  } else {
+    std::cout << "no solution: " << result.reason << "\n";
+  }
+  const std::filesystem::path out = a.out.empty() ? std::filesystem::path("place-" + q.path.stem().string()) : std::filesystem::path(a.out);
+  tools::write_placement_result(out, q, result, world.kin());
+  if (a.json) std::cout << tools::result_json(q, result, world.kin());
+  std::cerr << "wrote " << (out / "result.json").string() << ", trace.csv, path.csv\n";
+  return result.solved() ? 0 : 3;
+}
+
+}  // namespace dmgplace::cli

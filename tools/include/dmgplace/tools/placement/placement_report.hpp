@@ -1,0 +1,21 @@
+#pragma once
+// What `dmgplace place` writes to its output folder: result.json (query, best solution and every
+// improvement), trace.csv (time, best objective, counters) and path.csv (joint waypoints of the
+// best solution's arm path, then its retreat).
+#include <filesystem>
+#include <string>
+
+#include "dmgplace/runtime/placement/placement_planner.hpp"
+#include "dmgplace/tools/placement/placement_query_file.hpp"
+
+namespace dmgplace::tools {
+
+// One line per improvement for the terminal.
+std::string solution_line(const runtime::PlacementSolution& s);
+// The result as JSON text.
+std::string result_json(const PlacementQueryFile& query, const runtime::PlacementResult& r, const runtime::Kinematics& kin);
+// Writes result.json, trace.csv and path.csv into `dir` (created), each atomically.
+void write_placement_result(const std::filesystem::path& dir, const PlacementQueryFile& query,
+                            const runtime::PlacementResult& r, const runtime::Kinematics& kin);
+
+}  // namespace dmgplace::tools

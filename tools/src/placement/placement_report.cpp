@@ -1,0 +1,160 @@
+#include "dmgplace/tools/placement/placement_report.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "dmgplace/formats/error.hpp"
+
+namespace dmgplace::tools {
+namespace {
+using nlohmann::ordered_json;
+using runtime::PlacementCounters;
+using runtime::PlacementSolution;
+
+ordered_json pose_json(const Eigen::Isometry3d& p) {
+  const Eigen::Quaterniond q(p.linear());
+  return {p.translation().x(), p.translation().y(), p.translation().z(), q.x(), q.y(), q.z(), q.w()};
+}
+
+ordered_json vec_json(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+ordered_json counters_json(const PlacementCounters& c) {
+  return {{"iterations", c.iterations},       {"samples", c.samples}, {"stable", c.stable}, {"object_free", c.object_free}, {"with_grasp", c.with_grasp},
+          {"ik_calls", c.ik_calls},           {"ik_solutions", c.ik_solutions},
+          {"collision_checks", c.collision_checks}, {"exact_checks", c.exact_checks},
+          {"object_checks", c.object_checks}, {"hand_checks", c.hand_checks},
+          {"goals", c.goals},                 {"planner_calls", c.planner_calls},
+          {"paths", c.paths},                 {"retreat_failures", c.retreat_failures}};
+}
+
+ordered_json solution_json(const PlacementSolution& s) {
+  ordered_json j;
+  j["time"] = s.time;
+  j["objective"] = s.objective;
+  j["pose"] = pose_json(s.pose);
+  j["face"] = s.face;
+  j["region"] = s.region;
+  j["grasp"] = {{"state", s.grasp_state}, {"pose", pose_json(s.grasp)}, {"opening", s.opening}, {"cost", s.grasp_cost}};
+  ordered_json actions = ordered_json::array();
+  for (const auto& a : s.in_hand) {
+    ordered_json x;
+    x["type"] = a.type == runtime::GraspMove::Translation ? "push" : "rotate";
+    x["from_state"] = a.from_state;
+    x["to_state"] = a.to_state;
+    if (a.type == runtime::GraspMove::Translation) {
+      x["distance"] = a.distance;
+      x["push_direction"] = vec_json(a.push_direction);
+    } else {
+      x["angle"] = a.angle;
+      x["axis"] = vec_json(a.axis);
+      x["pivot"] = vec_json(a.pivot);
+    }
+    ordered_json f1 = ordered_json::array(), f2 = ordered_json::array();
+    for (const auto& p : a.finger1_path) f1.push_back(vec_json(p));
+    for (const auto& p : a.finger2_path) f2.push_back(vec_json(p));
+    x["finger1_path"] = f1;
+    x["finger2_path"] = f2;
+    actions.push_back(x);
+  }
+  j["in_hand"] = actions;
+  j["path"] = s.path;
+  j["retreat"] = s.retreat;
+  j["counters"] = counters_json(s.counters);
+  return j;
+}
+
+void write_atomically(const std::filesystem::path& path, const std::string& text) {
+  const auto tmp = path.parent_path() / ("." + path.filename().string() + ".tmp");
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    f << text;
+    f.flush();
+    if (!f) throw Error(path.string(), "", "cannot write (disk full or no permission?)");
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw Error(path.string(), "", "cannot replace: " + ec.message());
+}
+}  // namespace
+
+std::string solution_line(const PlacementSolution& s) {
+  std::ostringstream o;
+  const Eigen::Vector3d t = s.pose.translation();
+  o << std::fixed << std::setprecision(3) << "[" << std::setw(7) << s.time << " s] objective " << std::setprecision(4)
+    << s.objective << std::setprecision(3) << "  at (" << t.x() << ", " << t.y() << ", " << t.z() << ")  face " << s.face
+    << "  grasp " << s.grasp_state << " (" << s.in_hand.size() << " in-hand actions)  path " << s.path.size()
+    << " waypoints";
+  return o.str();
+}
+
+std::string result_json(const PlacementQueryFile& q, const runtime::PlacementResult& r, const runtime::Kinematics& kin) {
+  ordered_json j;
+  j["query"] = {{"file", q.path.string()},
+                {"robot", q.robot.string()},
+                {"object", q.object.string()},
+                {"environment", q.environment.string()},
+                {"variant", runtime::to_string(q.query.variant)},
+                {"seed", q.query.seed},
+                {"time_limit", q.time_limit},
+                {"start", std::vector<double>(q.query.q0.data(), q.query.q0.data() + q.query.q0.size())},
+                {"initial_grasp", pose_json(q.query.g0)}};
+  if (q.query.volume)
+    j["query"]["volume"] = {q.query.volume->min().x(), q.query.volume->min().y(), q.query.volume->min().z(),
+                            q.query.volume->max().x(), q.query.volume->max().y(), q.query.volume->max().z()};
+  ordered_json terms = ordered_json::array();
+  for (const auto& t : q.query.objective)
+    terms.push_back({{"term", runtime::to_string(t.kind)}, {"weight", t.weight}, {"vector", vec_json(t.vector)}});
+  j["query"]["objective"] = terms;
+  j["joint_names"] = kin.joint_names();
+  j["solved"] = r.solved();
+  if (!r.solved()) j["reason"] = r.reason;
+  j["seconds"] = r.seconds;
+  j["reachable_grasps"] = r.reachable_grasps;
+  j["initial_state"] = r.initial_state;
+  j["counters"] = counters_json(r.counters);
+  if (r.solved()) j["best"] = solution_json(r.best());
+  ordered_json imp = ordered_json::array();
+  for (const auto& s : r.improvements) {
+    ordered_json x = solution_json(s);
+    x.erase("path");
+    x.erase("retreat");
+    imp.push_back(x);
+  }
+  j["improvements"] = imp;
+  return j.dump(2) + "\n";
+}
+
+void write_placement_result(const std::filesystem::path& dir, const PlacementQueryFile& q, const runtime::PlacementResult& r,
+                            const runtime::Kinematics& kin) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw Error(dir.string(), "", "cannot create the output folder: " + ec.message());
+  write_atomically(dir / "result.json", result_json(q, r, kin));
+  std::ostringstream trace;
+  trace << "time,best,iterations,samples,ik_calls,ik_solutions,collision_checks,exact_checks,goals,paths\n";
+  for (const auto& p : r.trace) {
+    const auto& c = p.counters;
+    trace << p.time << ',' << (std::isnan(p.best) ? std::string() : std::to_string(p.best)) << ',' << c.iterations << ','
+          << c.samples << ',' << c.ik_calls << ',' << c.ik_solutions << ',' << c.collision_checks << ',' << c.exact_checks
+          << ',' << c.goals << ',' << c.paths << '\n';
+  }
+  write_atomically(dir / "trace.csv", trace.str());
+  std::ostringstream path;
+  path << "segment";
+  for (const auto& n : kin.joint_names()) path << ',' << n;
+  path << '\n';
+  if (r.solved()) {
+    for (auto [name, pts] : {std::pair{"approach", &r.best().path}, std::pair{"retreat", &r.best().retreat}})
+      for (const auto& w : *pts) {
+        path << name;
+        for (double v : w) path << ',' << std::setprecision(9) << v;
+        path << '\n';
+      }
+  }
+  write_atomically(dir / "path.csv", path.str());
+}
+
+}  // namespace dmgplace::tools
