@@ -74,6 +74,7 @@ int run_bench_mbm(const BenchMbmArgs& a);
 
 struct PlaceArgs {
   std::string query, out;  // out empty: ./place-<query stem>
+  std::string artifacts;   // folder for the query's relative artifact paths; empty: the query's folder
   std::optional<double> time_limit;
   std::optional<std::uint64_t> seed;
   std::optional<int> threads;

@@ -70,6 +70,7 @@ int main(int argc, char** argv) {
   PlaceArgs place;
   auto* c_place = app.add_subcommand("place", "Plan a placement (anytime): in-hand regrasp, arm path, best pose so far");
   c_place->add_option("query", place.query, "Query YAML (artifacts, start, initial grasp, volume, objective)")->required();
+  c_place->add_option("--artifacts", place.artifacts, "Folder the query's relative artifact paths are in (default: the query's folder)");
   c_place->add_option("--out", place.out, "Output folder for result.json, trace.csv, path.csv");
   c_place->add_option("--time-limit", place.time_limit, "Seconds (overrides the query's)")->check(CLI::NonNegativeNumber);
   c_place->add_option("--seed", place.seed, "Random seed (overrides the query's)");

@@ -82,13 +82,13 @@ ObjectiveTerm read_term(const YAML::Node& n, const std::string& file, std::size_
 }
 }  // namespace
 
-PlacementQueryFile read_placement_query(const std::filesystem::path& path) {
+PlacementQueryFile read_placement_query(const std::filesystem::path& path, const std::filesystem::path& artifact_dir) {
   const std::string file = path.string();
   const YAML::Node root = load_yaml_file(path);
   if (!root.IsMap()) throw Error(file, "", "expected a map (robot, object, environment, start, initial_grasp, ...)");
   PlacementQueryFile f;
   f.path = path;
-  const auto dir = path.parent_path();
+  const auto dir = artifact_dir.empty() ? path.parent_path() : artifact_dir;
   try {
     for (auto [key, dst] : {std::pair{"robot", &f.robot}, std::pair{"object", &f.object}, std::pair{"environment", &f.environment}}) {
       if (!root[key]) throw Error(file, key, "missing (path of the artifact, relative to the query file)");

@@ -34,7 +34,8 @@ struct PlacementQueryFile {
   runtime::PlacementQuery query;                     // q0 filled by resolve_start()
 };
 
-PlacementQueryFile read_placement_query(const std::filesystem::path& path);
+// Relative artifact paths are resolved against `artifact_dir`, or the query's folder when empty.
+PlacementQueryFile read_placement_query(const std::filesystem::path& path, const std::filesystem::path& artifact_dir = {});
 // The start configuration in the arm chain's joint order; errors name the query file.
 Eigen::VectorXd resolve_start(const PlacementQueryFile& f, const runtime::Kinematics& kin);
 

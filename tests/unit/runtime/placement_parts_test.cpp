@@ -1,0 +1,173 @@
+// The placement planner's parts on synthetic inputs: the object's sphere cover, the search space,
+// the MCTS hierarchy and the objective.
+#include <gtest/gtest.h>
+
+#include <numbers>
+#include <random>
+
+#include "dmgplace/formats/error.hpp"
+#include "dmgplace/runtime/collision/object_spheres.hpp"
+#include "dmgplace/runtime/placement/objective.hpp"
+#include "dmgplace/runtime/placement/placement_tree.hpp"
+#include "dmgplace/tools/data/procedural_meshes.hpp"
+#include "dmgplace/tools/object/placement_faces.hpp"
+
+using namespace dmgplace;
+using namespace dmgplace::runtime;
+
+namespace {
+
+Eigen::Vector3d random_surface_point(const TriMesh& m, std::mt19937_64& rng) {
+  std::uniform_int_distribution<int> tri(0, int(m.triangles.rows()) - 1);
+  std::uniform_real_distribution<double> u(0, 1);
+  const int t = tri(rng);
+  double a = u(rng), b = u(rng);
+  if (a + b > 1) a = 1 - a, b = 1 - b;
+  const Eigen::Vector3d p0 = m.vertices.row(m.triangles(t, 0)), p1 = m.vertices.row(m.triangles(t, 1)),
+                        p2 = m.vertices.row(m.triangles(t, 2));
+  return p0 + a * (p1 - p0) + b * (p2 - p0);
+}
+
+bool covered(const SphereSet& s, const Eigen::Vector3d& p) {
+  for (std::size_t i = 0; i < s.centers.size(); ++i)
+    if ((s.centers[i] - p).norm() <= s.radii[i] + 1e-12) return true;
+  return false;
+}
+
+formats::ObjectArtifact box_object() {
+  formats::ObjectArtifact o;
+  o.mesh = tools::make_box_mesh(Eigen::Vector3d(0.10, 0.06, 0.04));
+  o.mass.com = Eigen::Vector3d::Zero();
+  o.placement = tools::compute_placement_faces(o.mesh, o.mass.com, tools::PlacementOptions{}, "box");
+  return o;
+}
+
+// A 0.4 x 0.3 m region at z = 0.5 on 2 cm cells with a hole in the middle.
+formats::PlacementRegion region_with_hole() {
+  formats::PlacementRegion r;
+  r.height = 0.5;
+  r.resolution = 0.02;
+  r.origin = Eigen::Vector2d(1.0, -0.2);
+  r.width = 20;
+  r.depth = 15;
+  r.mask.assign(std::size_t(r.width * r.depth), 1);
+  r.free_height.assign(r.mask.size(), 0.3f);
+  for (int j = 5; j < 10; ++j)
+    for (int i = 8; i < 12; ++i) r.mask[std::size_t(i + r.width * j)] = 0;
+  r.area = double(r.cell_count()) * r.resolution * r.resolution;
+  return r;
+}
+
+}  // namespace
+
+TEST(ObjectSpheres, CoverContainsTheSurfaceAndTheInside) {
+  for (const TriMesh& m : {tools::make_box_mesh(Eigen::Vector3d(0.1, 0.05, 0.03)), tools::make_bottle_mesh(), tools::make_eraser_mesh()}) {
+    const SphereSet s = cover_object(m, 8);
+    ASSERT_FALSE(s.centers.empty());
+    std::mt19937_64 rng(5);
+    for (int k = 0; k < 3000; ++k) ASSERT_TRUE(covered(s, random_surface_point(m, rng)));
+    // Interior points: between two surface points along a line through the inside.
+    const Eigen::Vector3d c = m.vertices.colwise().mean().transpose();
+    for (int k = 0; k < 300; ++k) {
+      const Eigen::Vector3d p = random_surface_point(m, rng);
+      const Eigen::Vector3d x = c + 0.9 * (p - c);
+      if (inside_mesh(m, x)) ASSERT_TRUE(covered(s, x));
+    }
+  }
+}
+
+TEST(SearchSpace, PosesRestOnTheRegionAndCropToTheVolume) {
+  const auto obj = box_object();
+  const std::vector<formats::PlacementRegion> regions{region_with_hole()};
+  const Eigen::AlignedBox3d everything(Eigen::Vector3d(-10, -10, 0), Eigen::Vector3d(10, 10, 2));
+  const SearchSpace space(obj, regions, everything);
+  ASSERT_EQ(space.face_count(), 6);
+  ASSERT_EQ(space.region_count(), 1);
+  EXPECT_EQ(space.supported_cells(0, space.full_range(0)), 20 * 15 - 20);
+  for (int f = 0; f < space.face_count(); ++f) {
+    const Eigen::Isometry3d x = space.pose(f, 0, Eigen::Vector2d(1.1, -0.1), 0.7);
+    for (const auto& v : space.face(f).polygon) EXPECT_NEAR((x * v).z(), 0.5, 1e-9);
+    EXPECT_TRUE((x * obj.mass.com).head<2>().isApprox(Eigen::Vector2d(1.1, -0.1), 1e-12));
+    for (int k = 0; k < obj.mesh.vertices.rows(); ++k) EXPECT_GE((x * obj.mesh.vertices.row(k).transpose()).z(), 0.5 - 1e-9);
+    EXPECT_TRUE(space.stable(f, 0, x));
+    // Over the hole it is not supported.
+    EXPECT_FALSE(space.stable(f, 0, space.pose(f, 0, Eigen::Vector2d(1.2, -0.05), 0)));
+  }
+  // A volume covering only the left half keeps only that half's cells; one above it none.
+  const SearchSpace left(obj, regions, Eigen::AlignedBox3d(Eigen::Vector3d(0, -1, 0.4), Eigen::Vector3d(1.2, 1, 0.8)));
+  EXPECT_EQ(left.supported_cells(0, left.full_range(0)), 10 * 15 - 2 * 5);  // two hole columns are in the left half
+  const SearchSpace above(obj, regions, Eigen::AlignedBox3d(Eigen::Vector3d(0, -1, 0.6), Eigen::Vector3d(2, 1, 0.8)));
+  EXPECT_EQ(above.region_count(), 0);
+}
+
+TEST(PlacementTree, RolloutsStayInsideTheirNodeAndOnSupport) {
+  const auto obj = box_object();
+  const std::vector<formats::PlacementRegion> regions{region_with_hole()};
+  const SearchSpace space(obj, regions, Eigen::AlignedBox3d(Eigen::Vector3d(-10, -10, 0), Eigen::Vector3d(10, 10, 2)));
+  PlacementTree tree(space, 4, 0.5);
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int it = 0; it < 3000; ++it) {
+    const int n = tree.select(rng);
+    ASSERT_GE(n, 0);
+    const auto& cell = tree.node(n).cell;
+    const PlacementSample s = tree.rollout(n, rng);
+    ASSERT_GE(s.face, 0);
+    ASSERT_GE(s.region, 0);
+    if (cell.face >= 0) EXPECT_EQ(s.face, cell.face);
+    EXPECT_TRUE(space.supported(s.region, s.xy));
+    EXPECT_GE(s.theta, cell.t0);
+    EXPECT_LE(s.theta, cell.t1);
+    if (cell.level >= 2) {
+      const auto& reg = space.region(s.region);
+      const Eigen::Vector2d c = (s.xy - reg.origin) / reg.resolution;
+      EXPECT_GE(c.x(), cell.cells.i0);
+      EXPECT_LE(c.x(), cell.cells.i1);
+      EXPECT_GE(c.y(), cell.cells.j0);
+      EXPECT_LE(c.y(), cell.cells.j1);
+    }
+    // Reward poses near one corner so the search has something to learn.
+    tree.backpropagate(n, (s.xy - Eigen::Vector2d(1.0, -0.2)).norm() < 0.1 ? 1.0 : 0.1 * u(rng));
+  }
+  EXPECT_EQ(tree.node(0).visits, 3000);
+  for (int n = 0; n < tree.size(); ++n) {
+    const auto& node = tree.node(n);
+    int child_visits = 0;
+    for (int c : node.children) {
+      child_visits += tree.node(c).visits;
+      EXPECT_EQ(tree.node(c).cell.level, node.cell.level + 1);
+      EXPECT_NEAR(tree.node(c).cell.t1 - tree.node(c).cell.t0,
+                  node.cell.level >= 2 ? (node.cell.t1 - node.cell.t0) / 4 : node.cell.t1 - node.cell.t0, 1e-12);
+    }
+    EXPECT_LE(child_visits, node.visits);
+    EXPECT_LE(node.children.size(), node.cell.level == 0 ? 6u : node.cell.level == 1 ? 1u : 16u);
+  }
+  // UCB concentrates visits: the rewarding corner's face-region subtree holds most of them.
+  EXPECT_GT(tree.size(), 50);
+}
+
+TEST(Objective, DepthAndDistanceTermsAndTheirGradients) {
+  const auto obj = box_object();
+  EnvironmentModel env;
+  std::vector<ObjectiveTerm> terms(2);
+  terms[0].kind = ObjectiveTerm::Kind::Depth;
+  terms[0].vector = Eigen::Vector3d(2, 0, 0);  // normalised by the objective
+  terms[1].kind = ObjectiveTerm::Kind::Distance;
+  terms[1].weight = 0.5;
+  terms[1].vector = Eigen::Vector3d(1, 1, 0.5);
+  const Objective f(terms, env, obj, {});
+  Eigen::Isometry3d x = Eigen::Translation3d(0.3, 0.2, 0.5) * Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ());
+  const Eigen::Vector3d com = x * obj.mass.com;
+  EXPECT_NEAR(f.value(x), com.x() - 0.5 * (com - terms[1].vector).norm(), 1e-12);
+  const Eigen::Vector3d g = f.gradient(x);
+  const Eigen::Vector3d to_target = (terms[1].vector - com).normalized();
+  EXPECT_NEAR(g.x(), 1 + 0.5 * to_target.x(), 1e-5);
+  EXPECT_NEAR(g.y(), 0.5 * to_target.y(), 1e-5);
+  EXPECT_NEAR(g.z(), 0, 1e-9);  // turning about the COM changes neither term
+  EXPECT_TRUE((f.moved(x, Eigen::Vector3d(0, 0, 1.0)) * obj.mass.com).isApprox(com, 1e-12));
+  // Bad terms are refused with the term named.
+  terms[0].vector.setZero();
+  EXPECT_THROW(Objective(terms, env, obj, {}), dmgplace::Error);
+  std::vector<ObjectiveTerm> clearance(1);
+  EXPECT_THROW(Objective(clearance, env, obj, {}), dmgplace::Error);  // no clearance field
+}
