@@ -83,6 +83,17 @@ struct PlaceArgs {
 };
 int run_place(const PlaceArgs& a);
 
+struct ExperimentArgs {
+  std::string spec, out, artifacts;
+  int runs = 0, jobs = 1;
+  bool quick = false;
+  std::optional<double> time_limit;
+};
+int run_experiment(const ExperimentArgs& a);
+
+struct PlotArgs { std::string dir; };
+int run_plot(const PlotArgs& a);
+
 struct MakeObjectsArgs { std::string out_dir; };
 int run_make_objects(const MakeObjectsArgs& a);
 

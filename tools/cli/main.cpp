@@ -78,6 +78,20 @@ int main(int argc, char** argv) {
   c_place->add_option("--variant", place.variant, "full, random-grasp or no-regrasp (overrides the query's)");
   c_place->add_flag("--json", place.json, "Also print result.json to stdout");
 
+  ExperimentArgs experiment;
+  auto* c_exp = app.add_subcommand("experiment", "Run a grid of placement problems x variants x seeds (resumable)");
+  c_exp->add_option("spec", experiment.spec, "Experiment SPEC.yaml")->required();
+  c_exp->add_option("--out", experiment.out, "Output folder (runs/, summary.csv)")->required();
+  c_exp->add_option("--artifacts", experiment.artifacts, "Folder of the queries' artifacts (overrides the spec's)");
+  c_exp->add_option("--runs", experiment.runs, "Seeds per problem and variant (overrides the spec's)")->check(CLI::PositiveNumber);
+  c_exp->add_option("--jobs", experiment.jobs, "Runs at a time")->check(CLI::PositiveNumber);
+  c_exp->add_option("--time-limit", experiment.time_limit, "Seconds per run (overrides the spec's)")->check(CLI::NonNegativeNumber);
+  c_exp->add_flag("--quick", experiment.quick, "The spec's quick preset: a few seeds, seconds per run");
+
+  PlotArgs plot;
+  auto* c_plot = app.add_subcommand("plot", "Objective and success against time for an experiment folder (SVG, PNG)");
+  c_plot->add_option("dir", plot.dir, "Experiment output folder")->required();
+
   GraspsArgs grasps;
   std::string initial_text;
   auto* c_grasps = app.add_subcommand("grasps", "Grasps reachable in-hand from an initial grasp (DMG + Dijkstra)");
@@ -151,6 +165,8 @@ int main(int argc, char** argv) {
       return run_bake_object(bake_object);
     }
     if (*c_place) return run_place(place);
+    if (*c_exp) return run_experiment(experiment);
+    if (*c_plot) return run_plot(plot);
     if (*c_grasps) {
       grasps.initial = parse_numbers<7>(initial_text, "--initial");
       return run_grasps(grasps);

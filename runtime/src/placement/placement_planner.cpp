@@ -138,7 +138,8 @@ struct PlacementPlanner::Run {
     spaces = std::make_unique<GraspSpaces>(world, std::move(grasps), q.q0);
     if (!world.exact().is_free(q.q0)) return "the start configuration q0 is in collision: " + world.exact().check(q.q0).contact;
     if (q.variant == PlacementVariant::NoRegrasp && !spaces->usable(0))
-      return "holding the object with g0, the start configuration is in collision";
+      return "holding the object with g0, the start configuration is in collision: " +
+             spaces->checker(0)->exact().check(q.q0).contact;
     selector = std::make_unique<GraspSelector>(
         *spaces, q.variant, o.p_accept, o.grasp_tries, [this](int g, const Eigen::Isometry3d& pose) {
           return world.hand_free(pose * spaces->grasp(g).pose);

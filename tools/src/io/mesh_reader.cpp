@@ -4,7 +4,10 @@
 #include <assimp/scene.h>
 
 #include <assimp/Importer.hpp>
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <fstream>
 #include <system_error>
 #include <vector>
 
@@ -33,6 +36,30 @@ void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent
   for (unsigned c = 0; c < node.mNumChildren; ++c) collect(scene, *node.mChildren[c], world, verts, tris);
 }
 
+// assimp 5.2's PLY importer loops forever when the header ends without an `end_header` line (found
+// by fuzzing: `dmgplace bake-env` hung on a truncated PLY). It takes every file that starts with
+// "ply" whatever the extension (STL and OBJ go by extension), so those must show an end_header line
+// within their first megabyte before assimp sees them.
+void check_ply_header(const std::filesystem::path& path, const std::string& file) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".stl" || ext == ".obj") return;
+  std::ifstream in(path, std::ios::binary);
+  std::string head(std::size_t(1) << 20, '\0');
+  in.read(head.data(), std::streamsize(head.size()));
+  head.resize(std::size_t(in.gcount()));
+  if (head.size() < 3 || std::tolower(static_cast<unsigned char>(head[0])) != 'p' ||
+      std::tolower(static_cast<unsigned char>(head[1])) != 'l' || std::tolower(static_cast<unsigned char>(head[2])) != 'y')
+    return;
+  for (std::size_t pos = 0; pos < head.size();) {
+    const std::size_t end = std::min(head.find('\n', pos), head.size());
+    const std::size_t first = head.find_first_not_of(" \t\r", pos);
+    if (first < end && head.compare(first, 10, "end_header") == 0) return;
+    pos = end + 1;
+  }
+  throw Error(file, "", "cannot read mesh: PLY header has no end_header line (truncated or corrupt)");
+}
+
 }  // namespace
 
 TriMesh read_mesh(const std::filesystem::path& path, const MeshReadOptions& options, MeshReport* report) {
@@ -42,6 +69,8 @@ TriMesh read_mesh(const std::filesystem::path& path, const MeshReadOptions& opti
   if (!std::filesystem::is_regular_file(path, ec)) throw Error(file, "", "not a regular file");
   const Eigen::Vector3d scale = options.scale * options.axis_scale;
   if (!scale.allFinite() || (scale.array() == 0).any()) throw Error(file, "scale", "scale must be finite and non-zero");
+
+  check_ply_header(path, file);
 
   Assimp::Importer importer;
   // Keep the file's own axes: robot meshes are z-up; assimp would turn Collada z-up into y-up.

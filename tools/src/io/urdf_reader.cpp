@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 #include <numbers>
+#include <set>
 #include <sstream>
 
 #include "dmgplace/formats/error.hpp"
@@ -184,6 +185,16 @@ RobotModel read_urdf(const fs::path& urdf, const UrdfOptions& options) {
     if (!parsed)
       throw Error(file, "", "not a valid URDF: " + (log.errors.empty() ? "urdfdom rejected it" : log.errors));
   }
+  // urdfdom accepts links that do not hang below the root (a joint whose parent is its own child, or
+  // any joint cycle): those links would be dropped silently below, and the cycle of shared_ptrs in
+  // urdfdom's tree leaks (found by fuzzing). Reject them, and break every cycle before returning.
+  struct Unlink {
+    urdf::ModelInterface& m;
+    ~Unlink() {
+      for (auto& entry : m.links_)
+        if (entry.second) entry.second->child_links.clear(), entry.second->child_joints.clear();
+    }
+  } unlink{*parsed};
   const auto root = parsed->getRoot();
   if (!root) throw Error(file, "", "no root link");
 
@@ -192,14 +203,19 @@ RobotModel read_urdf(const fs::path& urdf, const UrdfOptions& options) {
   const fs::path base_dir = urdf.parent_path();
   // Depth-first from the root so every joint's parent link comes before its child link.
   std::vector<urdf::LinkConstSharedPtr> order, stack{root};
+  std::set<const urdf::Link*> seen;
   while (!stack.empty()) {
     const auto link = stack.back();
     stack.pop_back();
+    if (!seen.insert(link.get()).second) continue;
     order.push_back(link);
     std::vector<urdf::LinkSharedPtr> children = link->child_links;
     std::sort(children.begin(), children.end(), [](const auto& a, const auto& b) { return a->name > b->name; });
     for (const auto& c : children) stack.push_back(c);
   }
+  for (const auto& [name, link] : parsed->links_)
+    if (!seen.count(link.get()))
+      throw Error(file, quoted("link", name), "not connected to the root link '" + root->name + "' (joint cycle?)");
   for (const auto& l : order) model.links.push_back(convert_link(*l, file, base_dir, options));
   for (const auto& l : order)
     if (l->parent_joint) model.joints.push_back(convert_joint(*l->parent_joint, model, file));
