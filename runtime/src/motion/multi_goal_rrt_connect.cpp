@@ -228,7 +228,11 @@ ob::PlannerStatus MultiGoalRRTConnect::solve(const ob::PlannerTerminationConditi
     if (connect(other, a->q, b) != Grow::Reached) continue;
     FoundPath f = forward ? make_path(a, b, goal_id) : make_path(b, a, goal_id);
     f.time_found = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    goal_trees_.erase(goal_id);  // reported once; the caller decides what to add next
+    {
+      // Writers hold the mutex: goal_count() reads the map from other threads.
+      std::lock_guard<std::mutex> lock(mutex_);
+      goal_trees_.erase(goal_id);  // reported once; the caller decides what to add next
+    }
     if (validator_ && !validator_(f.path)) continue;
     solved = true;
     if (callback_) callback_(f);
