@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <memory>
+#include <random>
 
 #include "dmgplace/formats/environment_artifact.hpp"
 #include "dmgplace/formats/object_artifact.hpp"
@@ -49,7 +50,7 @@ class Placement : public ::testing::Test {
     std::string volume = test::read_text(data / "scenes/cabinet.volume");
     volume.erase(volume.find_last_not_of(" \n\r") + 1);
     ASSERT_EQ(run_cli("bake-env " + q(data / "scenes/cabinet.yaml") + " --volume " + volume +
-                      " --out " + q(d / "cabinet.h5")),
+                      " --margin 0.9 --sdf-resolution 0.02 --out " + q(d / "cabinet.h5")),
               0);
     world_ = new PlacementWorld(formats::load_robot(d / "arm.h5"), formats::load_object(d / "bottle.h5"),
                                 formats::load_environment(d / "cabinet.h5"));
@@ -205,4 +206,53 @@ TEST_F(Placement, ThreadedPlannerFindsSolutionsToo) {
   const ExactChecker exact = world_->grasp_exact(r.best().grasp);
   for (std::size_t i = 1; i < r.best().path.size(); ++i)
     EXPECT_TRUE(exact.segment_free(vec(r.best().path[i - 1]), vec(r.best().path[i]), qr.options.motion_resolution));
+}
+
+TEST_F(Placement, UnreachableRegionsEndWithAReason) {
+  // The same scene with its placement regions moved 5 m away from the robot: stable and free
+  // poses exist, none is reachable.
+  auto env = formats::load_environment(dir_->path() / "cabinet.h5");
+  for (auto& r : env.regions) r.origin.x() += 5;
+  env.volume.translate(Eigen::Vector3d(5, 0, 0));
+  const PlacementWorld far(formats::load_robot(dir_->path() / "arm.h5"), formats::load_object(dir_->path() / "bottle.h5"),
+                           std::move(env));
+  PlacementPlanner planner(far, query(side_grasp()));
+  const PlacementResult r = planner.run(stop_after_iterations(300));
+  EXPECT_FALSE(r.solved());
+  EXPECT_GT(r.counters.ik_calls, 0);
+  EXPECT_EQ(r.counters.ik_solutions, 0);
+  EXPECT_NE(r.reason.find("(0 solved)"), std::string::npos) << r.reason;
+}
+
+TEST_F(Placement, ExactLayerCatchesAWrongSphereModel) {
+  // Spheres shrunk to nothing: the fast layer calls almost everything free. Published paths must
+  // still be free for the exact layer, because every path is re-validated by it before use.
+  auto robot = formats::load_robot(dir_->path() / "arm.h5");
+  for (auto& s : robot.spheres) s.radius *= 0.01;
+  const PlacementWorld wrong(std::move(robot), formats::load_object(dir_->path() / "bottle.h5"),
+                             formats::load_environment(dir_->path() / "cabinet.h5"));
+  PlacementQuery qr = query(side_grasp());
+  qr.options.check_retreat = false;
+  PlacementPlanner planner(wrong, qr);
+  const PlacementResult r = planner.run(stop_after_iterations(1500));
+  ASSERT_TRUE(r.solved()) << r.reason;
+  for (const auto& s : r.improvements) {
+    const ExactChecker exact = wrong.grasp_exact(s.grasp);
+    for (std::size_t i = 1; i < s.path.size(); ++i)
+      ASSERT_TRUE(exact.segment_free(vec(s.path[i - 1]), vec(s.path[i]), qr.options.motion_resolution)) << "segment " << i;
+  }
+  // Near the placement (inside the distance field) the wrong fast layer calls colliding
+  // configurations free: without the exact re-check those would have been published.
+  const auto& best = r.best();
+  const TwoLayerChecker layers = wrong.grasp_checker(best.grasp, nullptr);
+  std::mt19937_64 rng(1);
+  std::normal_distribution<double> noise(0, 0.15);
+  int fooled = 0;
+  for (int k = 0; k < 3000; ++k) {
+    Eigen::VectorXd q = vec(best.path.back());
+    for (int i = 0; i < q.size(); ++i) q[i] += noise(rng);
+    q = q.cwiseMax(wrong.kin().lower()).cwiseMin(wrong.kin().upper());
+    fooled += layers.fast().is_free(q) && !layers.exact().is_free(q);
+  }
+  EXPECT_GT(fooled, 0);
 }

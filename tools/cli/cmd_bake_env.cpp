@@ -33,11 +33,14 @@ int run_bake_env(const BakeEnvArgs& a) {
   bake.clearance_band = a.clearance_band;
   bake.regions.split_size = a.region_split;
   bake.regions.min_free_height = a.min_free_height;
+  bake.margin = a.margin;
+  bake.sdf_resolution = a.sdf_resolution;
   tools::bake_environment(env, bake);
   nlohmann::json params = {{"scene", a.scene},       {"volume", a.volume},
                            {"resolution", a.resolution}, {"band", a.band},
                            {"clearance_band", a.clearance_band}, {"region_split", a.region_split},
-                           {"min_free_height", a.min_free_height}};
+                           {"min_free_height", a.min_free_height}, {"margin", a.margin},
+                           {"sdf_resolution", a.sdf_resolution > 0 ? a.sdf_resolution : a.resolution}};
   if (a.frame) params["frame"] = *a.frame;
   env.header = make_header(params, {a.scene});
   formats::save_environment(std::move(env), a.out);

@@ -1,3 +1,5 @@
+#include <unistd.h>
+
 #include <iostream>
 
 #include "commands.hpp"
@@ -15,6 +17,7 @@ int run_experiment(const ExperimentArgs& a) {
   o.jobs = a.jobs;
   o.quick = a.quick;
   if (a.time_limit) o.time_limit = *a.time_limit;
+  o.redraw_progress = isatty(2);
   const auto t = tools::run_experiment(spec, o, std::cerr);
   std::cout << spec.name << ": " << t.planned << " runs (" << t.ran << " run now, " << t.skipped << " done before), " << t.solved
             << " with a solution; summary in " << (std::filesystem::path(a.out) / "summary.csv").string() << "\n";

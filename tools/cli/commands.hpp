@@ -46,6 +46,8 @@ struct BakeEnvArgs {
   double clearance_band = 0.25;  // clearance field clamp (m)
   double region_split = 0.30;    // split regions longer than this (m)
   double min_free_height = 0.02; // least free space above a region cell (m)
+  double margin = 0.05;          // the distance grid covers V grown by this (m)
+  double sdf_resolution = 0;     // distance grid cell (m); <= 0: --resolution
 };
 int run_bake_env(const BakeEnvArgs& a);
 
@@ -93,6 +95,13 @@ int run_experiment(const ExperimentArgs& a);
 
 struct PlotArgs { std::string dir; };
 int run_plot(const PlotArgs& a);
+
+struct ViewArgs {
+  std::string result_dir;  // a `dmgplace place` output folder (result.json)
+  std::string html;        // output HTML file
+  std::string artifacts;   // where the result's artifacts are, when moved; empty: the paths in result.json
+};
+int run_view(const ViewArgs& a);
 
 struct MakeObjectsArgs { std::string out_dir; };
 int run_make_objects(const MakeObjectsArgs& a);

@@ -92,6 +92,12 @@ int main(int argc, char** argv) {
   auto* c_plot = app.add_subcommand("plot", "Objective and success against time for an experiment folder (SVG, PNG)");
   c_plot->add_option("dir", plot.dir, "Experiment output folder")->required();
 
+  ViewArgs view;
+  auto* c_view = app.add_subcommand("view", "Write a self-contained 3-D viewer page (HTML) for a placement result");
+  c_view->add_option("result_dir", view.result_dir, "Output folder of `dmgplace place` (result.json)")->required();
+  c_view->add_option("--html", view.html, "HTML file to write")->required();
+  c_view->add_option("--artifacts", view.artifacts, "Folder of the artifacts, when moved since the run");
+
   GraspsArgs grasps;
   std::string initial_text;
   auto* c_grasps = app.add_subcommand("grasps", "Grasps reachable in-hand from an initial grasp (DMG + Dijkstra)");
@@ -109,6 +115,8 @@ int main(int argc, char** argv) {
   c_env->add_option("--package-path", bake_env.package_paths, "Where package:// resources are found");
   c_env->add_option("--resolution", bake_env.resolution, "Distance grid and region cell size (m)")->check(CLI::PositiveNumber);
   c_env->add_option("--band", bake_env.band, "Distance field clamp (m)")->check(CLI::PositiveNumber);
+  c_env->add_option("--margin", bake_env.margin, "The distance grid covers the volume grown by this (m); make it reach the arm for fast checks")->check(CLI::NonNegativeNumber);
+  c_env->add_option("--sdf-resolution", bake_env.sdf_resolution, "Distance grid cell (m); default: --resolution")->check(CLI::NonNegativeNumber);
   c_env->add_option("--clearance-band", bake_env.clearance_band, "Clearance field clamp (m)")->check(CLI::PositiveNumber);
   c_env->add_option("--region-split", bake_env.region_split, "Split regions longer than this (m)")->check(CLI::PositiveNumber);
   c_env->add_option("--min-free-height", bake_env.min_free_height, "Least free space above a region cell (m)")->check(CLI::NonNegativeNumber);
@@ -167,6 +175,7 @@ int main(int argc, char** argv) {
     if (*c_place) return run_place(place);
     if (*c_exp) return run_experiment(experiment);
     if (*c_plot) return run_plot(plot);
+    if (*c_view) return run_view(view);
     if (*c_grasps) {
       grasps.initial = parse_numbers<7>(initial_text, "--initial");
       return run_grasps(grasps);

@@ -244,6 +244,24 @@ bool ExactChecker::mesh_free(const CollisionMesh& mesh, const Eigen::Isometry3d&
   return !hit.hit;
 }
 
+bool ExactChecker::links_environment_free(const Eigen::VectorXd& q, const int* links, int count, bool object) const {
+  thread_local std::vector<Eigen::Isometry3d> poses;
+  kin_->link_poses(q, poses);
+  const Impl& impl = *impl_;
+  for (std::size_t i = 0; i < impl.parts.size(); ++i) {
+    const Part& p = impl.parts[i];
+    const bool wanted = impl.part_is_object[i] ? object : std::find(links, links + count, p.link) != links + count;
+    if (!wanted) continue;
+    const Eigen::Isometry3d t = poses[std::size_t(p.link)] * p.local;
+    fcl::CollisionObjectd obj(p.geometry, t.linear(), t.translation());
+    obj.computeAABB();
+    EnvHit hit;
+    impl.env->collide(&obj, &hit, env_callback);
+    if (hit.hit) return false;
+  }
+  return true;
+}
+
 bool ExactChecker::link_pairs_free(const Eigen::VectorXd& q, const std::pair<int, int>* pairs, int count) const {
   thread_local std::vector<Eigen::Isometry3d> poses;
   kin_->link_poses(q, poses);

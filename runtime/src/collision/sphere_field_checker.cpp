@@ -125,21 +125,22 @@ SphereCheck SphereFieldChecker::check(const Eigen::VectorXd& q) const {
       }
     }
     centres(bi);
+    // Keep going after a hit: every flagged link is listed, so the exact layer can check just those.
     for (int i = b.begin; i < b.end; ++i) {
       const auto& s = spheres_[std::size_t(i)];
       const Eigen::Vector3d& w = world[std::size_t(i)];
       // Outside the grid nothing is known: "maybe in collision", for the exact layer to decide.
       // (Band-clamped far cells are fine: clamping only lowers values, which stays conservative.)
-      if (outside(w)) {
-        out.environment_free = false;
-        out.outside_grid = true;
-        return out;
-      }
-      const double clearance = sdf_->sample(w) - s.radius - pad;
-      out.min_clearance = std::min(out.min_clearance, clearance);
+      const bool out_of_grid = outside(w);
+      const double clearance = out_of_grid ? -1.0 : sdf_->sample(w) - s.radius - pad;
+      if (!out_of_grid) out.min_clearance = std::min(out.min_clearance, clearance);
       if (clearance < 0) {
         out.environment_free = false;
-        return out;
+        out.outside_grid |= out_of_grid;
+        if (b.attached) out.attached_near_env = true;
+        else if (out.env_link_count < SphereCheck::kMaxPairs) out.env_links[std::size_t(out.env_link_count++)] = b.link;
+        else out.env_overflow = true;
+        break;
       }
     }
   }

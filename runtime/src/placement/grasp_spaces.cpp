@@ -20,8 +20,9 @@ bool GraspSpaces::usable(int g) {
     auto it = usable_.find(g);
     if (it != usable_.end()) return it->second;
   }
-  // Exact: a wrong "usable" would hand the planner a start state it cannot leave.
-  const bool ok = checker(g)->exact().is_free(q0_);
+  // Exact, object against the palm too: a wrong "usable" would hand the planner a start state it
+  // cannot leave, and the per-grasp spaces no longer check object against hand.
+  const bool ok = world_->grasp_exact(grasps_[std::size_t(g)].pose).is_free(q0_);
   std::lock_guard<std::mutex> lock(mutex_);
   usable_[g] = ok;
   return ok;

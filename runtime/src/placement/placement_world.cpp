@@ -84,12 +84,15 @@ TwoLayerChecker PlacementWorld::grasp_checker(const Eigen::Isometry3d& tcp_in_ob
   const Eigen::Isometry3d object_in_tip = tcp_in_object.inverse();
   AttachedSpheres att;
   att.link = kin_->tip_link();
-  att.touching_links = hand_.fingers;
+  // The object never moves against the hand: pairs with any hand link would only ever repeat the
+  // grasp's own check (GraspSpaces::usable), so both layers skip them.
+  att.touching_links = hand_.links;
   for (std::size_t i = 0; i < object_spheres_.centers.size(); ++i) {
     att.centers.push_back(object_in_tip * object_spheres_.centers[i]);
     att.radii.push_back(object_spheres_.radii[i]);
   }
-  return TwoLayerChecker(fast_->with_attached(std::move(att)), grasp_exact(tcp_in_object), std::move(counters));
+  return TwoLayerChecker(fast_->with_attached(std::move(att)),
+                         exact_->with_attached(*object_mesh_, kin_->tip_link(), object_in_tip, hand_.links), std::move(counters));
 }
 
 ExactChecker PlacementWorld::grasp_exact(const Eigen::Isometry3d& tcp_in_object) const {

@@ -40,7 +40,9 @@ void bake_environment(formats::EnvironmentArtifact& env, const EnvBakeOptions& o
   Eigen::AlignedBox3d grown = v;
   grown.min().array() -= o.margin;
   grown.max().array() += o.margin;
-  env.sdf = distance_field(scene, grid_covering(grown, o.resolution), o.band, o.threads);
+  // A coarser, wider grid serves the arm's fast collision layer beyond V (--margin, --sdf-resolution).
+  const double sdf_resolution = o.sdf_resolution > 0 ? o.sdf_resolution : o.resolution;
+  env.sdf = distance_field(scene, grid_covering(grown, sdf_resolution), o.band, o.threads);
   env.sdf_signed = geometry.any_closed();
   env.clearance = clearance_field(scene, grid_covering(v, o.clearance_resolution), o.clearance_band, o.threads);
 

@@ -103,15 +103,16 @@ ExperimentTotals run_experiment(const ExperimentSpec& spec, const ExperimentOpti
       const int d = ++done;
       const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
       std::lock_guard<std::mutex> lock(out_mutex);
-      progress << "\r[" << d << "/" << todo.size() << "] " << t.problem->name << " " << runtime::to_string(t.variant)
+      progress << (o.redraw_progress ? "\r[" : "[") << d << "/" << todo.size() << "] " << t.problem->name << " " << runtime::to_string(t.variant)
                << " seed " << t.seed << "  elapsed " << clock_text(elapsed) << "  ETA "
-               << clock_text(elapsed / d * double(todo.size() - std::size_t(d))) << "   " << std::flush;
+               << clock_text(elapsed / d * double(todo.size() - std::size_t(d))) << (o.redraw_progress ? "   " : "\n")
+               << std::flush;
     }
   };
   std::vector<std::thread> pool;
   for (int j = 0; j < std::max(1, o.jobs); ++j) pool.emplace_back(worker);
   for (auto& th : pool) th.join();
-  if (!todo.empty()) progress << "\n";
+  if (!todo.empty() && o.redraw_progress) progress << "\n";
   if (!failure.empty()) throw Error(spec.path.string(), "", "a run failed: " + failure);
   totals.ran = done;
   const auto all = read_runs(o.out);

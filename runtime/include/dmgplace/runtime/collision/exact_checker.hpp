@@ -50,6 +50,9 @@ class ExactChecker {
   bool mesh_free(const CollisionMesh& mesh, const Eigen::Isometry3d& pose, std::string* contact = nullptr) const;
 
   ExactCheck check(const Eigen::VectorXd& q) const;
+  // Just these links (and the held object when `object`) against the environment at q: the ones
+  // the sphere layer flagged.
+  bool links_environment_free(const Eigen::VectorXd& q, const int* links, int count, bool object) const;
   // Self-collision of just these link pairs (the ones the sphere layer flagged).
   bool link_pairs_free(const Eigen::VectorXd& q, const std::pair<int, int>* pairs, int count) const;
   bool is_free(const Eigen::VectorXd& q) const { return check(q).free(); }

@@ -32,6 +32,12 @@ struct SphereCheck {
   int pair_count = 0;
   bool pairs_overflow = false;
   bool attached_involved = false;  // a flagged pair involves the held object
+  // Links whose spheres come too close to the environment or leave the grid (the exact layer
+  // checks just those against the scene); `attached_near_env` for the held object.
+  std::array<int, kMaxPairs> env_links{};
+  int env_link_count = 0;
+  bool env_overflow = false;
+  bool attached_near_env = false;
   bool outside_grid = false;  // a sphere left the distance grid: only the exact layer can tell
   double min_clearance = 0;   // smallest (distance - radius - margin) seen, metres
   bool free() const { return environment_free && self_free; }

@@ -11,7 +11,7 @@ namespace dmgplace::runtime {
 
 struct CheckCounters {
   std::atomic<long> fast{0};         // every query
-  std::atomic<long> exact_pairs{0};  // settled by exact checks of the flagged link pairs only
+  std::atomic<long> exact_pairs{0};  // settled by exact checks of the flagged links and pairs only
   std::atomic<long> exact_full{0};   // needed the full exact check
 };
 
@@ -25,11 +25,12 @@ class TwoLayerChecker {
     ++counters_->fast;
     const SphereCheck f = fast_.check(q);
     if (f.free()) return true;
-    // Spheres clear of the environment but overlapping between some links: check only those
-    // link pairs exactly (the held object is among the spheres, so it is covered by the fast env test).
-    if (f.environment_free && !f.pairs_overflow && !f.attached_involved) {
+    // Only what the spheres flagged goes to FCL: those links against the scene, those link pairs
+    // against each other. Overflows and held-object self pairs take the full check.
+    if (!f.env_overflow && !f.pairs_overflow && !f.attached_involved) {
       ++counters_->exact_pairs;
-      return exact_.link_pairs_free(q, f.pairs.data(), f.pair_count);
+      return exact_.links_environment_free(q, f.env_links.data(), f.env_link_count, f.attached_near_env) &&
+             exact_.link_pairs_free(q, f.pairs.data(), f.pair_count);
     }
     ++counters_->exact_full;
     return exact_.is_free(q);

@@ -10,6 +10,7 @@ struct EnvBakeOptions {
   double resolution = 0.01;            // distance grid and region cells (m)
   double band = 0.10;                  // distance field clamp (m)
   double margin = 0.05;                // the distance grid covers V grown by this (m)
+  double sdf_resolution = 0;           // distance grid cell (m); <= 0: `resolution`
   double clearance_resolution = 0.02;  // clearance grid (m)
   double clearance_band = 0.25;        // clearance clamp (m)
   double scan_voxel = 0.005;           // scan points kept per voxel of this edge (m); <= 0 keeps all

@@ -16,6 +16,7 @@ struct ExperimentOptions {
   int jobs = 1;
   bool quick = false;               // the spec's quick preset: few seeds, seconds each
   double time_limit = -1;           // >= 0 overrides
+  bool redraw_progress = false;     // one progress line redrawn in place (a terminal) or a line per run
 };
 
 struct ExperimentTotals {

@@ -1,0 +1,142 @@
+// `dmgplace view` end to end: place on the built-in cabinet, write the page, open it in Debian's
+// headless chromium and check from the dumped DOM that the scene rendered without script errors.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+
+#include "dmgplace/tools/viewer/write_viewer.hpp"
+#include "test_support.hpp"
+
+namespace fs = std::filesystem;
+using namespace dmgplace;
+
+namespace {
+
+struct Shell {
+  int code = -1;
+  std::string out;
+};
+
+Shell run(const std::string& cmd) {
+  Shell r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  while (std::size_t n = fread(buf, 1, sizeof buf, p)) r.out.append(buf, n);
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+int cli(const std::string& args) { return run(test::cli_path() + " " + args + " > /dev/null 2>&1").code; }
+
+std::string chromium() {
+  for (const char* c : {"chromium", "chromium-browser"})
+    if (run(std::string("command -v ") + c + " > /dev/null 2>&1").code == 0) return c;
+  return {};
+}
+
+// The value of data-NAME on the status element of the dumped DOM, or "" when missing.
+std::string status_attr(const std::string& dom, const std::string& name) {
+  std::smatch m;
+  const std::regex status_div("<div id=\"dmgplace-status\"[^>]*>");
+  if (!std::regex_search(dom, m, status_div)) return {};
+  const std::string tag = m.str();
+  if (!std::regex_search(tag, m, std::regex("data-" + name + "=\"([^\"]*)\""))) return {};
+  return m[1];
+}
+
+class Viewer : public ::testing::Test {
+ protected:
+  // Bakes the cabinet, dmgarm and the bottle once, places for ~2 s and writes the page.
+  static void SetUpTestSuite() {
+    dir_ = new test::TempDir();
+    const fs::path data = test::source_dir() / "datasets", d = dir_->path(), art = d / "artifacts";
+    fs::create_directories(art);
+    ASSERT_EQ(cli("make-objects --out " + q(d)), 0);
+    ASSERT_EQ(cli("bake-robot " + q(data / "robots/dmgarm/dmgarm.urdf") + " --srdf " + q(data / "robots/dmgarm/dmgarm.srdf") +
+                  " --arm dmgarm_link0:dmgarm_tcp --out " + q(art / "dmgarm.h5")),
+              0);
+    ASSERT_EQ(cli("bake-object " + q(d / "bottle.stl") + " --mass 0.15 --out " + q(art / "bottle.h5")), 0);
+    std::string volume = test::read_text(data / "scenes/cabinet.volume");
+    volume.erase(volume.find_last_not_of(" \n\r") + 1);
+    ASSERT_EQ(cli("bake-env " + q(data / "scenes/cabinet.yaml") + " --volume " + volume + " --out " + q(art / "cabinet.h5")), 0);
+    // Exit 3 means "no solution": the page must still show the scene, so both are fine here.
+    const int placed = cli("place " + q(data / "queries/cabinet_bottle_side.yaml") + " --artifacts " + q(art) +
+                           " --time-limit 3 --out " + q(d / "place"));
+    ASSERT_TRUE(placed == 0 || placed == 3) << "place exited with " << placed;
+    ASSERT_EQ(cli("view " + q(d / "place") + " --html " + q(d / "scene.html")), 0);
+  }
+  static void TearDownTestSuite() { delete dir_; }
+  static test::TempDir* dir_;
+};
+test::TempDir* Viewer::dir_ = nullptr;
+
+}  // namespace
+
+TEST_F(Viewer, PageRendersInHeadlessChromium) {
+  const std::string browser = chromium();
+  if (browser.empty()) GTEST_SKIP() << "chromium is not installed; scripts/deps installs it";
+  const fs::path d = dir_->path(), page = d / "scene.html";
+  const nlohmann::json result = nlohmann::json::parse(test::read_text(d / "place/result.json"));
+  std::size_t waypoints = 0;
+  if (result["solved"].get<bool>()) waypoints = result["best"]["path"].size() + result["best"]["retreat"].size();
+  std::printf("placement %s: %zu path+retreat waypoints\n", result["solved"].get<bool>() ? "solved" : "not solved", waypoints);
+  if (!result["solved"].get<bool>()) std::printf("  %s\n", result.value("reason", std::string()).c_str());
+
+  // SwiftShader: software WebGL, so no GPU is needed; virtual time lets the page run its frames.
+  const std::string flags = " --headless --no-sandbox --disable-gpu --use-angle=swiftshader --enable-unsafe-swiftshader"
+                            " --window-size=1024,768 --virtual-time-budget=5000 --user-data-dir=" + q(d / "profile");
+  const Shell dom = run(browser + flags + " --enable-logging=stderr --v=0 --dump-dom " + q("file://" + page.string()) +
+                      " 2> " + q(d / "chromium.log"));
+  ASSERT_EQ(dom.code, 0) << test::read_text(d / "chromium.log");
+  const std::string log = test::read_text(d / "chromium.log");
+  EXPECT_EQ(log.find("Uncaught"), std::string::npos) << log;
+  EXPECT_EQ(status_attr(dom.out, "errors"), "0") << dom.out.substr(std::min(dom.out.size(), dom.out.find("<div id=\"errors\"")), 2000);
+  EXPECT_EQ(status_attr(dom.out, "ready"), "true");
+  EXPECT_EQ(status_attr(dom.out, "steps"), std::to_string(waypoints));
+  EXPECT_NE(dom.out.find("steps: " + std::to_string(waypoints)), std::string::npos);
+  EXPECT_GE(std::atoi(status_attr(dom.out, "rendered").c_str()), 1);
+  // The robot, the cabinet and the object fill a good part of the 1024x768 canvas.
+  EXPECT_GT(std::atof(status_attr(dom.out, "nonbackground").c_str()), 0.05);
+
+  const fs::path shot = d / "shot.png";
+  ASSERT_EQ(run(browser + flags + " --screenshot=" + q(shot) + " " + q("file://" + page.string()) + " > /dev/null 2>&1").code, 0);
+  const std::string png = test::read_text(shot);
+  ASSERT_GT(png.size(), 20000u) << "a near-empty screenshot";
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+  // Keep it for people to look at when the test runs in CI.
+  const fs::path keep = fs::temp_directory_path() / "dmgplace-viewer-test.png";
+  std::error_code ec;
+  fs::copy_file(shot, keep, fs::copy_options::overwrite_existing, ec);
+  std::printf("screenshot: %s\n", (ec ? shot : keep).c_str());
+}
+
+TEST_F(Viewer, PageIsSelfContained) {
+  const std::string html = test::read_text(dir_->path() / "scene.html");
+  EXPECT_NE(html.find("\"three\": \"data:text/javascript;base64,"), std::string::npos);
+  EXPECT_EQ(html.find("http://"), std::string::npos);
+  EXPECT_EQ(html.find("src=\"http"), std::string::npos);
+}
+
+TEST(ViewerInput, MissingResultNamesTheFile) {
+  test::TempDir d;
+  const std::string msg = test::error_of([&] { tools::viewer::write_viewer(d.path(), d / "x.html"); });
+  EXPECT_NE(msg.find((d.path() / "result.json").string()), std::string::npos) << msg;
+  EXPECT_FALSE(fs::exists(d / "x.html"));
+}
+
+TEST(ViewerInput, BadResultNamesTheElement) {
+  test::TempDir d;
+  test::write_text(d / "result.json", R"({"query": {"robot": "r.h5", "object": "o.h5", "environment": "e.h5",
+    "start": [0, 0], "initial_grasp": [0, 0, 0, 0, 0, 0, 1]}, "joint_names": ["a", "b"], "solved": true,
+    "best": {"time": 1, "objective": 2, "pose": [0, 0, 0], "grasp": {}}})");
+  const std::string msg = test::error_of([&] { tools::viewer::write_viewer(d.path(), d / "x.html"); });
+  EXPECT_NE(msg.find("result.json: /best/pose"), std::string::npos) << msg;
+}

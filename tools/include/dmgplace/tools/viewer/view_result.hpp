@@ -1,0 +1,48 @@
+#pragma once
+// What the viewer needs from a `dmgplace place` result.json (layout: tools/src/placement/placement_report.cpp).
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace dmgplace::tools::viewer {
+
+struct InHandStep {
+  std::string type;  // "push" or "rotate"
+  double distance = 0, angle = 0;
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero(), axis = Eigen::Vector3d::Zero(), pivot = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> finger1, finger2;  // contact paths, object frame
+};
+
+struct Improvement {
+  double time = 0, objective = 0;
+};
+
+struct ViewResult {
+  std::filesystem::path file;  // the result.json read
+  std::filesystem::path robot, object, environment;
+  std::string query_file, variant;
+  std::vector<std::string> joint_names;
+  Eigen::VectorXd start;
+  Eigen::Isometry3d initial_grasp = Eigen::Isometry3d::Identity();  // TCP in the object frame
+  std::optional<Eigen::AlignedBox3d> volume;
+  bool solved = false;
+  std::string reason;
+  double seconds = 0;
+  // The best solution, when solved.
+  double time = 0, objective = 0;
+  int region = -1;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();   // object resting pose, world
+  Eigen::Isometry3d grasp = Eigen::Isometry3d::Identity();  // TCP in the object frame
+  double opening = 0;
+  std::vector<InHandStep> in_hand;
+  std::vector<Eigen::VectorXd> path, retreat;
+  std::vector<Improvement> improvements;
+};
+
+// Reads RESULT_DIR/result.json; with `artifacts` non-empty, the artifact files are looked up in that
+// folder by file name instead. Throws dmgplace::Error naming the file (and the JSON element).
+ViewResult read_view_result(const std::filesystem::path& result_dir, const std::filesystem::path& artifacts = {});
+
+}  // namespace dmgplace::tools::viewer

@@ -1,0 +1,42 @@
+#include "dmgplace/tools/viewer/write_viewer.hpp"
+
+#include <fstream>
+
+#include "dmgplace/formats/error.hpp"
+#include "dmgplace/tools/viewer/arm_motion.hpp"
+#include "dmgplace/tools/viewer/scene_data.hpp"
+#include "dmgplace/tools/viewer/view_result.hpp"
+#include "dmgplace/tools/viewer/viewer_page.hpp"
+
+namespace dmgplace::tools::viewer {
+namespace {
+
+void write_atomically(const std::filesystem::path& path, const std::string& text) {
+  const auto tmp = path.parent_path() / ("." + path.filename().string() + ".tmp");
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    f << text;
+    f.flush();
+    if (!f) throw Error(path.string(), "", "cannot write (missing folder, disk full or no permission?)");
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw Error(path.string(), "", "cannot replace: " + ec.message());
+}
+
+}  // namespace
+
+ViewerSummary write_viewer(const std::filesystem::path& result_dir, const std::filesystem::path& html,
+                           const std::filesystem::path& artifacts) {
+  const ViewResult r = read_view_result(result_dir, artifacts);
+  const auto robot = formats::load_robot(r.robot);
+  const auto object = formats::load_object(r.object);
+  const auto env = formats::load_environment(r.environment);
+  const ArmMotion motion = sample_arm_motion(r, robot, object.dmg.gripper.max_opening);
+  const std::string page = viewer_page("dmgplace: " + std::filesystem::path(r.query_file).stem().string(),
+                                       scene_data_json(r, motion, robot, object, env));
+  write_atomically(html, page);
+  return {r.solved, int(r.path.size() + r.retreat.size()), motion.frames, page.size()};
+}
+
+}  // namespace dmgplace::tools::viewer
