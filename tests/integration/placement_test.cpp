@@ -50,7 +50,7 @@ class Placement : public ::testing::Test {
     std::string volume = test::read_text(data / "scenes/cabinet.volume");
     volume.erase(volume.find_last_not_of(" \n\r") + 1);
     ASSERT_EQ(run_cli("bake-env " + q(data / "scenes/cabinet.yaml") + " --volume " + volume +
-                      " --margin 0.9 --sdf-resolution 0.02 --out " + q(d / "cabinet.h5")),
+                      " --margin 0.9 --sdf-resolution 0.02 --band 0.25 --out " + q(d / "cabinet.h5")),
               0);
     world_ = new PlacementWorld(formats::load_robot(d / "arm.h5"), formats::load_object(d / "bottle.h5"),
                                 formats::load_environment(d / "cabinet.h5"));

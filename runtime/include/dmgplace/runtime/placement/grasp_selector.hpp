@@ -2,6 +2,7 @@
 // Grasp selection (the paper's Algorithm 3): walk up the hierarchy from the sampled node and try
 // the grasps cached there, accepting a hand-collision-free one with probability p_accept;
 // otherwise draw untried grasps uniformly (the initial grasp first when nothing is cached).
+#include <cstdint>
 #include <functional>
 #include <random>
 
@@ -28,7 +29,8 @@ class GraspSelector {
   int tries_;
   HandFree hand_free_;
   long hand_checks_ = 0;
-  std::vector<char> tried_;
+  std::vector<std::uint32_t> tried_;  // == stamp_: tried in the current call
+  std::uint32_t stamp_ = 0;
 };
 
 }  // namespace dmgplace::runtime
