@@ -19,6 +19,12 @@ int run_bake_robot(const BakeRobotArgs& a) {
   o.arm_tip = a.arm.substr(colon + 1);
   o.spheres.max_radius = a.sphere_max_radius;
   o.spheres.sample_spacing = a.sphere_spacing;
+  if (a.tcp) {
+    const auto& t = *a.tcp;
+    const Eigen::Quaterniond q(t[6], t[3], t[4], t[5]);
+    if (q.norm() < 1e-9) throw Error("--tcp", "", "zero quaternion");
+    o.tcp = Eigen::Translation3d(t[0], t[1], t[2]) * q.normalized();
+  }
   formats::RobotArtifact robot = tools::bake_robot(o);
   std::vector<std::filesystem::path> inputs{a.urdf};
   if (!a.srdf.empty()) inputs.emplace_back(a.srdf);
@@ -28,6 +34,7 @@ int run_bake_robot(const BakeRobotArgs& a) {
                            {"package_paths", a.package_paths},
                            {"sphere_max_radius", a.sphere_max_radius},
                            {"sphere_spacing", a.sphere_spacing}};
+  if (a.tcp) params["tcp"] = *a.tcp;
   robot.header = make_header(params, inputs);
   formats::save_robot(std::move(robot), a.out);
   report_written(a.out);

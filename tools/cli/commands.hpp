@@ -55,6 +55,7 @@ struct BakeRobotArgs {
   std::string urdf, srdf, arm, out;
   double sphere_max_radius = 0.08;  // metres (SphereCoverOptions default)
   double sphere_spacing = 0.005;    // metres between coverage samples
+  std::optional<std::array<double, 7>> tcp;  // TCP pose on the tip: x y z qx qy qz qw
   std::vector<std::string> package_paths;
 };
 int run_bake_robot(const BakeRobotArgs& a);

@@ -132,6 +132,8 @@ int main(int argc, char** argv) {
                       "Split a link's spheres until none is larger (m)")->check(CLI::PositiveNumber);
   c_robot->add_option("--sphere-spacing", bake_robot.sphere_spacing,
                       "Sample spacing that the sphere cover is checked on (m)")->check(CLI::PositiveNumber);
+  std::string tcp_text;
+  c_robot->add_option("--tcp", tcp_text, "Tool centre point on the tip link x,y,z,qx,qy,qz,qw; becomes the chain's tip (<tip>_tcp)");
   c_robot->add_option("--out", bake_robot.out, "Output artifact")->required();
 
   PlanArgs plan;
@@ -185,7 +187,10 @@ int main(int argc, char** argv) {
       if (!frame_text.empty()) bake_env.frame = parse_numbers<6>(frame_text, "--frame");
       return run_bake_env(bake_env);
     }
-    if (*c_robot) return run_bake_robot(bake_robot);
+    if (*c_robot) {
+      if (!tcp_text.empty()) bake_robot.tcp = parse_numbers<7>(tcp_text, "--tcp");
+      return run_bake_robot(bake_robot);
+    }
     if (*c_make) return run_make_objects(make_objects);
     if (*c_plan) return run_plan(plan);
     if (*c_bench) return run_bench_mbm(bench_mbm);

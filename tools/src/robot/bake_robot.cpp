@@ -1,5 +1,6 @@
 #include "dmgplace/tools/robot/bake_robot.hpp"
 
+#include "dmgplace/formats/error.hpp"
 #include "dmgplace/tools/io/urdf_reader.hpp"
 
 namespace dmgplace::tools {
@@ -10,7 +11,24 @@ formats::RobotArtifact bake_robot(const RobotBakeOptions& o) {
   formats::RobotArtifact robot;
   robot.model = read_urdf(o.urdf, urdf);
   if (!o.srdf.empty()) apply_srdf(robot.model, o.srdf);
-  set_arm_chain(robot.model, o.arm_base, o.arm_tip, o.urdf.string());
+  std::string tip = o.arm_tip;
+  if (o.tcp) {
+    auto& m = robot.model;
+    const int parent = m.link_index(o.arm_tip);
+    if (parent < 0) throw Error(o.urdf.string(), "--arm", "no link '" + o.arm_tip + "' to put the TCP on");
+    tip = o.arm_tip + "_tcp";
+    if (m.link_index(tip) >= 0) throw Error(o.urdf.string(), "--tcp", "the robot already has a link '" + tip + "'");
+    if (!o.tcp->matrix().allFinite()) throw Error("--tcp", "", "not finite");
+    m.links.push_back(Link{tip, {}});
+    Joint j;
+    j.name = tip + "_joint";
+    j.type = JointType::Fixed;
+    j.parent = parent;
+    j.child = int(m.links.size()) - 1;
+    j.origin = *o.tcp;
+    m.joints.push_back(j);
+  }
+  set_arm_chain(robot.model, o.arm_base, tip, o.urdf.string());
   for (std::size_t l = 0; l < robot.model.links.size(); ++l)
     for (const auto& s : cover_with_spheres(robot.model.links[l].collision, o.spheres))
       robot.spheres.push_back({int(l), s.center, s.radius});

@@ -2,6 +2,7 @@
 // Everything `dmgplace bake-robot` computes, as a library call: model from URDF (+ SRDF), the
 // planning chain, and the sphere model of every link.
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,10 @@ struct RobotBakeOptions {
   std::filesystem::path urdf, srdf;  // srdf may be empty
   std::vector<std::filesystem::path> package_paths;
   std::string arm_base, arm_tip;
+  // When set, a link "<arm_tip>_tcp" fixed to the tip at this pose (the gripper's tool centre
+  // point: z approach, y closing) is added and becomes the chain's tip; the placement planner
+  // needs the tip there (the Panda URDF, for one, has no such frame).
+  std::optional<Eigen::Isometry3d> tcp;
   SphereCoverOptions spheres;
 };
 
