@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <set>
 #include <sstream>
@@ -166,6 +167,42 @@ Joint convert_joint(const urdf::Joint& j, const RobotModel& model, const std::st
   return joint;
 }
 
+// urdfdom links a joint's parent and child with shared_ptrs before it checks the tree, so a joint
+// cycle (a link that is its own ancestor) leaked its links, and when urdfdom still found one root the
+// cycle's links were dropped silently (found by fuzzing). Also rejects a link with two parent joints.
+void check_link_tree(const std::string& text, const std::string& file) {
+  tinyxml2::XMLDocument doc;
+  // urdfdom's own XML parser is more lenient: what tinyxml2 rejects is not checked here, so refuse it.
+  if (doc.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS)
+    throw Error(file, "", std::string("not valid XML: ") + (doc.ErrorStr() ? doc.ErrorStr() : "?"));
+  const tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
+  if (!robot) return;
+  std::map<std::string, std::string> parent_of;  // child link -> parent link
+  for (auto* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
+    const auto* p = j->FirstChildElement("parent");
+    const auto* c = j->FirstChildElement("child");
+    const char* parent = p ? p->Attribute("link") : nullptr;
+    const char* child = c ? c->Attribute("link") : nullptr;
+    if (!parent || !child) continue;  // urdfdom reports it
+    if (!parent_of.emplace(child, parent).second)
+      throw Error(file, quoted("link", child), "is the child of more than one joint");
+  }
+  std::set<std::string> below_root;  // links whose ancestors end at a root
+  for (const auto& entry : parent_of) {
+    std::vector<std::string> path;
+    std::set<std::string> on_path;
+    std::string link = entry.first;
+    while (!below_root.count(link)) {
+      if (!on_path.insert(link).second) throw Error(file, quoted("link", link), "is its own ancestor (joint cycle)");
+      path.push_back(link);
+      const auto up = parent_of.find(link);
+      if (up == parent_of.end()) break;
+      link = up->second;
+    }
+    below_root.insert(path.begin(), path.end());
+  }
+}
+
 }  // namespace
 
 RobotModel read_urdf(const fs::path& urdf, const UrdfOptions& options) {
@@ -173,6 +210,8 @@ RobotModel read_urdf(const fs::path& urdf, const UrdfOptions& options) {
   std::error_code ec;
   if (!fs::is_regular_file(urdf, ec)) throw Error(file, "", "file not found");
   const std::string text = read_text(urdf);
+
+  check_link_tree(text, file);
 
   urdf::ModelInterfaceSharedPtr parsed;
   {
@@ -185,16 +224,6 @@ RobotModel read_urdf(const fs::path& urdf, const UrdfOptions& options) {
     if (!parsed)
       throw Error(file, "", "not a valid URDF: " + (log.errors.empty() ? "urdfdom rejected it" : log.errors));
   }
-  // urdfdom accepts links that do not hang below the root (a joint whose parent is its own child, or
-  // any joint cycle): those links would be dropped silently below, and the cycle of shared_ptrs in
-  // urdfdom's tree leaks (found by fuzzing). Reject them, and break every cycle before returning.
-  struct Unlink {
-    urdf::ModelInterface& m;
-    ~Unlink() {
-      for (auto& entry : m.links_)
-        if (entry.second) entry.second->child_links.clear(), entry.second->child_joints.clear();
-    }
-  } unlink{*parsed};
   const auto root = parsed->getRoot();
   if (!root) throw Error(file, "", "no root link");
 
@@ -213,7 +242,7 @@ RobotModel read_urdf(const fs::path& urdf, const UrdfOptions& options) {
     std::sort(children.begin(), children.end(), [](const auto& a, const auto& b) { return a->name > b->name; });
     for (const auto& c : children) stack.push_back(c);
   }
-  for (const auto& [name, link] : parsed->links_)
+  for (const auto& [name, link] : parsed->links_)  // check_link_tree makes this a safety net
     if (!seen.count(link.get()))
       throw Error(file, quoted("link", name), "not connected to the root link '" + root->name + "' (joint cycle?)");
   for (const auto& l : order) model.links.push_back(convert_link(*l, file, base_dir, options));

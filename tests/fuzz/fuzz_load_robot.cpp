@@ -1,0 +1,13 @@
+// libFuzzer target: load_robot (HDF5 header, schema, shapes, checksums, robot invariants).
+#include "dmgplace/formats/robot_artifact.hpp"
+#include "dmgplace/formats/error.hpp"
+#include "fuzz_input.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const auto path = dmgplace::fuzz::write_input(data, size, "input.h5");
+  try {
+    dmgplace::formats::load_robot(path);
+  } catch (const dmgplace::Error&) {
+  }
+  return 0;
+}
