@@ -9,6 +9,53 @@
 namespace dmgplace::formats {
 namespace {
 constexpr int kJointReals = 15;  // origin(7) axis(3) lower upper velocity mimic_multiplier mimic_offset
+constexpr long kMaxTableNodes = 1L << 22;  // per table: far more than any sensible joint step needs
+
+// self_tables/indices [n, 6]: link_a link_b joint0 joint1 count0 count1
+// self_tables/grid [n, 6]: lower0 step0 slope0 lower1 step1 slope1; self_tables/distance: all tables' nodes
+void write_self_tables(H5Writer& w, const std::vector<SelfDistanceTable>& tables) {
+  std::vector<std::int32_t> ints;
+  std::vector<double> grid;
+  std::vector<float> dist;
+  for (const auto& t : tables) {
+    ints.insert(ints.end(), {t.link_a, t.link_b, t.joints[0], t.joints[1], t.count[0], t.count[1]});
+    grid.insert(grid.end(), {t.lower[0], t.step[0], t.slope[0], t.lower[1], t.step[1], t.slope[1]});
+    dist.insert(dist.end(), t.distance.begin(), t.distance.end());
+  }
+  w.write("self_tables/indices", std::span<const std::int32_t>(ints), {tables.size(), 6});
+  w.write("self_tables/grid", std::span<const double>(grid), {tables.size(), 6});
+  w.write("self_tables/distance", std::span<const float>(dist), {dist.size()});
+}
+
+std::vector<SelfDistanceTable> read_self_tables(const H5Reader& r) {
+  auto ints = r.read_i32("self_tables/indices", {-1, 6});
+  auto grid = r.read_f64("self_tables/grid", {long(ints.rows()), 6});
+  auto dist = r.read_f32("self_tables/distance", {-1});
+  std::vector<SelfDistanceTable> out;
+  std::size_t at = 0;
+  for (std::size_t i = 0; i < ints.rows(); ++i) {
+    SelfDistanceTable t;
+    t.link_a = ints(i, 0);
+    t.link_b = ints(i, 1);
+    t.joints = {ints(i, 2), ints(i, 3)};
+    t.count = {ints(i, 4), ints(i, 5)};
+    for (int k = 0; k < 2; ++k) {
+      t.lower[std::size_t(k)] = grid(i, std::size_t(3 * k));
+      t.step[std::size_t(k)] = grid(i, std::size_t(3 * k + 1));
+      t.slope[std::size_t(k)] = grid(i, std::size_t(3 * k + 2));
+    }
+    const std::string el = "self_tables row " + std::to_string(i);
+    if (t.count[0] < 1 || t.count[1] < 1 || long(t.count[0]) * t.count[1] > kMaxTableNodes)
+      throw Error(r.file(), "self_tables/indices", el + ": node count out of range");
+    const std::size_t n = std::size_t(t.count[0]) * std::size_t(t.count[1]);
+    if (at + n > dist.data.size()) throw Error(r.file(), "self_tables/distance", el + ": fewer nodes than the tables declare");
+    t.distance.assign(dist.data.begin() + long(at), dist.data.begin() + long(at + n));
+    at += n;
+    out.push_back(std::move(t));
+  }
+  if (at != dist.data.size()) throw Error(r.file(), "self_tables/distance", "more nodes than the tables declare");
+  return out;
+}
 }
 
 void save_robot(RobotArtifact a, const std::filesystem::path& path) {
@@ -49,6 +96,7 @@ void save_robot(RobotArtifact a, const std::filesystem::path& path) {
   }
   w.write("links/sphere_link", std::span<const std::int32_t>(sphere_link), {a.spheres.size()});
   w.write("links/spheres", std::span<const double>(sphere_values), {a.spheres.size(), 4});
+  write_self_tables(w, a.self_tables);
   w.attribute("", "robot_name", m.name);
   w.attribute("", "arm_base", m.arm_base);
   w.attribute("", "arm_tip", m.arm_tip);
@@ -95,6 +143,7 @@ RobotArtifact load_robot(const std::filesystem::path& path) {
     a.spheres.push_back({sphere_link.data[i], Eigen::Vector3d(spheres(i, 0), spheres(i, 1), spheres(i, 2)), spheres(i, 3)});
   auto pairs = r.read_i32("allowed_pairs", {-1, 2});
   for (std::size_t i = 0; i < pairs.rows(); ++i) m.allowed_pairs.emplace_back(pairs(i, 0), pairs(i, 1));
+  a.self_tables = read_self_tables(r);
   return a;
 }
 
@@ -150,6 +199,28 @@ std::vector<std::string> check_robot(const RobotArtifact& a) {
     for (const auto& sp : a.spheres) covered |= sp.link == l;
     if (!covered) p.push_back("links/spheres: link '" + m.links[std::size_t(l)].name + "' has collision geometry but no spheres");
   }
+  for (std::size_t i = 0; i < a.self_tables.size(); ++i) {
+    const auto& t = a.self_tables[i];
+    const std::string el = "self_tables[" + std::to_string(i) + "]";
+    const int nj = int(m.joints.size());
+    if (t.link_a < 0 || t.link_b < 0 || t.link_a >= nl || t.link_b >= nl || t.link_a == t.link_b)
+      p.push_back(el + ": link pair out of range");
+    if (t.joints[0] < 0 || t.joints[0] >= nj || t.joints[1] < -1 || t.joints[1] >= nj || t.joints[0] == t.joints[1])
+      p.push_back(el + ": joint index out of range");
+    if (t.joints[1] < 0 && t.count[1] != 1) p.push_back(el + ": 1-D table with more than one column");
+    bool grid_ok = true;
+    for (int k = 0; k < 2; ++k)
+      grid_ok &= std::isfinite(t.lower[std::size_t(k)]) && t.step[std::size_t(k)] > 0 && std::isfinite(t.step[std::size_t(k)]) &&
+                 t.slope[std::size_t(k)] >= 0 && std::isfinite(t.slope[std::size_t(k)]);
+    if (!grid_ok) p.push_back(el + ": grid lower/step/slope not finite or step not positive or slope negative");
+    if (t.distance.size() != std::size_t(std::max(t.count[0], 0)) * std::size_t(std::max(t.count[1], 0)))
+      p.push_back(el + ": distance count does not match the grid");
+    for (float d : t.distance)
+      if (!(d >= 0) || !std::isfinite(d)) {
+        p.push_back(el + ": distance negative or not finite");
+        break;
+      }
+  }
   int base = m.link_index(m.arm_base), tip = m.link_index(m.arm_tip);
   if (base < 0 || tip < 0) {
     p.push_back("arm chain: base '" + m.arm_base + "' or tip '" + m.arm_tip + "' is not a link");
@@ -174,6 +245,7 @@ Summary summarize_robot(const RobotArtifact& a) {
   s.emplace_back("collision_shapes", std::to_string(shapes));
   s.emplace_back("allowed_pairs", std::to_string(m.allowed_pairs.size()));
   s.emplace_back("spheres", std::to_string(a.spheres.size()));
+  s.emplace_back("self_distance_tables", std::to_string(a.self_tables.size()));
   s.emplace_back("arm_chain", m.arm_base + " -> " + m.arm_tip);
   return s;
 }

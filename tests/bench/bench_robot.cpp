@@ -15,6 +15,7 @@
 #include "dmgplace/runtime/robot/ik.hpp"
 #include "dmgplace/tools/io/scene_loader.hpp"
 #include "dmgplace/tools/io/urdf_reader.hpp"
+#include "dmgplace/tools/robot/self_distance_tables.hpp"
 #include "dmgplace/tools/robot/sphere_cover.hpp"
 #include "test_support.hpp"
 
@@ -50,6 +51,7 @@ World& world() {
     w.sdf = test::analytic_sdf(w.scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.3), Eigen::Vector3d(1.6, 1.2, 1.7)),
                                std::getenv("SDF_RES") ? std::atof(std::getenv("SDF_RES")) : 0.01, 0.2);
     w.fast = std::make_unique<runtime::SphereFieldChecker>(*w.kin, w.spheres, w.sdf, 0.2);
+    if (!std::getenv("NO_SELF_TABLES")) w.fast->set_self_tables(tools::build_self_distance_tables(*w.kin, w.spheres));
     w.exact = std::make_unique<runtime::ExactChecker>(*w.kin, w.scene);
     std::mt19937_64 rng(1);
     std::uniform_real_distribution<double> u(0, 1);

@@ -19,6 +19,8 @@ int run_bake_robot(const BakeRobotArgs& a) {
   o.arm_tip = a.arm.substr(colon + 1);
   o.spheres.max_radius = a.sphere_max_radius;
   o.spheres.sample_spacing = a.sphere_spacing;
+  o.self_tables.enabled = a.self_table_step > 0;
+  if (o.self_tables.enabled) o.self_tables.step = a.self_table_step;
   if (a.tcp) {
     const auto& t = *a.tcp;
     const Eigen::Quaterniond q(t[6], t[3], t[4], t[5]);
@@ -33,7 +35,8 @@ int run_bake_robot(const BakeRobotArgs& a) {
                            {"arm", a.arm},
                            {"package_paths", a.package_paths},
                            {"sphere_max_radius", a.sphere_max_radius},
-                           {"sphere_spacing", a.sphere_spacing}};
+                           {"sphere_spacing", a.sphere_spacing},
+                           {"self_table_step", a.self_table_step}};
   if (a.tcp) params["tcp"] = *a.tcp;
   robot.header = make_header(params, inputs);
   formats::save_robot(std::move(robot), a.out);

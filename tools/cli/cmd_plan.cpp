@@ -20,9 +20,15 @@ int run_plan(const PlanArgs& a) {
   j["valid"] = ours.valid;
   j["seconds"] = ours.seconds;
   j["length"] = ours.length;
+  const auto& c = problem.checker->counters();
+  j["state_checks"] = c.fast.load();
+  j["exact_pair_checks"] = c.exact_pairs.load();
+  j["exact_full_checks"] = c.exact_full.load();
   j["waypoints"] = ours.path;
   std::cout << (ours.solved ? (ours.valid ? "solved" : "solved but INVALID") : "no solution") << " in " << ours.seconds * 1e3
-            << " ms, " << ours.path.size() << " waypoints, joint-space length " << ours.length << "\n";
+            << " ms, " << ours.path.size() << " waypoints, joint-space length " << ours.length << "\n"
+            << "state checks: " << c.fast.load() << " (" << c.exact_pairs.load() << " needed FCL on flagged links, "
+            << c.exact_full.load() << " a full FCL check)\n";
   if (!a.out.empty()) {
     std::ofstream f(a.out);
     f << j.dump(2) << "\n";

@@ -132,6 +132,8 @@ int main(int argc, char** argv) {
                       "Split a link's spheres until none is larger (m)")->check(CLI::PositiveNumber);
   c_robot->add_option("--sphere-spacing", bake_robot.sphere_spacing,
                       "Sample spacing that the sphere cover is checked on (m)")->check(CLI::PositiveNumber);
+  c_robot->add_option("--self-table-step", bake_robot.self_table_step,
+                      "Joint step (rad) of the exact self-distance tables; 0 bakes none")->check(CLI::NonNegativeNumber);
   std::string tcp_text;
   c_robot->add_option("--tcp", tcp_text, "Tool centre point on the tip link x,y,z,qx,qy,qz,qw; becomes the chain's tip (<tip>_tcp)");
   c_robot->add_option("--out", bake_robot.out, "Output artifact")->required();
@@ -154,6 +156,8 @@ int main(int argc, char** argv) {
   c_bench->add_option("--runs", bench_mbm.runs, "Runs per problem and planner")->check(CLI::PositiveNumber);
   c_bench->add_option("--limit", bench_mbm.limit, "Use only the first N problems of each folder");
   c_bench->add_option("--time-limit", bench_mbm.time_limit, "Seconds per run")->check(CLI::PositiveNumber);
+  c_bench->add_option("--sdf-resolution", bench_mbm.sdf_resolution, "Workspace distance grid cell (m) for ours")
+      ->check(CLI::PositiveNumber);
   c_bench->add_option("--resolution", bench_mbm.resolution, "Motion check step in radians")->check(CLI::PositiveNumber);
   c_bench->add_option("--csv", bench_mbm.csv, "Write every run as CSV");
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "dmgplace/formats/error.hpp"
 
@@ -282,6 +283,28 @@ bool ExactChecker::link_pairs_free(const Eigen::VectorXd& q, const std::pair<int
     if (fcl::collide(&oa, &ob, req, res) > 0) return false;
   }
   return true;
+}
+
+double ExactChecker::link_distance(const Eigen::VectorXd& q, int link_a, int link_b) const {
+  thread_local std::vector<Eigen::Isometry3d> poses;
+  kin_->link_poses(q, poses);
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& pa : impl_->parts) {
+    if (pa.link != link_a) continue;
+    for (const auto& pb : impl_->parts) {
+      if (pb.link != link_b) continue;
+      const Eigen::Isometry3d ta = poses[std::size_t(link_a)] * pa.local, tb = poses[std::size_t(link_b)] * pb.local;
+      fcl::CollisionObjectd oa(pa.geometry, ta.linear(), ta.translation()), ob(pb.geometry, tb.linear(), tb.translation());
+      fcl::CollisionRequestd creq;
+      fcl::CollisionResultd cres;
+      if (fcl::collide(&oa, &ob, creq, cres) > 0) return 0.0;  // FCL's distance is unsigned inside
+      fcl::DistanceRequestd req;
+      fcl::DistanceResultd res;
+      fcl::distance(&oa, &ob, req, res);
+      best = std::min(best, std::max(0.0, res.min_distance));
+    }
+  }
+  return best;
 }
 
 bool ExactChecker::segment_free(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution) const {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "dmgplace/formats/error.hpp"
 
@@ -19,9 +20,35 @@ SphereFieldChecker::SphereFieldChecker(const Kinematics& kin, std::vector<format
   for (const auto& s : spheres_)
     if (s.link < 0 || std::size_t(s.link) >= kin.model().links.size())
       throw Error("SphereFieldChecker", "spheres", "link index out of range");
+  const auto& d = sdf_->dims();
+  std::array<int, 3> cd{};
+  for (int a = 0; a < 3; ++a) cd[std::size_t(a)] = (d[std::size_t(a)] - 1) / kCoarseStride + 1;
+  if (cd[0] >= 2 && cd[1] >= 2 && cd[2] >= 2) {
+    auto coarse = std::make_shared<Grid3>(sdf_->origin(), sdf_->resolution() * kCoarseStride, cd);
+    for (int k = 0; k < cd[2]; ++k)
+      for (int j = 0; j < cd[1]; ++j)
+        for (int i = 0; i < cd[0]; ++i)
+          coarse->values()[coarse->index(i, j, k)] = sdf_->at(i * kCoarseStride, j * kCoarseStride, k * kCoarseStride);
+    coarse_ = std::move(coarse);
+  }
   std::stable_sort(spheres_.begin(), spheres_.end(),
                    [](const formats::LinkSphere& a, const formats::LinkSphere& b) { return a.link < b.link; });
   build_bodies();
+}
+
+double SphereFieldChecker::coarse_lower_bound(const Eigen::Vector3d& p) const {
+  if (!coarse_) return -1;
+  const Grid3& g = *coarse_;
+  int c[3];
+  const double inv = 1.0 / g.resolution();
+  for (int a = 0; a < 3; ++a) {
+    double u = (p[a] - g.origin()[a]) * inv;
+    u = u > 0 ? u : 0.0;  // also maps NaN to 0
+    const double hi = double(g.dims()[std::size_t(a)] - 1);
+    c[a] = int((u < hi ? u : hi) + 0.5);
+  }
+  // The node holds the field's exact value there; the field is 1-Lipschitz (band clamping keeps it so).
+  return double(g.at(c[0], c[1], c[2])) - (p - g.point(c[0], c[1], c[2])).norm();
 }
 
 void SphereFieldChecker::build_bodies() {
@@ -45,20 +72,51 @@ void SphereFieldChecker::build_bodies() {
     b.attached = true;
     bodies_.push_back(b);
   }
+  const auto& model = kin_->model();
+  std::vector<int> parent_joint(model.links.size(), -1);
+  for (std::size_t j = 0; j < model.joints.size(); ++j) parent_joint[std::size_t(model.joints[j].child)] = int(j);
+  certifiable_ = true;
+  for (const auto& j : model.joints) certifiable_ &= !(j.mimic >= 0 && kin_->chain_slot(j.mimic) >= 0);
   for (auto& b : bodies_) {
     b.moving = moving[std::size_t(b.link)];
+  }
+  for (auto& b : bodies_) {
     // Bounding sphere: centre of the spheres' box, radius reaching every sphere's far side.
     Eigen::AlignedBox3d box;
     for (int i = b.begin; i < b.end; ++i) box.extend(spheres_[std::size_t(i)].center);
     b.center = box.center();
     for (int i = b.begin; i < b.end; ++i)
       b.radius = std::max(b.radius, (spheres_[std::size_t(i)].center - b.center).norm() + spheres_[std::size_t(i)].radius);
+    // Reach from each chain joint above: the body's extent in its link frame plus every joint
+    // offset on the way up (a prismatic joint's offset grows by its largest travel).
+    b.chain.clear();
+    double reach = b.center.norm() + b.radius;
+    for (int l = b.link, guard = 0; parent_joint[std::size_t(l)] >= 0 && guard <= int(model.joints.size()); ++guard) {
+      const int j = parent_joint[std::size_t(l)];
+      const Joint& jt = model.joints[std::size_t(j)];
+      const bool prismatic = jt.type == JointType::Prismatic;
+      if (kin_->chain_slot(j) >= 0) b.chain.push_back({kin_->chain_slot(j), prismatic ? 1.0 : reach});
+      reach += jt.origin.translation().norm() + (prismatic ? std::max(std::abs(jt.lower), std::abs(jt.upper)) : 0.0);
+      l = jt.parent;
+    }
   }
   auto allowed = [&](int a, int b) {
     if (a == b) return true;
     for (auto [x, y] : allowed_)
       if ((x == a && y == b) || (x == b && y == a)) return true;
     return false;
+  };
+  // Joints above both bodies move them together: only the others change their distance.
+  auto relative_chain = [](const Body& a, const Body& b) {
+    std::vector<ChainJoint> out;
+    auto has = [](const Body& x, int slot) {
+      return std::any_of(x.chain.begin(), x.chain.end(), [&](const ChainJoint& c) { return c.slot == slot; });
+    };
+    for (const auto& c : a.chain)
+      if (!has(b, c.slot)) out.push_back(c);
+    for (const auto& c : b.chain)
+      if (!has(a, c.slot)) out.push_back(c);
+    return out;
   };
   pairs_.clear();
   for (std::size_t i = 0; i < bodies_.size(); ++i)
@@ -69,11 +127,39 @@ void SphereFieldChecker::build_bodies() {
         const int other = a.attached ? b.link : a.link;
         // The object may touch the link holding it and the fingers.
         if (other == attached_link_ || std::find(touching_.begin(), touching_.end(), other) != touching_.end()) continue;
-        pairs_.push_back({int(i), int(j)});
+        pairs_.push_back({int(i), int(j), -1, relative_chain(a, b)});
         continue;
       }
-      if (!allowed(a.link, b.link)) pairs_.push_back({int(i), int(j)});
+      if (allowed(a.link, b.link)) continue;
+      int table = -1;
+      for (std::size_t t = 0; tables_ && t < tables_->size(); ++t) {
+        const auto& tt = (*tables_)[t].data;
+        if ((tt.link_a == a.link && tt.link_b == b.link) || (tt.link_a == b.link && tt.link_b == a.link)) table = int(t);
+      }
+      pairs_.push_back({int(i), int(j), table, relative_chain(a, b)});
     }
+}
+
+void SphereFieldChecker::set_self_tables(const std::vector<formats::SelfDistanceTable>& tables) {
+  auto out = std::make_shared<std::vector<Table>>();
+  const int nl = int(kin_->model().links.size());
+  for (const auto& t : tables) {
+    Table r;
+    if (t.link_a < 0 || t.link_b < 0 || t.link_a >= nl || t.link_b >= nl)
+      throw Error("SphereFieldChecker", "self tables", "link index out of range");
+    for (int k = 0; k < 2; ++k) {
+      r.slot[k] = t.joints[std::size_t(k)] >= 0 ? kin_->chain_slot(t.joints[std::size_t(k)]) : -1;
+      if (t.joints[std::size_t(k)] >= 0 && r.slot[k] < 0)
+        throw Error("SphereFieldChecker", "self tables", "table joint is not driven by this arm chain");
+    }
+    if (r.slot[0] < 0 || t.count[0] < 1 || t.count[1] < 1 || (r.slot[1] < 0 && t.count[1] != 1) ||
+        std::size_t(t.count[0]) * std::size_t(t.count[1]) != t.distance.size())
+      throw Error("SphereFieldChecker", "self tables", "table grid and distances disagree");
+    r.data = t;
+    out->push_back(std::move(r));
+  }
+  tables_ = std::move(out);
+  build_bodies();
 }
 
 SphereFieldChecker SphereFieldChecker::with_attached(AttachedSpheres object) const {
@@ -91,14 +177,23 @@ SphereFieldChecker SphereFieldChecker::with_attached(AttachedSpheres object) con
   return c;
 }
 
-SphereCheck SphereFieldChecker::check(const Eigen::VectorXd& q) const {
+SphereCheck SphereFieldChecker::check(const Eigen::VectorXd& q) const { return evaluate(q, nullptr); }
+
+SphereCheck SphereFieldChecker::check_along(const Eigen::VectorXd& q, const Eigen::VectorXd& direction) const {
+  return evaluate(q, &direction);
+}
+
+SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::VectorXd* dir) const {
   thread_local std::vector<Eigen::Isometry3d> poses;
   thread_local std::vector<Eigen::Vector3d> body_center, world;
   thread_local std::vector<char> world_done;
+  thread_local std::vector<double> body_clear;  // certified mode: each body's clearance
+  const bool certify = dir && certifiable_;
   kin_->link_poses(q, poses);
   body_center.resize(bodies_.size());
   world.resize(spheres_.size());
   world_done.assign(bodies_.size(), 0);
+  if (certify) body_clear.assign(bodies_.size(), std::numeric_limits<double>::infinity());
   // World sphere centres of a body, computed at most once per query.
   auto centres = [&](std::size_t bi) {
     if (!world_done[bi]) {
@@ -112,15 +207,24 @@ SphereCheck SphereFieldChecker::check(const Eigen::VectorXd& q) const {
   out.min_clearance = band_;
   const double pad = margin_ + padding_;
   auto outside = [&](const Eigen::Vector3d& p) { return ((p - lo_).array() < 0).any() || ((hi_ - p).array() < 0).any(); };
+  auto cleared = [&](std::size_t bi, double clearance) {
+    out.min_clearance = std::min(out.min_clearance, clearance);
+    if (certify) body_clear[bi] = std::min(body_clear[bi], clearance);
+  };
   for (std::size_t bi = 0; bi < bodies_.size(); ++bi) {
     const Body& b = bodies_[bi];
     const Eigen::Isometry3d& T = poses[std::size_t(b.link)];
     body_center[bi] = T * b.center;
     if (!b.moving && !b.attached) continue;
     if (!outside(body_center[bi])) {
+      const double dc = coarse_lower_bound(body_center[bi]) - b.radius - padding_;
+      if (dc >= 0) {
+        cleared(bi, dc);
+        continue;  // cleared from the coarse grid alone
+      }
       const double d = sdf_->sample(body_center[bi]) - b.radius - pad;
       if (d >= 0) {
-        out.min_clearance = std::min(out.min_clearance, d);
+        cleared(bi, d);
         continue;  // the whole body is clear
       }
     }
@@ -132,36 +236,78 @@ SphereCheck SphereFieldChecker::check(const Eigen::VectorXd& q) const {
       // Outside the grid nothing is known: "maybe in collision", for the exact layer to decide.
       // (Band-clamped far cells are fine: clamping only lowers values, which stays conservative.)
       const bool out_of_grid = outside(w);
-      const double clearance = out_of_grid ? -1.0 : sdf_->sample(w) - s.radius - pad;
-      if (!out_of_grid) out.min_clearance = std::min(out.min_clearance, clearance);
-      if (clearance < 0) {
-        out.environment_free = false;
-        out.outside_grid |= out_of_grid;
-        if (b.attached) out.attached_near_env = true;
-        else if (out.env_link_count < SphereCheck::kMaxPairs) out.env_links[std::size_t(out.env_link_count++)] = b.link;
-        else out.env_overflow = true;
-        break;
+      if (!out_of_grid) {
+        const double coarse = coarse_lower_bound(w) - s.radius - padding_;
+        if (coarse >= 0) {
+          cleared(bi, coarse);
+          continue;
+        }
       }
+      const double clearance = out_of_grid ? -1.0 : sdf_->sample(w) - s.radius - pad;
+      if (clearance >= 0) {
+        cleared(bi, clearance);
+        continue;
+      }
+      if (!out_of_grid) out.min_clearance = std::min(out.min_clearance, clearance);
+      out.environment_free = false;
+      out.outside_grid |= out_of_grid;
+      if (b.attached) out.attached_near_env = true;
+      else if (out.env_link_count < SphereCheck::kMaxPairs) out.env_links[std::size_t(out.env_link_count++)] = b.link;
+      else out.env_overflow = true;
+      break;
     }
   }
+  // Certified mode: how fast each body can move along `dir` (metres per unit of joint motion).
+  auto speed = [&](const std::vector<ChainJoint>& joints) {
+    double v = 0;
+    for (const auto& j : joints) v += std::abs((*dir)[j.slot]) * j.reach;
+    return v;
+  };
+  double free_distance = std::numeric_limits<double>::infinity();
+  auto certify_pair = [&](double clearance, double speed) {
+    if (speed > 0) free_distance = std::min(free_distance, clearance / speed);
+  };
   for (const auto& p : pairs_) {
     const Body &a = bodies_[std::size_t(p.a)], &b = bodies_[std::size_t(p.b)];
     const double rb = a.radius + b.radius + padding_;
-    if ((body_center[std::size_t(p.a)] - body_center[std::size_t(p.b)]).squaredNorm() >= rb * rb) continue;
+    const double d2 = (body_center[std::size_t(p.a)] - body_center[std::size_t(p.b)]).squaredNorm();
+    if (d2 >= rb * rb) {
+      if (certify && out.free()) certify_pair(std::sqrt(d2) - rb, speed(p.moves));
+      continue;
+    }
+    if (p.table >= 0) {
+      const Table& t = (*tables_)[std::size_t(p.table)];
+      const double lb = t.lower_bound(q) - padding_;
+      if (lb > 0) {
+        if (certify && out.free()) {
+          // Only the table's joints move the pair relative to each other, at most `slope` each.
+          double v = t.data.slope[0] * std::abs((*dir)[t.slot[0]]);
+          if (t.slot[1] >= 0) v += t.data.slope[1] * std::abs((*dir)[t.slot[1]]);
+          certify_pair(lb, v);
+        }
+        continue;
+      }
+    }
     centres(std::size_t(p.a));
     centres(std::size_t(p.b));
     bool hit = false;
+    double gap = std::numeric_limits<double>::infinity();
     for (int i = a.begin; i < a.end && !hit; ++i) {
       const Eigen::Vector3d& wa = world[std::size_t(i)];
       for (int j = b.begin; j < b.end; ++j) {
         const double r = spheres_[std::size_t(i)].radius + spheres_[std::size_t(j)].radius + padding_;
-        if ((wa - world[std::size_t(j)]).squaredNorm() < r * r) {
+        const double s2 = (wa - world[std::size_t(j)]).squaredNorm();
+        if (s2 < r * r) {
           hit = true;
           break;
         }
+        if (certify) gap = std::min(gap, std::sqrt(s2) - r);
       }
     }
-    if (!hit) continue;
+    if (!hit) {
+      if (certify && out.free()) certify_pair(gap, speed(p.moves));
+      continue;
+    }
     out.self_free = false;
     if (a.attached || b.attached) out.attached_involved = true;
     if (out.pair_count == SphereCheck::kMaxPairs) {
@@ -169,6 +315,12 @@ SphereCheck SphereFieldChecker::check(const Eigen::VectorXd& q) const {
       return out;
     }
     out.pairs[std::size_t(out.pair_count++)] = {a.link, b.link};
+  }
+  if (certify && out.free()) {
+    for (std::size_t bi = 0; bi < bodies_.size(); ++bi)
+      if ((bodies_[bi].moving || bodies_[bi].attached) && std::isfinite(body_clear[bi]))
+        certify_pair(body_clear[bi], speed(bodies_[bi].chain));
+    out.free_distance = std::isfinite(free_distance) ? free_distance : 1e9;
   }
   return out;
 }

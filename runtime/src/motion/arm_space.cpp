@@ -4,11 +4,14 @@
 
 #include <cmath>
 
+#include "dmgplace/runtime/motion/certified_motion_validator.hpp"
+
 namespace ob = ompl::base;
 
 namespace dmgplace::runtime {
 
-ob::SpaceInformationPtr make_arm_space(const Kinematics& kin, ValidityFn valid, double resolution) {
+ob::SpaceInformationPtr make_arm_space(const Kinematics& kin, ValidityFn valid, double resolution,
+                                       FreeDistanceFn free_distance) {
   const int n = kin.dof();
   auto space = std::make_shared<ob::RealVectorStateSpace>(unsigned(n));
   ob::RealVectorBounds bounds(static_cast<unsigned>(n));
@@ -26,6 +29,7 @@ ob::SpaceInformationPtr make_arm_space(const Kinematics& kin, ValidityFn valid, 
     return valid(q);
   });
   si->setStateValidityCheckingResolution(resolution / space->getMaximumExtent());
+  if (free_distance) si->setMotionValidator(std::make_shared<CertifiedMotionValidator>(si, std::move(free_distance)));
   si->setup();
   return si;
 }

@@ -38,6 +38,7 @@ MultiGoalRRTConnect::MultiGoalRRTConnect(const ob::SpaceInformationPtr& si) : ob
 
 MultiGoalRRTConnect::~MultiGoalRRTConnect() {
   if (scratch_) si_->freeState(scratch_);
+  if (scratch_end_) si_->freeState(scratch_end_);
 }
 
 void MultiGoalRRTConnect::setup() {
@@ -83,16 +84,13 @@ bool MultiGoalRRTConnect::state_valid(const std::vector<double>& q) const {
 }
 
 bool MultiGoalRRTConnect::motion_valid(const std::vector<double>& a, const std::vector<double>& b) const {
-  // Discrete checks no further apart than the space's longest valid segment (the resolution).
-  const double step = si_->getStateSpace()->getLongestValidSegmentLength();
-  const int n = std::max(1, int(std::ceil(distance(a, b) / step)));
-  std::vector<double> q(a.size());
-  for (int i = 1; i <= n; ++i) {
-    const double t = double(i) / n;
-    for (std::size_t k = 0; k < a.size(); ++k) q[k] = a[k] + t * (b[k] - a[k]);
-    if (!state_valid(q)) return false;
-  }
-  return true;
+  // The space's motion validator: OMPL's discrete one (bisection order, every longest-valid-segment
+  // step) unless the space has a certified one (make_arm_space with a free-distance function).
+  if (!scratch_) scratch_ = si_->allocState();
+  if (!scratch_end_) scratch_end_ = si_->allocState();
+  si_->getStateSpace()->copyFromReals(scratch_, a);
+  si_->getStateSpace()->copyFromReals(scratch_end_, b);
+  return si_->checkMotion(scratch_, scratch_end_);
 }
 
 void MultiGoalRRTConnect::sample(std::vector<double>& q) {
@@ -160,6 +158,7 @@ void MultiGoalRRTConnect::take_pending() {
     auto t = new_tree(dist);
     t->add(q, nullptr);
     goal_trees_[id] = std::move(t);
+    untried_direct_.push_back(id);
   }
   pending_add_.clear();
   for (int id : pending_remove_) goal_trees_.erase(id);
@@ -167,13 +166,15 @@ void MultiGoalRRTConnect::take_pending() {
 }
 
 void MultiGoalRRTConnect::shortcut(JointPath& path) {
-  std::uniform_int_distribution<std::size_t> pick;
-  for (int attempt = 0; attempt < 100 && path.size() > 2; ++attempt) {
-    std::size_t i = pick(rng_) % path.size(), j = pick(rng_) % path.size();
-    if (i > j) std::swap(i, j);
-    if (j - i < 2) continue;
-    if (motion_valid(path[i], path[j])) path.erase(path.begin() + std::ptrdiff_t(i) + 1, path.begin() + std::ptrdiff_t(j));
-  }
+  // Greedy and deterministic: from each waypoint, jump to the farthest later one it sees. Blocked
+  // jumps fail after a few checks (bisection order), and no pair is ever tried twice.
+  int budget = 100;
+  for (std::size_t i = 0; i + 2 < path.size() && budget > 0; ++i)
+    for (std::size_t j = path.size() - 1; j >= i + 2 && budget > 0; --j, --budget)
+      if (motion_valid(path[i], path[j])) {
+        path.erase(path.begin() + std::ptrdiff_t(i) + 1, path.begin() + std::ptrdiff_t(j));
+        break;
+      }
 }
 
 FoundPath MultiGoalRRTConnect::make_path(Node* a, Node* b, int goal_id) {
@@ -212,6 +213,29 @@ ob::PlannerStatus MultiGoalRRTConnect::solve(const ob::PlannerTerminationConditi
       std::this_thread::sleep_for(std::chrono::microseconds(200));
       continue;
     }
+    // A new goal first tries the straight line from the start: often free, and then no tree grows.
+    if (!untried_direct_.empty()) {
+      const int id = untried_direct_.back();
+      untried_direct_.pop_back();
+      auto g = goal_trees_.find(id);
+      if (g == goal_trees_.end()) continue;
+      Node* root = g->second->nodes.front().get();
+      Node* start = start_tree_->nodes.front().get();
+      if (!motion_valid(start->q, root->q)) continue;
+      FoundPath f;
+      f.goal_id = id;
+      f.path = {start->q, root->q};
+      f.length = distance(start->q, root->q);
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        goal_trees_.erase(g);  // owns `root`
+      }
+      if (report(std::move(f), t0)) {
+        solved = true;
+        if (!anytime_) break;
+      }
+      continue;
+    }
     sample(q_rand);
     // Pick one goal tree per iteration, round robin, so every goal gets attention.
     auto it = goal_trees_.begin();
@@ -227,32 +251,35 @@ ob::PlannerStatus MultiGoalRRTConnect::solve(const ob::PlannerTerminationConditi
     Node* b = nullptr;
     if (connect(other, a->q, b) != Grow::Reached) continue;
     FoundPath f = forward ? make_path(a, b, goal_id) : make_path(b, a, goal_id);
-    f.time_found = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     {
       // Writers hold the mutex: goal_count() reads the map from other threads.
       std::lock_guard<std::mutex> lock(mutex_);
       goal_trees_.erase(goal_id);  // reported once; the caller decides what to add next
     }
-    if (validator_ && !validator_(f.path)) continue;
+    if (!report(std::move(f), t0)) continue;
     solved = true;
-    if (callback_) callback_(f);
-    if (pdef_) {
-      auto path = std::make_shared<ompl::geometric::PathGeometric>(si_);
-      ob::State* s = si_->allocState();
-      for (const auto& q : f.path) {
-        si_->getStateSpace()->copyFromReals(s, q);
-        path->append(s);
-      }
-      si_->freeState(s);
-      pdef_->addSolutionPath(path, false, 0.0, getName());
-    }
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      found_.push_back(std::move(f));
-    }
     if (!anytime_) break;
   }
   return solved ? ob::PlannerStatus::EXACT_SOLUTION : ob::PlannerStatus::TIMEOUT;
+}
+
+bool MultiGoalRRTConnect::report(FoundPath f, std::chrono::steady_clock::time_point t0) {
+  f.time_found = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (validator_ && !validator_(f.path)) return false;
+  if (callback_) callback_(f);
+  if (pdef_) {
+    auto path = std::make_shared<ompl::geometric::PathGeometric>(si_);
+    ob::State* s = si_->allocState();
+    for (const auto& q : f.path) {
+      si_->getStateSpace()->copyFromReals(s, q);
+      path->append(s);
+    }
+    si_->freeState(s);
+    pdef_->addSolutionPath(path, false, 0.0, getName());
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  found_.push_back(std::move(f));
+  return true;
 }
 
 void MultiGoalRRTConnect::getPlannerData(ob::PlannerData& data) const {

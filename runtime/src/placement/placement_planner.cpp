@@ -148,8 +148,9 @@ struct PlacementPlanner::Run {
     validator = std::make_unique<GoalValidator>(world, *space, *objective, *spaces, *selector, q);
     auto factory = [this](int g) {
       auto checker = spaces->checker(g);
-      return make_arm_space(world.kin(), [checker](const Eigen::VectorXd& x) { return checker->is_free(x); },
-                            o.motion_resolution);
+      return make_arm_space(
+          world.kin(), [checker](const Eigen::VectorXd& x) { return checker->is_free(x); }, o.motion_resolution,
+          [checker](const Eigen::VectorXd& x, const Eigen::VectorXd& dir) { return checker->free_distance(x, dir); });
     };
     motion = std::make_unique<MultiGraspPlanner>(factory, std::vector<double>(q.q0.data(), q.q0.data() + q.q0.size()),
                                                  std::max(1, o.threads), q.seed);

@@ -14,7 +14,8 @@ Eigen::Matrix<double, 6, 1> pose_error(const Eigen::Isometry3d& cur, const Eigen
 
 bool IkSolver::descend(const Eigen::Isometry3d& target, Eigen::VectorXd& q, IkResult& r) const {
   const int n = kin_.dof();
-  Jacobian J(6, n);
+  // Sized once per descent: the loop below does not allocate.
+  Jacobian J(6, n), J_new(6, n), Jw(6, n);
   Eigen::Matrix<double, 6, 1> w;
   w << 1, 1, 1, opt_.orientation_weight, opt_.orientation_weight, opt_.orientation_weight;
   auto weighted_error = [&](const Eigen::VectorXd& qq, Jacobian* jac) {
@@ -31,18 +32,19 @@ bool IkSolver::descend(const Eigen::Isometry3d& target, Eigen::VectorXd& q, IkRe
     r.position_error = pos;
     r.orientation_error = rot;
     if (pos < opt_.position_tolerance && rot < opt_.orientation_tolerance) return true;
-    const Jacobian Jw = w.asDiagonal() * J;
-    Eigen::Matrix<double, 6, 6> A = Jw * Jw.transpose();
+    Jw.noalias() = w.asDiagonal() * J;
+    Eigen::Matrix<double, 6, 6> A;
+    A.noalias() = Jw * Jw.transpose();
     A.diagonal().array() += lambda * (1.0 + A.diagonal().array());
-    q_new = q + Jw.transpose() * A.ldlt().solve(e);
+    const Eigen::Matrix<double, 6, 1> step = A.ldlt().solve(e);
+    q_new.noalias() = q + Jw.transpose() * step;
     q_new = q_new.cwiseMax(kin_.lower()).cwiseMin(kin_.upper());
-    Jacobian J_new(6, n);
     Eigen::Matrix<double, 6, 1> e_new = weighted_error(q_new, &J_new);
     const double cost_new = e_new.squaredNorm();
     if (cost_new < cost) {
       q = q_new;
       e = e_new;
-      J = J_new;
+      J.swap(J_new);
       cost = cost_new;
       lambda = std::max(lambda * 0.3, 1e-7);
     } else {

@@ -72,6 +72,7 @@ ArmProblem load_arm_problem(const std::filesystem::path& robot_h5, const std::fi
   p.sdf = std::make_shared<runtime::Grid3>(runtime::to_grid(distance_field(embree, grid_covering(box, o.sdf_resolution), o.sdf_band, 1)));
   p.bake_seconds = since(t0);
   runtime::SphereFieldChecker fast(*p.kin, p.robot.spheres, p.sdf, o.sdf_band);
+  fast.set_self_tables(p.robot.self_tables);
   p.exact = std::make_unique<runtime::ExactChecker>(*p.kin, p.scene);
   p.checker = std::make_unique<runtime::TwoLayerChecker>(std::move(fast), *p.exact);
   return p;
@@ -80,7 +81,9 @@ ArmProblem load_arm_problem(const std::filesystem::path& robot_h5, const std::fi
 PlanOutcome plan_ours(const ArmProblem& p, double time_limit, double resolution, std::uint64_t seed) {
   PlanOutcome out;
   const auto t0 = Clock::now();
-  auto si = runtime::make_arm_space(*p.kin, [&](const Eigen::VectorXd& q) { return p.checker->is_free(q); }, resolution);
+  auto si = runtime::make_arm_space(
+      *p.kin, [&](const Eigen::VectorXd& q) { return p.checker->is_free(q); }, resolution,
+      [&](const Eigen::VectorXd& q, const Eigen::VectorXd& dir) { return p.checker->free_distance(q, dir); });
   auto pdef = std::make_shared<ob::ProblemDefinition>(si);
   ob::ScopedState<> start(si->getStateSpace());
   for (int i = 0; i < p.kin->dof(); ++i) start[unsigned(i)] = p.start[i];

@@ -32,6 +32,8 @@ formats::RobotArtifact bake_robot(const RobotBakeOptions& o) {
   for (std::size_t l = 0; l < robot.model.links.size(); ++l)
     for (const auto& s : cover_with_spheres(robot.model.links[l].collision, o.spheres))
       robot.spheres.push_back({int(l), s.center, s.radius});
+  const runtime::Kinematics kin(robot.model, robot.model.arm_base, robot.model.arm_tip);
+  robot.self_tables = build_self_distance_tables(kin, robot.spheres, o.self_tables);
   return robot;
 }
 

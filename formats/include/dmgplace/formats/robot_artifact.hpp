@@ -1,5 +1,7 @@
 #pragma once
 // ROBOT.h5: the kinematic tree, collision geometry, planning chain and allowed collision pairs.
+#include <array>
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -11,7 +13,7 @@
 namespace dmgplace::formats {
 
 inline constexpr const char* kRobotSchema = "dmgplace.robot";
-inline constexpr int kRobotSchemaVersion = 2;
+inline constexpr int kRobotSchemaVersion = 3;  // 3: self-distance tables
 
 // One sphere of the fast collision model, in its link's frame.
 struct LinkSphere {
@@ -20,10 +22,40 @@ struct LinkSphere {
   double radius = 0;
 };
 
+// Exact distance between the collision geometry of two links whose relative pose depends on one or
+// two revolute chain joints, tabulated over those joints' ranges (bake-robot). The fast layer reads
+// a lower bound off it where the pair's spheres overlap (the Panda's wrist: link5 / link7 sit 1-2
+// cm apart over most of joint 6's range, closer than any small sphere cover can prove).
+//   lower bound at q = distance[nearest node] - sum_k slope[k] * |q_k - node_k|
+// slope[k] bounds how fast the distance can change with joint k (metres per radian): the largest
+// distance from joint k's axis of any point on the link that joint moves relative to the other.
+struct SelfDistanceTable {
+  int link_a = -1, link_b = -1;
+  std::array<int, 2> joints{-1, -1};  // model joint indices; joints[1] = -1 for a 1-D table
+  std::array<double, 2> lower{0, 0}, step{1, 1}, slope{0, 0};
+  std::array<int, 2> count{1, 1};     // nodes per joint (count[1] = 1 for a 1-D table)
+  std::vector<float> distance;        // count[0] x count[1], row-major; rounded down, 0 on contact
+
+  // The proven lower bound at joint values x0 (joints[0]) and x1 (joints[1]; ignored for 1-D).
+  double lower_bound(double x0, double x1) const {
+    const double x[2] = {x0, x1};
+    std::size_t index = 0;
+    double loss = 0;
+    for (std::size_t k = 0; k < 2; ++k) {
+      long i = std::lround((x[k] - lower[k]) / step[k]);
+      i = i < 0 ? 0 : (i >= count[k] ? count[k] - 1 : i);
+      loss += slope[k] * std::abs(x[k] - (lower[k] + double(i) * step[k]));
+      index = index * std::size_t(count[k]) + std::size_t(i);
+    }
+    return double(distance[index]) - loss;
+  }
+};
+
 struct RobotArtifact {
   ArtifactHeader header;
   RobotModel model;
   std::vector<LinkSphere> spheres;  // union contains every link's collision geometry
+  std::vector<SelfDistanceTable> self_tables;
 };
 
 void save_robot(RobotArtifact artifact, const std::filesystem::path& path);

@@ -56,6 +56,8 @@ class ExactChecker {
   // Self-collision of just these link pairs (the ones the sphere layer flagged).
   bool link_pairs_free(const Eigen::VectorXd& q, const std::pair<int, int>* pairs, int count) const;
   bool is_free(const Eigen::VectorXd& q) const { return check(q).free(); }
+  // Smallest distance between two links' collision geometry at q (0 when they touch).
+  double link_distance(const Eigen::VectorXd& q, int link_a, int link_b) const;
 
   // Exact checks along the straight joint-space segment at `resolution` (max joint step, radians).
   bool segment_free(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution) const;

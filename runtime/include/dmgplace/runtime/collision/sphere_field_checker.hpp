@@ -40,6 +40,9 @@ struct SphereCheck {
   bool attached_near_env = false;
   bool outside_grid = false;  // a sphere left the distance grid: only the exact layer can tell
   double min_clearance = 0;   // smallest (distance - radius - margin) seen, metres
+  // check_along() only, when free: q + t * direction is free for every t in [0, free_distance]
+  // (the spheres cannot move farther than their clearance); 0 when nothing is certified.
+  double free_distance = 0;
   bool free() const { return environment_free && self_free; }
 };
 
@@ -50,10 +53,18 @@ class SphereFieldChecker {
   SphereFieldChecker(const Kinematics& kin, std::vector<formats::LinkSphere> spheres,
                      std::shared_ptr<const Grid3> sdf, double band, double padding = 0.0);
 
+  // Exact self-distance tables (from ROBOT.h5): a pair with a table is settled by its proven lower
+  // bound where its spheres overlap, instead of being flagged for FCL.
+  void set_self_tables(const std::vector<formats::SelfDistanceTable>& tables);
+
   // A checker for one grasp: same robot and environment (shared, no copy), plus the object.
   SphereFieldChecker with_attached(AttachedSpheres object) const;
 
   SphereCheck check(const Eigen::VectorXd& q) const;
+  // check() plus a certified free distance along `direction` (joint space; any length): every
+  // body's clearance divided by how fast the motion can move it (sum over the joints above it of
+  // |direction_j| times its farthest possible reach from joint j's axis, whatever the other joints).
+  SphereCheck check_along(const Eigen::VectorXd& q, const Eigen::VectorXd& direction) const;
   bool is_free(const Eigen::VectorXd& q) const { return check(q).free(); }
 
   std::size_t sphere_count() const { return spheres_.size(); }
@@ -62,20 +73,42 @@ class SphereFieldChecker {
  private:
   // A body is one link's spheres (or the attached object's), with a bounding sphere that is
   // tested first: most bodies are far from obstacles and from each other, so one lookup settles them.
+  struct ChainJoint {
+    int slot = -1;     // index in q
+    double reach = 1;  // metres per unit of this joint: farthest the body gets from its axis (1 if prismatic)
+  };
   struct Body {
     int link = -1;
+    std::vector<ChainJoint> chain;  // chain joints that move this body
     int begin = 0, end = 0;  // sphere range
     Eigen::Vector3d center = Eigen::Vector3d::Zero();
     double radius = 0;
     bool moving = false;
     bool attached = false;
   };
-  struct Pair { int a, b; };  // body indices
+  struct Pair {
+    int a, b, table = -1;           // body indices, self-distance table or -1
+    std::vector<ChainJoint> moves;  // joints that move one body relative to the other (not common ancestors)
+  };
+  struct Table {
+    int slot[2] = {-1, -1};  // q indices of the table's joints; slot[1] = -1 for a 1-D table
+    formats::SelfDistanceTable data;
+    double lower_bound(const Eigen::VectorXd& q) const { return data.lower_bound(q[slot[0]], slot[1] >= 0 ? q[slot[1]] : 0.0); }
+  };
   void build_bodies();
+  SphereCheck evaluate(const Eigen::VectorXd& q, const Eigen::VectorXd* direction) const;
+  bool certifiable_ = true;  // false when a mimic joint follows a chain joint (speeds unknown)
   const Kinematics* kin_;
   std::vector<formats::LinkSphere> spheres_;  // robot + attached, link frames, grouped by body
   std::vector<Body> bodies_;
   std::vector<Pair> pairs_;                   // body pairs checked for self-collision
+  std::shared_ptr<const std::vector<Table>> tables_;  // shared by every per-grasp copy
+  // Every `kCoarseStride`-th node of the distance grid: small enough to stay in cache, and with
+  // a nearest-node bound (value - distance to the node, 1-Lipschitz) it clears most bodies in one
+  // load instead of a trilinear lookup that misses the cache.
+  static constexpr int kCoarseStride = 4;
+  std::shared_ptr<const Grid3> coarse_;
+  double coarse_lower_bound(const Eigen::Vector3d& p) const;
   std::vector<std::pair<int, int>> allowed_;  // link pairs
   std::vector<int> touching_;                 // links the attached object may touch
   std::shared_ptr<const Grid3> sdf_;

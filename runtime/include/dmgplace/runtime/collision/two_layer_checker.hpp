@@ -21,9 +21,21 @@ class TwoLayerChecker {
       : fast_(std::move(fast)), exact_(std::move(exact)),
         counters_(counters ? std::move(counters) : std::make_shared<CheckCounters>()) {}
 
-  bool is_free(const Eigen::VectorXd& q) const {
+  bool is_free(const Eigen::VectorXd& q) const { return settle(q, fast_.check(q)); }
+  // < 0: q collides; otherwise q is free and so is q + t * direction for t in [0, result]
+  // (0 when the exact layer had to decide, which certifies nothing beyond q).
+  double free_distance(const Eigen::VectorXd& q, const Eigen::VectorXd& direction) const {
+    const SphereCheck f = fast_.check_along(q, direction);
+    if (!settle(q, f)) return -1.0;
+    return f.free() ? f.free_distance : 0.0;
+  }
+  const SphereFieldChecker& fast() const { return fast_; }
+  const ExactChecker& exact() const { return exact_; }
+  const CheckCounters& counters() const { return *counters_; }
+
+ private:
+  bool settle(const Eigen::VectorXd& q, const SphereCheck& f) const {
     ++counters_->fast;
-    const SphereCheck f = fast_.check(q);
     if (f.free()) return true;
     // Only what the spheres flagged goes to FCL: those links against the scene, those link pairs
     // against each other. Overflows and held-object self pairs take the full check.
@@ -35,11 +47,6 @@ class TwoLayerChecker {
     ++counters_->exact_full;
     return exact_.is_free(q);
   }
-  const SphereFieldChecker& fast() const { return fast_; }
-  const ExactChecker& exact() const { return exact_; }
-  const CheckCounters& counters() const { return *counters_; }
-
- private:
   SphereFieldChecker fast_;
   ExactChecker exact_;
   std::shared_ptr<CheckCounters> counters_;

@@ -11,8 +11,14 @@
 namespace dmgplace::runtime {
 
 using ValidityFn = std::function<bool(const Eigen::VectorXd&)>;
+// < 0: q is invalid; otherwise q is valid and so is q + t * direction for t in [0, result]
+// (TwoLayerChecker::free_distance).
+using FreeDistanceFn = std::function<double(const Eigen::VectorXd& q, const Eigen::VectorXd& direction)>;
 
-ompl::base::SpaceInformationPtr make_arm_space(const Kinematics& kin, ValidityFn valid, double resolution);
+// With `free_distance`, motions are checked by a CertifiedMotionValidator: the same states at
+// `resolution` steps, except those inside an interval the checker proved free.
+ompl::base::SpaceInformationPtr make_arm_space(const Kinematics& kin, ValidityFn valid, double resolution,
+                                               FreeDistanceFn free_distance = nullptr);
 
 // Every segment of `path` valid when checked at `resolution` (max joint step).
 bool path_valid(const std::vector<std::vector<double>>& path, const ValidityFn& valid, double resolution);

@@ -6,6 +6,7 @@
 #include <ompl/base/Planner.h>
 #include <ompl/datastructures/NearestNeighbors.h>
 
+#include <chrono>
 #include <functional>
 #include <map>
 #include <memory>
@@ -60,6 +61,8 @@ class MultiGoalRRTConnect : public ompl::base::Planner {
   Grow connect(Tree& tree, const std::vector<double>& target, Node*& added);
   void take_pending();
   FoundPath make_path(Node* from_start, Node* from_goal, int goal_id);
+  // Validator, callback, problem definition; false when the validator dropped the path.
+  bool report(FoundPath f, std::chrono::steady_clock::time_point t0);
   void shortcut(JointPath& path);
   bool motion_valid(const std::vector<double>& a, const std::vector<double>& b) const;
   bool state_valid(const std::vector<double>& q) const;
@@ -68,6 +71,7 @@ class MultiGoalRRTConnect : public ompl::base::Planner {
 
   std::unique_ptr<Tree> start_tree_;
   std::map<int, std::unique_ptr<Tree>> goal_trees_;
+  std::vector<int> untried_direct_;  // new goals whose straight line from the start is not tried yet
   mutable std::mutex mutex_;
   std::vector<std::pair<int, std::vector<double>>> pending_add_;
   std::vector<int> pending_remove_;
@@ -80,6 +84,7 @@ class MultiGoalRRTConnect : public ompl::base::Planner {
   std::size_t dim_ = 0;
   std::vector<double> lo_, hi_;
   mutable ompl::base::State* scratch_ = nullptr;  // owned; used by the solving thread only
+  mutable ompl::base::State* scratch_end_ = nullptr;
 };
 
 }  // namespace dmgplace::runtime

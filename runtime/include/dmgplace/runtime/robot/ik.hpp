@@ -12,7 +12,7 @@ struct IkOptions {
   double position_tolerance = 1e-4;     // metres
   double orientation_tolerance = 1e-3;  // radians
   int max_iterations = 60;              // per start
-  int max_restarts = 10;                // random starts after the seed
+  int max_restarts = 30;                // random starts after the seed
   double orientation_weight = 0.3;      // metres per radian in the error norm
 };
 

@@ -25,6 +25,11 @@ class Kinematics {
   int tip_link() const { return tip_; }
   int base_link() const { return base_; }
 
+  // Index in q of a model joint, or -1 when the chain does not drive it.
+  int chain_slot(int joint) const {
+    return joint >= 0 && std::size_t(joint) < chain_slot_.size() ? chain_slot_[std::size_t(joint)] : -1;
+  }
+
   // Values of joints that are not part of the chain (e.g. the gripper fingers); default 0.
   void set_joint_value(const std::string& joint, double value);
 

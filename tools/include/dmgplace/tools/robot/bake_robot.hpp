@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "dmgplace/formats/robot_artifact.hpp"
+#include "dmgplace/tools/robot/self_distance_tables.hpp"
 #include "dmgplace/tools/robot/sphere_cover.hpp"
 
 namespace dmgplace::tools {
@@ -20,6 +21,7 @@ struct RobotBakeOptions {
   // needs the tip there (the Panda URDF, for one, has no such frame).
   std::optional<Eigen::Isometry3d> tcp;
   SphereCoverOptions spheres;
+  SelfTableOptions self_tables;
 };
 
 // The artifact without its header (the caller records parameters and input hashes).
