@@ -59,6 +59,16 @@ RobotArtifact sample_robot() {
   m.arm_tip = "tip";
   m.allowed_pairs = {{0, 1}};
   a.spheres = {{1, Eigen::Vector3d(0, 0, 0.15), 0.2}, {2, Eigen::Vector3d(0.5, 0.5, 0.5), 0.9}};
+  SelfDistanceTable t;
+  t.link_a = 0;
+  t.link_b = 2;
+  t.joints = {0, -1};
+  t.lower = {-2, 0};
+  t.step = {1, 1};
+  t.slope = {0.7, 0};
+  t.count = {5, 1};
+  t.distance = {0.1f, 0.05f, 0.0f, 0.05f, 0.1f};
+  a.self_tables = {t};
   return a;
 }
 
@@ -133,6 +143,11 @@ TEST(RobotArtifact, RoundTripKeepsTreeShapesAndPairs) {
   ASSERT_EQ(r.spheres.size(), 2u);
   EXPECT_EQ(r.spheres[1].link, 2);
   EXPECT_DOUBLE_EQ(r.spheres[1].radius, 0.9);
+  ASSERT_EQ(r.self_tables.size(), 1u);
+  EXPECT_EQ(r.self_tables[0].distance, sample_robot().self_tables[0].distance);
+  EXPECT_EQ(r.self_tables[0].count, (std::array<int, 2>{5, 1}));
+  // Nearest node (q = -0.9 -> node 1 at -1: 0.05) minus slope * 0.1.
+  EXPECT_NEAR(r.self_tables[0].lower_bound(-0.9, 0), 0.05 - 0.07, 1e-7);
   EXPECT_TRUE(check_robot(r).empty());
   EXPECT_TRUE(validate_artifact(dir / "r.h5").empty());
 }
@@ -160,6 +175,47 @@ TEST(RobotArtifact, BrokenTreesAndLimitsAreReported) {
   auto pair = sample_robot();
   pair.model.allowed_pairs.push_back({1, 1});
   EXPECT_EQ(check_robot(pair).size(), 1u);
+  auto table = sample_robot();
+  table.self_tables[0].distance[2] = std::nanf("");
+  p = check_robot(table);
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_NE(p[0].find("self_tables[0]: distance negative or not finite"), std::string::npos);
+  table = sample_robot();
+  table.self_tables[0].distance.pop_back();
+  p = check_robot(table);
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_NE(p[0].find("does not match the grid"), std::string::npos);
+  table = sample_robot();
+  table.self_tables[0].joints = {5, -1};
+  EXPECT_EQ(check_robot(table).size(), 1u);
+  table = sample_robot();
+  table.self_tables[0].slope[0] = -1;
+  EXPECT_EQ(check_robot(table).size(), 1u);
+}
+
+// A file whose tables declare more nodes than it holds is reported at load, naming the dataset.
+TEST(RobotArtifact, TableCountsThatDisagreeWithTheDataAreCorrupt) {
+  test::TempDir dir;
+  auto r = sample_robot();
+  r.self_tables[0].count = {6, 1};  // 6 declared, 5 stored
+  r.self_tables[0].distance.push_back(0);
+  save_robot(r, dir / "r.h5");
+  r = load_robot(dir / "r.h5");
+  EXPECT_EQ(r.self_tables[0].distance.size(), 6u);
+  auto bad = sample_robot();
+  bad.self_tables.push_back(bad.self_tables[0]);
+  bad.self_tables[1].count = {1000, 1};
+  EXPECT_THROW(
+      {
+        try {
+          save_robot(bad, dir / "bad.h5");
+          load_robot(dir / "bad.h5");
+        } catch (const Error& e) {
+          EXPECT_NE(std::string(e.what()).find("fewer nodes than the tables declare"), std::string::npos) << e.what();
+          throw;
+        }
+      },
+      Error);
 }
 
 TEST(EnvironmentArtifact, RoundTripKeepsWorldPosesAndPoints) {

@@ -1,0 +1,82 @@
+// The certified motion validator checks a subset of the discrete validator's states and proves
+// the rest free, so both must give the same answer on every motion, with fewer checks in open space.
+#include <gtest/gtest.h>
+
+#include <ompl/base/DiscreteMotionValidator.h>
+#include <ompl/base/ScopedState.h>
+#include <ompl/base/SpaceInformation.h>
+#include <ompl/base/spaces/RealVectorStateSpace.h>
+
+#include <random>
+
+#include "dmgplace/runtime/motion/certified_motion_validator.hpp"
+
+namespace ob = ompl::base;
+using dmgplace::runtime::CertifiedMotionValidator;
+
+namespace {
+struct Disc { double x, y, r; };
+const std::vector<Disc> kDiscs = {{3, 3, 1}, {6, 7, 1.5}, {7, 2, 0.5}, {2, 8, 0.8}};
+
+double clearance(double x, double y) {
+  double c = 1e9;
+  for (const auto& d : kDiscs) c = std::min(c, std::hypot(x - d.x, y - d.y) - d.r);
+  return c;
+}
+
+ob::SpaceInformationPtr make_space(std::atomic<long>* checks) {
+  auto space = std::make_shared<ob::RealVectorStateSpace>(2);
+  space->setBounds(0, 10);
+  auto si = std::make_shared<ob::SpaceInformation>(space);
+  si->setStateValidityChecker([checks](const ob::State* s) {
+    const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
+    ++*checks;
+    return clearance(v->values[0], v->values[1]) > 0;
+  });
+  si->setStateValidityCheckingResolution(0.001);
+  si->setup();
+  return si;
+}
+}  // namespace
+
+TEST(CertifiedMotionValidator, AgreesWithTheDiscreteValidatorOnEveryMotionWithFewerChecks) {
+  std::atomic<long> discrete_checks{0}, certified_checks{0};
+  auto si = make_space(&discrete_checks);
+  ob::DiscreteMotionValidator discrete(si);
+  // A point robot moves 1 m per unit of motion: its clearance is the certified free distance.
+  CertifiedMotionValidator certified(si, [&](const Eigen::VectorXd& q, const Eigen::VectorXd&) {
+    ++certified_checks;
+    const double c = clearance(q[0], q[1]);
+    return c > 0 ? c : -1.0;
+  });
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0, 10);
+  ob::ScopedState<> a(si), b(si);
+  int valid = 0, invalid = 0;
+  for (int i = 0; i < 3000; ++i) {
+    do {
+      a[0] = u(rng);
+      a[1] = u(rng);
+    } while (clearance(a[0], a[1]) <= 0);  // checkMotion assumes a valid first state
+    b[0] = u(rng);
+    b[1] = u(rng);
+    const bool d = discrete.checkMotion(a.get(), b.get());
+    const bool c = certified.checkMotion(a.get(), b.get());
+    ASSERT_EQ(c, d) << "motion (" << a[0] << ", " << a[1] << ") -> (" << b[0] << ", " << b[1] << ")";
+    (d ? valid : invalid)++;
+    std::pair<ob::State*, double> last{nullptr, 0};
+    ASSERT_EQ(certified.checkMotion(a.get(), b.get(), last), d);
+    if (!d) {
+      // The reported last valid fraction is valid, and the next discrete step is not far behind.
+      ob::ScopedState<> x(si);
+      si->getStateSpace()->interpolate(a.get(), b.get(), last.second, x.get());
+      EXPECT_GT(clearance(x[0], x[1]), 0);
+    }
+  }
+  EXPECT_GT(valid, 300);
+  EXPECT_GT(invalid, 300);
+  // Same answers from a fraction of the checks (both validators counted over the same motions).
+  EXPECT_LT(certified_checks.load() * 5, discrete_checks.load());
+  RecordProperty("discrete_checks", int(discrete_checks.load()));
+  RecordProperty("certified_checks", int(certified_checks.load()));
+}
