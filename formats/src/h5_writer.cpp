@@ -4,12 +4,17 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
+#include <vector>
 
 #include "dmgplace/formats/sha256.hpp"
 #include "h5_common.hpp"
+#include "h5_file_image.hpp"
 
 namespace dmgplace::formats {
 namespace fs = std::filesystem;
@@ -47,15 +52,31 @@ void remove_stale_temps(const fs::path& target) {
   }
 }
 
-void fsync_path(const fs::path& p, bool directory, const std::string& file) {
-  int fd = ::open(p.c_str(), directory ? O_RDONLY | O_DIRECTORY : O_RDONLY);
-  if (fd < 0) {
-    if (directory) return;  // some file systems do not allow it; the rename is still atomic
-    throw Error(file, "", "cannot reopen for fsync");
-  }
-  int rc = ::fsync(fd);
+void fsync_dir(const fs::path& dir) {
+  int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
+  if (fd < 0) return;  // some file systems do not allow it; the rename is still atomic
+  ::fsync(fd);
   ::close(fd);
-  if (rc != 0 && !directory) throw Error(file, "", "fsync failed (disk full or I/O error?)");
+}
+
+// The whole file image into `p` (the writer's empty temporary file), then fsync. Every failing call is
+// reported: write(2), fsync(2) and close(2) are where a full disk shows (ENOSPC, EFBIG, EDQUOT).
+void write_image(const fs::path& p, const std::vector<char>& image, const std::string& file) {
+  const int fd = ::open(p.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
+  if (fd < 0) throw Error(file, "", "cannot open temporary file " + p.string() + ": " + std::strerror(errno));
+  auto fail = [&](const char* what) {
+    const int err = errno;
+    ::close(fd);
+    throw Error(file, "", std::string(what) + " (disk full?): " + std::strerror(err));
+  };
+  for (std::size_t done = 0; done < image.size();) {
+    const ssize_t n = ::write(fd, image.data() + done, image.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) fail("write failed");
+    done += std::size_t(n);
+  }
+  if (::fsync(fd) != 0) fail("fsync failed");
+  if (::close(fd) != 0) throw Error(file, "", std::string("close failed (disk full?): ") + std::strerror(errno));
 }
 }  // namespace
 
@@ -70,9 +91,19 @@ H5Writer::H5Writer(fs::path target, const ArtifactHeader& header) : target_(std:
   Handle fapl = Handle(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
   // The 1.10 format checksums superblock, object headers and B-trees: metadata corruption is caught.
   H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V110, H5F_LIBVER_LATEST);
-  hid_t f = H5Fcreate(temp_.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, fapl.get());
-  if (f < 0) throw Error(target_.string(), "", "cannot create temporary file " + temp_.string() + " (" +
-                                                   detail::hdf5_error_text() + ")");
+  // Built in memory (core driver, no backing store) and written by commit() with plain write(2):
+  // HDF5 itself never meets a full disk. It loses write errors of cached chunks on H5Dclose, and a
+  // failed H5Fclose leaves a dangling file that crashes the process at exit (HDF5 1.10.8).
+  H5Pset_fapl_core(fapl.get(), 8 << 20, 0);  // grows 8 MiB at a time (glibc remaps large blocks)
+  // The empty temporary file already marks this writer's target (kill -9: removed by the next).
+  const int fd = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) throw Error(target_.string(), "", "cannot create temporary file " + temp_.string() + ": " + std::strerror(errno));
+  ::close(fd);
+  hid_t f = H5Fcreate(temp_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get());
+  if (f < 0) {
+    discard();
+    throw Error(target_.string(), "", "cannot create the artifact in memory (" + detail::hdf5_error_text() + ")");
+  }
   file_ = f;
   try {
     attribute("", "schema", header.schema);
@@ -139,7 +170,7 @@ void H5Writer::write_raw(const std::string& name, const void* data, long type, s
                     H5Dclose, file, name, "cannot create dataset");
   if (count > 0)
     check_status(H5Dwrite(ds.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), file, name,
-                 "cannot write dataset (disk full?)");
+                 "cannot write dataset");
   detail::write_string_attribute(ds.get(), "sha256", sha256_hex(data, count * elem_size), file);
 }
 
@@ -188,15 +219,21 @@ void H5Writer::commit() {
   const std::string file = target_.string();
   if (committed_) return;
   try {
-    check_status(H5Fflush(file_, H5F_SCOPE_GLOBAL), file, "", "flush failed (disk full?)");
+    check_status(H5Fflush(file_, H5F_SCOPE_GLOBAL), file, "", "flush failed");
+    const ssize_t size = H5Fget_file_image(file_, nullptr, 0);
+    if (size <= 0) throw Error(file, "", "cannot get the file image (" + detail::hdf5_error_text() + ")");
+    std::vector<char> image(std::size_t(size), '\0');
+    if (H5Fget_file_image(file_, image.data(), image.size()) != size)
+      throw Error(file, "", "cannot get the file image (" + detail::hdf5_error_text() + ")");
     herr_t rc = H5Fclose(file_);
     file_ = -1;
-    check_status(rc, file, "", "close failed (disk full?)");
-    fsync_path(temp_, false, file);
+    check_status(rc, file, "", "close failed");
+    detail::fix_superblock_checksum(image);
+    write_image(temp_, image, file);
     std::error_code ec;
     fs::rename(temp_, target_, ec);
     if (ec) throw Error(file, "", "cannot rename temporary file into place: " + ec.message());
-    fsync_path(target_.parent_path().empty() ? fs::path(".") : target_.parent_path(), true, file);
+    fsync_dir(target_.parent_path().empty() ? fs::path(".") : target_.parent_path());
     committed_ = true;
   } catch (...) {
     discard();

@@ -17,12 +17,14 @@ inline const std::filesystem::path& scratch_dir() {
   static const std::filesystem::path dir = [] {
     const auto d = std::filesystem::temp_directory_path() / ("dmgplace_fuzz_" + std::to_string(::getpid()));
     std::filesystem::create_directories(d);
-    std::atexit([] {
-      std::error_code ec;
-      std::filesystem::remove_all(scratch_dir(), ec);
-    });
     return d;
   }();
+  // Registered after `dir` is complete, so it runs before dir's destructor (exit handlers run in
+  // reverse order); registered inside dir's initializer it ran after and removed nothing.
+  [[maybe_unused]] static const bool cleanup = std::atexit([] {
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
+  }) == 0;
   return dir;
 }
 

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "dmgplace/formats/object_artifact.hpp"
+#include "full_disk.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -191,4 +192,38 @@ TEST(Cli, KilledBakesLeaveThePreviousArtifactIntact) {
   std::size_t files = 0;
   for (auto& e : fs::directory_iterator(dir.path())) files += e.is_regular_file();
   EXPECT_EQ(files, 1u) << "a completed bake removes the temporary files of killed ones";
+}
+
+// A bake onto a full disk: a clear error naming the artifact, a non-zero exit (not a crash), and
+// neither a partial artifact nor a temporary file left to fill the disk further. The bottle's
+// artifact is 36 KB: the disk runs out at its creation, in its datasets and at its metadata.
+TEST(Cli, BakeOntoAFullDiskFailsCleanly) {
+  TempDir in;
+  ASSERT_EQ(run("make-objects --out " + q(in.path())).code, 0);
+  for (const char* size : {"64k", "4k", "16k", "24k", "32k"}) {
+    SCOPED_TRACE(std::string("tmpfs of ") + size);
+    dmgplace::test::SmallDisk disk(size);
+    if (!disk.mounted()) GTEST_SKIP() << disk.why_not() << "; Cli.BakeOverTheFileSizeLimitFailsCleanly covers the same";
+    if (std::string(size) == "64k") disk.fill();  // full before the bake starts
+    CliRun bake = run("bake-object " + q(in / "bottle.stl") + " --out " + q(disk / "bottle.h5"));
+    EXPECT_EQ(bake.code, 1) << bake.out;
+    EXPECT_NE(bake.out.find("error: " + (disk / "bottle.h5").string()), std::string::npos) << bake.out;
+    EXPECT_NE(bake.out.find("disk full"), std::string::npos) << bake.out;
+    EXPECT_TRUE(disk.files_except().empty()) << "left: " << ::testing::PrintToString(disk.files_except());
+  }
+}
+
+// The same without root: the bake's files may not grow past a limit (RLIMIT_FSIZE).
+TEST(Cli, BakeOverTheFileSizeLimitFailsCleanly) {
+  TempDir in, out;
+  ASSERT_EQ(run("make-objects --out " + q(in.path())).code, 0);
+  for (rlim_t limit : {0, 4096, 16384, 32768}) {
+    SCOPED_TRACE("limit " + std::to_string(limit));
+    const auto bake = dmgplace::test::cli_with_file_size_limit(
+        limit, "bake-object " + q(in / "bottle.stl") + " --out " + q(out / "bottle.h5"));
+    EXPECT_EQ(bake.code, 1) << bake.message;
+    EXPECT_NE(bake.message.find("error: " + (out / "bottle.h5").string()), std::string::npos) << bake.message;
+    EXPECT_NE(bake.message.find("disk full"), std::string::npos) << bake.message;
+    EXPECT_TRUE(fs::is_empty(out.path()));
+  }
 }

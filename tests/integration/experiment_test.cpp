@@ -2,7 +2,6 @@
 // writes a trace per run and summary.csv, resumes without redoing finished runs, reruns a run
 // whose result was removed, and the plot step draws every problem's charts.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <fstream>
 #include <sstream>
@@ -13,21 +12,8 @@ namespace fs = std::filesystem;
 using namespace dmgplace;
 
 namespace {
-struct Shell {
-  int code = -1;
-  std::string out;
-};
-Shell run(const std::string& args) {
-  Shell r;
-  FILE* p = popen((test::cli_path() + " " + args + " 2>&1").c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  while (std::size_t n = fread(buf, 1, sizeof buf, p)) r.out.append(buf, n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+test::ShellResult run(const std::string& args) { return test::run_cli(args); }
+std::string q(const fs::path& p) { return test::quoted(p); }
 
 int csv_rows(const fs::path& p) {
   std::ifstream f(p);
@@ -54,7 +40,7 @@ TEST(ExperimentCli, RunsResumesAndPlotsASmallGrid) {
                    "  - {name: side, query: " + (data / "queries/cabinet_bottle_side.yaml").string() +
                    ", variants: [full, no-regrasp]}\n");
   const std::string cmd = "experiment " + q(dir / "spec.yaml") + " --artifacts " + q(art) + " --out " + q(out) + " --jobs 2";
-  Shell first = run(cmd);
+  auto first = run(cmd);
   ASSERT_EQ(first.code, 0) << first.out;
   EXPECT_NE(first.out.find("4/4"), std::string::npos) << "progress must count runs: " << first.out;
   for (const char* variant : {"full", "no-regrasp"})
@@ -69,19 +55,19 @@ TEST(ExperimentCli, RunsResumesAndPlotsASmallGrid) {
 
   // Resumed: nothing left to do, results untouched.
   const auto stamp = fs::last_write_time(out / "runs/side/full/seed_1/result.json");
-  Shell second = run(cmd);
+  auto second = run(cmd);
   ASSERT_EQ(second.code, 0) << second.out;
   EXPECT_NE(second.out.find("0 run now, 4 done before"), std::string::npos) << second.out;
   EXPECT_EQ(fs::last_write_time(out / "runs/side/full/seed_1/result.json"), stamp);
   // A removed result is run again, and only that one.
   fs::remove(out / "runs/side/no-regrasp/seed_2/result.json");
-  Shell third = run(cmd);
+  auto third = run(cmd);
   ASSERT_EQ(third.code, 0) << third.out;
   EXPECT_NE(third.out.find("1 run now, 3 done before"), std::string::npos) << third.out;
   EXPECT_TRUE(fs::exists(out / "runs/side/no-regrasp/seed_2/result.json"));
   EXPECT_EQ(fs::last_write_time(out / "runs/side/full/seed_1/result.json"), stamp);
 
-  Shell plot = run("plot " + q(out));
+  auto plot = run("plot " + q(out));
   ASSERT_EQ(plot.code, 0) << plot.out;
   for (const char* chart : {"side_objective.svg", "side_solved.svg"}) {
     const std::string svg = test::read_text(out / "plots" / chart);
@@ -92,7 +78,7 @@ TEST(ExperimentCli, RunsResumesAndPlotsASmallGrid) {
   EXPECT_GT(csv_rows(out / "plots/curves.csv"), 10);
   // A spec naming a missing query fails before running anything, naming the file.
   test::write_text(dir / "bad.yaml", "problems:\n  - {name: x, query: nowhere.yaml}\n");
-  Shell bad = run("experiment " + q(dir / "bad.yaml") + " --out " + q(dir / "bad"));
+  auto bad = run("experiment " + q(dir / "bad.yaml") + " --out " + q(dir / "bad"));
   EXPECT_NE(bad.code, 0);
   EXPECT_NE(bad.out.find("nowhere.yaml"), std::string::npos) << bad.out;
 }

@@ -16,24 +16,12 @@ using dmgplace::test::TempDir;
 
 namespace {
 
-struct CliResult {
-  int code = -1;
-  std::string out;
-};
-
-CliResult run(const std::string& args, bool merge_stderr = true) {
-  CliResult r;
-  const std::string cmd = dmgplace::test::cli_path() + " " + args + (merge_stderr ? " 2>&1" : " 2>/dev/null");
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  while (std::size_t n = fread(buf, 1, sizeof buf, p)) r.out.append(buf, n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+// stderr merged into the output, or dropped when `merge_stderr` is false.
+dmgplace::test::ShellResult run(const std::string& args, bool merge_stderr = true) {
+  return dmgplace::test::run_shell(dmgplace::test::cli_path() + " " + args + (merge_stderr ? " 2>&1" : " 2>/dev/null"));
 }
 
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string q(const fs::path& p) { return dmgplace::test::quoted(p); }
 
 }  // namespace
 
@@ -41,17 +29,17 @@ TEST(ObjectCli, GripperFileAndGraspsJson) {
   TempDir dir;
   ASSERT_EQ(run("make-objects --out " + q(dir.path())).code, 0);
   const fs::path gripper = dmgplace::test::source_dir() / "datasets/grippers/dmgarm_hand.yaml";
-  CliResult bake = run("bake-object " + q(dir / "eraser.stl") + " --gripper " + q(gripper) +
+  auto bake = run("bake-object " + q(dir / "eraser.stl") + " --gripper " + q(gripper) +
                  " --seed-resolution 0.012 --angle-step 20 --out " + q(dir / "eraser.h5"));
   ASSERT_EQ(bake.code, 0) << bake.out;
   const auto obj = dmgplace::formats::load_object(dir / "eraser.h5");
   EXPECT_EQ(obj.dmg.angle_count(), 18);
   EXPECT_EQ(obj.placement.faces.size(), 6u);
   EXPECT_FALSE(obj.dmg.nodes.empty());
-  CliResult v = run("validate " + q(dir / "eraser.h5"));
+  auto v = run("validate " + q(dir / "eraser.h5"));
   EXPECT_EQ(v.code, 0) << v.out;
   // A grasp across the eraser's 5 cm width, approaching from above.
-  CliResult g = run("grasps " + q(dir / "eraser.h5") + " --initial 0,0,0.02,1,0,0,0 --json", false);
+  auto g = run("grasps " + q(dir / "eraser.h5") + " --initial 0,0,0.02,1,0,0,0 --json", false);
   ASSERT_EQ(g.code, 0) << g.out;
   const auto doc = nlohmann::json::parse(g.out);
   ASSERT_GT(doc["grasps"].size(), 1u);
@@ -65,7 +53,7 @@ TEST(ObjectCli, GripperFileAndGraspsJson) {
     }
   EXPECT_TRUE(translation);
   EXPECT_TRUE(rotation);
-  CliResult text = run("grasps " + q(dir / "eraser.h5") + " --initial 0,0,0.02,1,0,0,0");
+  auto text = run("grasps " + q(dir / "eraser.h5") + " --initial 0,0,0.02,1,0,0,0");
   EXPECT_EQ(text.code, 0);
   EXPECT_NE(text.out.find("reachable grasps"), std::string::npos);
 }
@@ -74,13 +62,13 @@ TEST(ObjectCli, BadGripperAndOptionsAreRejected) {
   TempDir dir;
   ASSERT_EQ(run("make-objects --out " + q(dir.path())).code, 0);
   dmgplace::test::write_text(dir / "g.yaml", "max_opening: 0.08\nfinger: {length: -1}\n");
-  CliResult bad = run("bake-object " + q(dir / "eraser.stl") + " --gripper " + q(dir / "g.yaml") + " --out " + q(dir / "e.h5"));
+  auto bad = run("bake-object " + q(dir / "eraser.stl") + " --gripper " + q(dir / "g.yaml") + " --out " + q(dir / "e.h5"));
   EXPECT_NE(bad.code, 0);
   EXPECT_NE(bad.out.find("finger.length"), std::string::npos) << bad.out;
-  CliResult step = run("bake-object " + q(dir / "eraser.stl") + " --angle-step 7 --out " + q(dir / "e.h5"));
+  auto step = run("bake-object " + q(dir / "eraser.stl") + " --angle-step 7 --out " + q(dir / "e.h5"));
   EXPECT_NE(step.code, 0);
   EXPECT_NE(step.out.find("--angle-step"), std::string::npos) << step.out;
-  CliResult pose = run("grasps " + q(dir / "nope.h5") + " --initial 0,0,0");
+  auto pose = run("grasps " + q(dir / "nope.h5") + " --initial 0,0,0");
   EXPECT_NE(pose.code, 0);
 }
 
@@ -90,9 +78,9 @@ TEST(ObjectCli, BothYcbObjectsBakeAndValidate) {
   const auto ycb = dmgplace::test::shared_datasets() / "objects/ycb";
   for (const char* name : {"003_cracker_box", "006_mustard_bottle"}) {
     const fs::path out = dir / (std::string(name) + ".h5");
-    CliResult bake = run("bake-object " + q(ycb / (std::string(name) + "_textured.obj")) + " --out " + q(out));
+    auto bake = run("bake-object " + q(ycb / (std::string(name) + "_textured.obj")) + " --out " + q(out));
     ASSERT_EQ(bake.code, 0) << name << ": " << bake.out;
-    CliResult v = run("validate " + q(out));
+    auto v = run("validate " + q(out));
     EXPECT_EQ(v.code, 0) << v.out;
     const auto obj = dmgplace::formats::load_object(out);
     EXPECT_GE(obj.placement.faces.size(), 2u) << name;
@@ -106,7 +94,7 @@ TEST(ObjectCli, TrayOfTheOriginalDmgIsOfTheSameOrder) {
   TempDir dir;
   const auto ref = dmgplace::test::shared_datasets() / "dmg_reference";
   // DMG_tray.launch: seed 13 mm, angle step 20 deg, normal threshold 0.15; the STL is in mm.
-  CliResult bake = run("bake-object " + q(ref / "shapes/tray.stl") +
+  auto bake = run("bake-object " + q(ref / "shapes/tray.stl") +
                  " --scale 0.001 --seed-resolution 0.013 --angle-step 20 --normal-threshold 0.15 --out " + q(dir / "tray.h5"));
   ASSERT_EQ(bake.code, 0) << bake.out;
   EXPECT_EQ(run("validate " + q(dir / "tray.h5")).code, 0);

@@ -208,6 +208,29 @@ TEST_F(Placement, ThreadedPlannerFindsSolutionsToo) {
     EXPECT_TRUE(exact.segment_free(vec(r.best().path[i - 1]), vec(r.best().path[i]), qr.options.motion_resolution));
 }
 
+// `dmgplace place --time-limit 0`: no time to search is not a failure of the command; it ends
+// cleanly (exit 3, the "no solution" code) with the reason on stdout and in result.json.
+TEST_F(Placement, PlaceWithNoTimeEndsWithNoSolutionAndAReason) {
+  const fs::path d = dir_->path();
+  test::write_text(d / "zero.yaml", "robot: arm.h5\nobject: bottle.h5\nenvironment: cabinet.h5\n"
+                                    "start: [0, -0.785, 0, -2.356, 0, 1.571, 0.785]\n"
+                                    "initial_grasp: {pose: [0, 0, 0.06, 0, 0.7071068, 0, 0.7071068]}\n");
+  const std::string cmd = test::cli_path() + " place " + q(d / "zero.yaml") + " --time-limit 0 --out " + q(d / "zero") + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  std::string out;
+  char buf[4096];
+  while (std::size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+  const int status = pclose(p);
+  ASSERT_TRUE(WIFEXITED(status)) << out;
+  EXPECT_EQ(WEXITSTATUS(status), 3) << out;
+  EXPECT_NE(out.find("no solution: no placement found in"), std::string::npos) << out;
+  EXPECT_EQ(out.find("error"), std::string::npos) << out;
+  const std::string result = test::read_text(d / "zero/result.json");
+  EXPECT_NE(result.find("\"solved\": false"), std::string::npos) << result;
+  EXPECT_NE(result.find("\"reason\": \"no placement found in"), std::string::npos) << result;
+}
+
 TEST_F(Placement, UnreachableRegionsEndWithAReason) {
   // The same scene with its placement regions moved 5 m away from the robot: stable and free
   // poses exist, none is reachable.

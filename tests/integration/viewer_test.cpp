@@ -17,23 +17,10 @@ using namespace dmgplace;
 
 namespace {
 
-struct Shell {
-  int code = -1;
-  std::string out;
-};
+using Shell = test::ShellResult;
+Shell run(const std::string& cmd) { return test::run_shell(cmd); }
 
-Shell run(const std::string& cmd) {
-  Shell r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  while (std::size_t n = fread(buf, 1, sizeof buf, p)) r.out.append(buf, n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string q(const fs::path& p) { return test::quoted(p); }
 int cli(const std::string& args) { return run(test::cli_path() + " " + args + " > /dev/null 2>&1").code; }
 
 std::string chromium() {

@@ -24,7 +24,7 @@ int run_bake_env(const BakeEnvArgs& a) {
     t.translation() = Eigen::Vector3d(f[0], f[1], f[2]);
     t.linear() = (Eigen::AngleAxisd(f[5], Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(f[4], Eigen::Vector3d::UnitY()) *
                   Eigen::AngleAxisd(f[3], Eigen::Vector3d::UnitX())).toRotationMatrix();
-    opts.scan_frame = t;
+    opts.frame = t;
   }
   env.scene = tools::load_scene(a.scene, opts);
   tools::EnvBakeOptions bake;

@@ -111,7 +111,7 @@ int main(int argc, char** argv) {
   auto* c_env = app.add_subcommand("bake-env", "Analyse an environment once into ENV.h5");
   c_env->add_option("scene", bake_env.scene, "Scene: URDF of fixed links, PlanningScene YAML, mesh or PCD scan")->required();
   c_env->add_option("--volume", volume_text, "Target volume xmin,ymin,zmin,xmax,ymax,zmax (metres)")->required();
-  c_env->add_option("--frame", frame_text, "Scan pose in the world: x,y,z,roll,pitch,yaw");
+  c_env->add_option("--frame", frame_text, "Pose of the scene file in the world (robot base) frame: x,y,z,roll,pitch,yaw; a scan's camera pose, a scene's offset");
   c_env->add_option("--package-path", bake_env.package_paths, "Where package:// resources are found");
   c_env->add_option("--resolution", bake_env.resolution, "Distance grid and region cell size (m)")->check(CLI::PositiveNumber);
   c_env->add_option("--band", bake_env.band, "Distance field clamp (m)")->check(CLI::PositiveNumber);

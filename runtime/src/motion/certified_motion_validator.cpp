@@ -13,23 +13,36 @@ Eigen::VectorXd to_eigen(const ob::State* s, unsigned n) {
   const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
   return Eigen::Map<const Eigen::VectorXd>(v->values, n);
 }
+
+// The straight motion s1 -> s2 as the discrete validator sees it: `steps` states h apart.
+struct Segment {
+  Eigen::VectorXd a, dir;
+  double length = 0, h = 0;
+  int steps = 1;
+  Segment(const ob::SpaceInformation& si, const ob::State* s1, const ob::State* s2) {
+    const unsigned n = si.getStateDimension();
+    a = to_eigen(s1, n);
+    const Eigen::VectorXd b = to_eigen(s2, n);
+    length = (b - a).norm();
+    steps = std::max(1, int(std::ceil(length / si.getStateSpace()->getLongestValidSegmentLength())));
+    dir = length > 0 ? Eigen::VectorXd((b - a) / length) : Eigen::VectorXd::Zero(n);
+    h = length / steps;
+  }
+  Eigen::VectorXd at(int i) const { return a + (i * h) * dir; }
+};
 }  // namespace
 
 CertifiedMotionValidator::CertifiedMotionValidator(const ob::SpaceInformationPtr& si, FreeDistanceFn free_distance)
     : ob::MotionValidator(si), free_distance_(std::move(free_distance)) {}
 
 bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State* s2) const {
-  const unsigned n = si_->getStateDimension();
-  const Eigen::VectorXd a = to_eigen(s1, n), b = to_eigen(s2, n);
-  const double length = (b - a).norm();
-  const int steps = std::max(1, int(std::ceil(length / si_->getStateSpace()->getLongestValidSegmentLength())));
-  const Eigen::VectorXd dir = length > 0 ? Eigen::VectorXd((b - a) / length) : Eigen::VectorXd::Zero(n);
-  const double h = length / steps;
+  const Segment seg(*si_, s1, s2);
+  const int steps = seg.steps;
   // A certificate is symmetric (speeds bound |direction|): state i proves states i-k .. i+k.
   auto check = [&](int i, int& k) {
-    const double fd = free_distance_(a + (i * h) * dir, dir);
+    const double fd = free_distance_(seg.at(i), seg.dir);
     if (fd < 0) return false;
-    k = h > 0 ? int(std::min(fd / h, double(steps))) : steps;
+    k = seg.h > 0 ? int(std::min(fd / seg.h, double(steps))) : steps;
     return true;
   };
   int k = 0;
@@ -59,17 +72,13 @@ bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State*
 bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State* s2,
                                            std::pair<ob::State*, double>& last_valid) const {
   // Sequential from s1 so the last valid state is known; certified stretches are skipped too.
-  const unsigned n = si_->getStateDimension();
-  const Eigen::VectorXd a = to_eigen(s1, n), b = to_eigen(s2, n);
-  const double length = (b - a).norm();
-  const int steps = std::max(1, int(std::ceil(length / si_->getStateSpace()->getLongestValidSegmentLength())));
-  const Eigen::VectorXd dir = length > 0 ? Eigen::VectorXd((b - a) / length) : Eigen::VectorXd::Zero(n);
-  const double h = length / steps;
+  const Segment seg(*si_, s1, s2);
+  const int steps = seg.steps;
   double covered = 0;
   for (int i = 1; i <= steps; ++i) {
-    const double t = i * h;
+    const double t = i * seg.h;
     if (t <= covered && i < steps) continue;
-    const double ahead = free_distance_(a + t * dir, dir);
+    const double ahead = free_distance_(seg.at(i), seg.dir);
     if (ahead < 0) {
       last_valid.second = double(i - 1) / steps;
       if (last_valid.first) si_->getStateSpace()->interpolate(s1, s2, last_valid.second, last_valid.first);

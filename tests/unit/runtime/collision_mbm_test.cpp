@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <random>
 
 #include "analytic_sdf.hpp"
@@ -18,19 +19,41 @@
 
 using namespace dmgplace;
 
+namespace {
+// The Panda with its SRDF, sphere cover and self-distance tables, built once for the suite.
+struct PandaArm {
+  RobotModel model;
+  std::vector<formats::LinkSphere> spheres;
+  std::unique_ptr<runtime::Kinematics> kin;
+  std::vector<formats::SelfDistanceTable> tables;
+};
+
+const PandaArm& panda_arm() {
+  static const PandaArm arm = [] {
+    const auto shared = test::shared_datasets();
+    PandaArm a;
+    tools::UrdfOptions o;
+    o.package_paths.push_back(shared / "panda");
+    a.model = tools::read_urdf(shared / "panda/moveit_resources_panda_description/urdf/panda.urdf", o);
+    tools::apply_srdf(a.model, shared / "panda/panda_moveit_config/config/panda.srdf");
+    for (std::size_t l = 0; l < a.model.links.size(); ++l)
+      for (const auto& s : tools::cover_with_spheres(a.model.links[l].collision)) a.spheres.push_back({int(l), s.center, s.radius});
+    a.kin = std::make_unique<runtime::Kinematics>(a.model, "panda_link0", "panda_hand");
+    a.kin->set_joint_value("panda_finger_joint1", 0.04);
+    a.tables = tools::build_self_distance_tables(*a.kin, a.spheres);
+    return a;
+  }();
+  return arm;
+}
+}  // namespace
+
 TEST(CollisionMbm, FastLayerNeverSaysFreeWhereFclCollidesOnPandaScenes) {
   DMGPLACE_REQUIRE_SHARED();
   auto shared = test::shared_datasets();
-  tools::UrdfOptions o;
-  o.package_paths.push_back(shared / "panda");
-  RobotModel model = tools::read_urdf(shared / "panda/moveit_resources_panda_description/urdf/panda.urdf", o);
-  tools::apply_srdf(model, shared / "panda/panda_moveit_config/config/panda.srdf");
-  std::vector<formats::LinkSphere> spheres;
-  for (std::size_t l = 0; l < model.links.size(); ++l)
-    for (const auto& s : tools::cover_with_spheres(model.links[l].collision)) spheres.push_back({int(l), s.center, s.radius});
-  runtime::Kinematics kin(model, "panda_link0", "panda_hand");
-  kin.set_joint_value("panda_finger_joint1", 0.04);
-  const auto tables = tools::build_self_distance_tables(kin, spheres);
+  const PandaArm& panda = panda_arm();
+  const auto& spheres = panda.spheres;
+  const runtime::Kinematics& kin = *panda.kin;
+  const auto& tables = panda.tables;
   std::mt19937_64 rng(2024);
   std::uniform_real_distribution<double> u(0, 1);
   long total = 0, exact_free = 0, fast_free = 0, full = 0;
@@ -71,17 +94,10 @@ TEST(CollisionMbm, FastLayerNeverSaysFreeWhereFclCollidesOnPandaScenes) {
 // values (between nodes, off the grid), and not loose by more than the grid allows.
 TEST(CollisionMbm, SelfDistanceTablesNeverExceedTheExactDistanceOnThePanda) {
   DMGPLACE_REQUIRE_SHARED();
-  auto shared = test::shared_datasets();
-  tools::UrdfOptions o;
-  o.package_paths.push_back(shared / "panda");
-  RobotModel model = tools::read_urdf(shared / "panda/moveit_resources_panda_description/urdf/panda.urdf", o);
-  tools::apply_srdf(model, shared / "panda/panda_moveit_config/config/panda.srdf");
-  std::vector<formats::LinkSphere> spheres;
-  for (std::size_t l = 0; l < model.links.size(); ++l)
-    for (const auto& s : tools::cover_with_spheres(model.links[l].collision)) spheres.push_back({int(l), s.center, s.radius});
-  runtime::Kinematics kin(model, "panda_link0", "panda_hand");
-  kin.set_joint_value("panda_finger_joint1", 0.04);
-  const auto tables = tools::build_self_distance_tables(kin, spheres);
+  const PandaArm& panda = panda_arm();
+  const RobotModel& model = panda.model;
+  const runtime::Kinematics& kin = *panda.kin;
+  const auto& tables = panda.tables;
   ASSERT_FALSE(tables.empty());
   bool wrist = false;
   for (const auto& t : tables)

@@ -51,6 +51,16 @@ Scene shelf_scene() {
   return sc;
 }
 
+// The built-in arm (fingers half open) among the shelf scene's primitives, with their 2 cm field.
+struct ShelfWorld {
+  Arm arm = built_in_arm();
+  Kinematics kin{arm.model, "dmgarm_link0", "dmgarm_tcp"};
+  Scene scene = shelf_scene();
+  std::shared_ptr<Grid3> sdf = test::analytic_sdf(
+      scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.4), Eigen::Vector3d(1.2, 1.2, 1.6)), 0.02, 0.3);
+  ShelfWorld() { kin.set_joint_value("dmgarm_finger_joint1", 0.03); }
+};
+
 Eigen::VectorXd random_q(const Kinematics& k, std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(0, 1);
   Eigen::VectorXd q(k.dof());
@@ -79,12 +89,11 @@ TEST(SphereCover, EverySamplePointOfEveryLinkIsInsideASphere) {
 }
 
 TEST(Collision, FastLayerNeverSaysFreeWhereExactLayerCollides) {
-  Arm arm = built_in_arm();
-  Kinematics kin(arm.model, "dmgarm_link0", "dmgarm_tcp");
-  kin.set_joint_value("dmgarm_finger_joint1", 0.03);
-  Scene scene = shelf_scene();
-  auto sdf = test::analytic_sdf(scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.4), Eigen::Vector3d(1.2, 1.2, 1.6)),
-                                0.02, 0.3);
+  ShelfWorld w;
+  const Arm& arm = w.arm;
+  const Kinematics& kin = w.kin;
+  const Scene& scene = w.scene;
+  const auto& sdf = w.sdf;
   SphereFieldChecker fast(kin, arm.spheres, sdf, 0.3);
   ExactChecker exact(kin, scene);
   TwoLayerChecker both_layers(fast, exact);
@@ -191,12 +200,11 @@ TEST(Collision, HeldObjectIsCheckedAndMayTouchTheFingers) {
 // free for FCL (random directions and random points of the certified stretch), self-distance
 // tables included.
 TEST(Collision, CertifiedFreeDistanceIsFreeForFclAlongTheWholeStretch) {
-  Arm arm = built_in_arm();
-  Kinematics kin(arm.model, "dmgarm_link0", "dmgarm_tcp");
-  kin.set_joint_value("dmgarm_finger_joint1", 0.03);
-  Scene scene = shelf_scene();
-  auto sdf = test::analytic_sdf(scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.4), Eigen::Vector3d(1.2, 1.2, 1.6)),
-                                0.02, 0.3);
+  ShelfWorld w;
+  const Arm& arm = w.arm;
+  const Kinematics& kin = w.kin;
+  const Scene& scene = w.scene;
+  const auto& sdf = w.sdf;
   SphereFieldChecker fast(kin, arm.spheres, sdf, 0.3);
   fast.set_self_tables(tools::build_self_distance_tables(kin, arm.spheres));
   ExactChecker exact(kin, scene);

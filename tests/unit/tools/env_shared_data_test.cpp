@@ -77,7 +77,7 @@ TEST(EnvSharedData, StereoTableScanGivesTheTableTopMinusTheMug) {
   frame.translation() = Eigen::Vector3d(0, 0, 2.674);
   frame.linear() = (Eigen::AngleAxisd(-0.0571, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(2.581, Eigen::Vector3d::UnitX()))
                        .toRotationMatrix();
-  load.scan_frame = frame;
+  load.frame = frame;
   const Eigen::AlignedBox3d v(Eigen::Vector3d(-0.4, -1.15, 0.6), Eigen::Vector3d(0.9, -0.6, 1.2));
   const auto env = bake(test::shared_datasets() / "scans/pcl/table_scene_mug_stereo_textured.pcd", v, load);
   EXPECT_FALSE(env.sdf_signed);

@@ -301,10 +301,20 @@ TEST(SceneLoader, DispatchesOnExtension) {
   EXPECT_EQ(load_scene(dir / "b.urdf").objects.size(), 2u);
   EXPECT_EQ(load_scene(dir / "c.obj").objects.at(0).name, "c");
   SceneLoadOptions opt;
-  opt.scan_frame.translation() << 0, 0, 10;
+  opt.frame.translation() << 0, 0, 10;
   const Scene scan = load_scene(dir / "d.pcd", opt);
   ASSERT_EQ(scan.points.rows(), 2);
   EXPECT_TRUE(scan.points.row(1).isApprox(Eigen::RowVector3d(4, 5, 16)));
+  // The frame moves every kind of scene, not only scans: each shape's pose is composed with it.
+  opt.frame = Eigen::Translation3d(0.2, 0.4, -0.7) * Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ());
+  for (const char* file : {"a.YAML", "b.urdf", "c.obj"}) {
+    const Scene plain = load_scene(dir / file), moved = load_scene(dir / file, opt);
+    ASSERT_EQ(plain.objects.size(), moved.objects.size()) << file;
+    for (std::size_t i = 0; i < plain.objects.size(); ++i)
+      for (std::size_t k = 0; k < plain.objects[i].shapes.size(); ++k)
+        EXPECT_TRUE((opt.frame * plain.objects[i].shapes[k].origin).isApprox(moved.objects[i].shapes[k].origin)) << file;
+  }
+  opt.frame = Eigen::Isometry3d::Identity();
   // package:// in a YAML scene goes through the same package paths as URDFs.
   fs::create_directories(dir / "pkgs" / "props");
   write_text(dir / "pkgs" / "props" / "box.obj", kCubeObj);

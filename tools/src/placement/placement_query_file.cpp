@@ -22,6 +22,13 @@ std::vector<double> numbers(const YAML::Node& n, std::size_t count, const std::s
   return v;
 }
 
+// A YAML number that must be finite: .nan or .inf in a query would poison the search silently.
+double real(const YAML::Node& n, const std::string& file, const std::string& what) {
+  const double v = n.as<double>();
+  if (!std::isfinite(v)) throw Error(file, what, "not a finite number");
+  return v;
+}
+
 Eigen::Vector3d vec3(const YAML::Node& n, const std::string& file, const std::string& what) {
   const auto v = numbers(n, 3, file, what);
   return {v[0], v[1], v[2]};
@@ -31,22 +38,22 @@ void read_options(const YAML::Node& n, PlacementOptions& o, const std::string& f
   if (!n.IsMap()) throw Error(file, "options", "expected a map of option: value");
   const std::map<std::string, std::function<void(const YAML::Node&)>> setters = {
       {"max_depth", [&](const YAML::Node& v) { o.max_depth = v.as<int>(); }},
-      {"ucb_c", [&](const YAML::Node& v) { o.ucb_c = v.as<double>(); }},
+      {"ucb_c", [&](const YAML::Node& v) { o.ucb_c = real(v, file, "options.ucb_c"); }},
       {"goal_iterations", [&](const YAML::Node& v) { o.goal_iterations = v.as<int>(); }},
-      {"p_accept", [&](const YAML::Node& v) { o.p_accept = v.as<double>(); }},
+      {"p_accept", [&](const YAML::Node& v) { o.p_accept = real(v, file, "options.p_accept"); }},
       {"grasp_tries", [&](const YAML::Node& v) { o.grasp_tries = v.as<int>(); }},
-      {"lift", [&](const YAML::Node& v) { o.lift = v.as<double>(); }},
+      {"lift", [&](const YAML::Node& v) { o.lift = real(v, file, "options.lift"); }},
       {"ik_restarts", [&](const YAML::Node& v) { o.ik_restarts = v.as<int>(); }},
-      {"motion_resolution", [&](const YAML::Node& v) { o.motion_resolution = v.as<double>(); }},
+      {"motion_resolution", [&](const YAML::Node& v) { o.motion_resolution = real(v, file, "options.motion_resolution"); }},
       {"threads", [&](const YAML::Node& v) { o.threads = v.as<int>(); }},
       {"slice_iterations", [&](const YAML::Node& v) { o.slice_iterations = v.as<int>(); }},
       {"max_open_goals", [&](const YAML::Node& v) { o.max_open_goals = v.as<int>(); }},
       {"optimize_locally", [&](const YAML::Node& v) { o.optimize_locally = v.as<bool>(); }},
-      {"local_step", [&](const YAML::Node& v) { o.local_step = v.as<double>(); }},
+      {"local_step", [&](const YAML::Node& v) { o.local_step = real(v, file, "options.local_step"); }},
       {"local_iterations", [&](const YAML::Node& v) { o.local_iterations = v.as<int>(); }},
       {"check_retreat", [&](const YAML::Node& v) { o.check_retreat = v.as<bool>(); }},
-      {"retreat_distance", [&](const YAML::Node& v) { o.retreat_distance = v.as<double>(); }},
-      {"tie_tolerance", [&](const YAML::Node& v) { o.tie_tolerance = v.as<double>(); }},
+      {"retreat_distance", [&](const YAML::Node& v) { o.retreat_distance = real(v, file, "options.retreat_distance"); }},
+      {"tie_tolerance", [&](const YAML::Node& v) { o.tie_tolerance = real(v, file, "options.tie_tolerance"); }},
   };
   for (const auto& kv : n) {
     const auto key = kv.first.as<std::string>();
@@ -68,8 +75,7 @@ ObjectiveTerm read_term(const YAML::Node& n, const std::string& file, std::size_
   const auto kind = runtime::parse_objective_kind(name);
   if (!kind) throw Error(file, where + ".term", "unknown term '" + name + "' (clearance, depth, distance, upright)");
   t.kind = *kind;
-  if (n["weight"]) t.weight = n["weight"].as<double>();
-  if (!std::isfinite(t.weight)) throw Error(file, where + ".weight", "not a finite number");
+  if (n["weight"]) t.weight = real(n["weight"], file, where + ".weight");
   const char* key = t.kind == ObjectiveTerm::Kind::Depth      ? "direction"
                     : t.kind == ObjectiveTerm::Kind::Distance ? "target"
                     : t.kind == ObjectiveTerm::Kind::Upright  ? "axis"
@@ -98,9 +104,13 @@ PlacementQueryFile read_placement_query(const std::filesystem::path& path, const
     const YAML::Node start = root["start"];
     if (!start) throw Error(file, "start", "missing (the arm's joint values)");
     if (start.IsSequence()) {
-      f.start_list = start.as<std::vector<double>>();
+      for (std::size_t i = 0; i < start.size(); ++i)
+        f.start_list.push_back(real(start[i], file, "start[" + std::to_string(i) + "]"));
     } else if (start.IsMap()) {
-      for (const auto& kv : start) f.start_named[kv.first.as<std::string>()] = kv.second.as<double>();
+      for (const auto& kv : start) {
+        const auto name = kv.first.as<std::string>();
+        f.start_named[name] = real(kv.second, file, "start." + name);
+      }
     } else {
       throw Error(file, "start", "expected a list of joint values or a map joint: value");
     }
@@ -110,8 +120,7 @@ PlacementQueryFile read_placement_query(const std::filesystem::path& path, const
     Eigen::Quaterniond quat(p[6], p[3], p[4], p[5]);
     if (quat.norm() < 1e-6) throw Error(file, "initial_grasp.pose", "zero quaternion");
     f.query.g0 = Eigen::Translation3d(p[0], p[1], p[2]) * quat.normalized();
-    if (g["opening"]) f.query.g0_opening = g["opening"].as<double>();
-    if (!std::isfinite(f.query.g0_opening)) throw Error(file, "initial_grasp.opening", "not a finite number");
+    if (g["opening"]) f.query.g0_opening = real(g["opening"], file, "initial_grasp.opening");
     if (root["volume"]) {
       const auto v = numbers(root["volume"], 6, file, "volume");
       if (v[0] > v[3] || v[1] > v[4] || v[2] > v[5]) throw Error(file, "volume", "min exceeds max");

@@ -66,17 +66,26 @@ ordered_json solution_json(const PlacementSolution& s) {
   return j;
 }
 
+// Written to a hidden temporary file, renamed over `path` only when complete. On any failure the
+// temporary file is removed: a full disk must not be left fuller by a half-written leftover.
 void write_atomically(const std::filesystem::path& path, const std::string& text) {
   const auto tmp = path.parent_path() / ("." + path.filename().string() + ".tmp");
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    f << text;
-    f.flush();
-    if (!f) throw Error(path.string(), "", "cannot write (disk full or no permission?)");
-  }
   std::error_code ec;
+  {
+    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+    f << text;
+    f.close();  // close() flushes; a write error surfaces here, not in the destructor
+    if (!f) {
+      std::filesystem::remove(tmp, ec);
+      throw Error(path.string(), "", "write failed (disk full or no permission?)");
+    }
+  }
   std::filesystem::rename(tmp, path, ec);
-  if (ec) throw Error(path.string(), "", "cannot replace: " + ec.message());
+  if (ec) {
+    const std::string why = ec.message();
+    std::filesystem::remove(tmp, ec);
+    throw Error(path.string(), "", "cannot replace: " + why);
+  }
 }
 }  // namespace
 

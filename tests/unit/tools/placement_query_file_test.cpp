@@ -1,0 +1,107 @@
+// QUERY.yaml of `dmgplace place`: a good file reads, and every broken one is a dmgplace::Error
+// naming the file, the element and the reason (never a crash, never a NaN passed to the planner).
+#include "dmgplace/tools/placement/placement_query_file.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "dmgplace/runtime/robot/kinematics.hpp"
+#include "dmgplace/tools/io/urdf_reader.hpp"
+#include "test_support.hpp"
+
+namespace dmgplace::tools {
+namespace {
+
+using test::error_of;
+using test::TempDir;
+using test::write_text;
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+
+const std::string kArtifacts = "robot: arm.h5\nobject: bottle.h5\nenvironment: cabinet.h5\n";
+const std::string kStart = "start: [0, -0.785, 0, -2.356, 0, 1.571, 0.785]\n";
+const std::string kGrasp = "initial_grasp: {pose: [0, 0, 0.06, 0, 0.7071068, 0, 0.7071068]}\n";
+
+runtime::Kinematics dmgarm() {
+  return runtime::Kinematics(read_urdf(test::source_dir() / "datasets/robots/dmgarm/dmgarm.urdf"), "dmgarm_link0",
+                             "dmgarm_tcp");
+}
+
+TEST(PlacementQueryFile, ReadsAGoodQuery) {
+  TempDir dir;
+  write_text(dir / "q.yaml", kArtifacts + kStart + kGrasp +
+                                 "volume: [0.5, -0.4, 0.4, 0.9, 0.4, 1.1]\ntime_limit: 0\nvariant: no-regrasp\n"
+                                 "options: {ucb_c: 2}\n");
+  const auto q = read_placement_query(dir / "q.yaml");
+  EXPECT_EQ(q.robot, dir / "arm.h5");
+  EXPECT_EQ(q.time_limit, 0);
+  EXPECT_EQ(q.query.variant, runtime::PlacementVariant::NoRegrasp);
+  EXPECT_EQ(q.query.options.ucb_c, 2);
+  ASSERT_TRUE(q.query.volume.has_value());
+  EXPECT_EQ(resolve_start(q, dmgarm()).size(), 7);
+}
+
+// Each broken file: the element the message must name and the reason it must give.
+struct Broken {
+  const char* name;
+  std::string yaml;
+  const char* element;
+  const char* reason;
+};
+
+TEST(PlacementQueryFile, BrokenQueriesNameTheFileAndTheProblem) {
+  const Broken cases[] = {
+      {"missing robot", "object: b.h5\nenvironment: c.h5\n" + kStart + kGrasp, "robot", "missing"},
+      {"missing start", kArtifacts + kGrasp, "start", "missing"},
+      {"missing grasp", kArtifacts + kStart, "initial_grasp", "missing"},
+      {"NaN in start list", kArtifacts + "start: [0, -0.785, .nan, -2.356, 0, 1.571, 0.785]\n" + kGrasp, "start[2]",
+       "not a finite number"},
+      {"infinity in named start", kArtifacts + "start: {dmgarm_joint1: .inf}\n" + kGrasp, "start.dmgarm_joint1",
+       "not a finite number"},
+      {"short pose", kArtifacts + kStart + "initial_grasp: {pose: [0, 0, 0.06, 0, 0, 1]}\n", "initial_grasp.pose",
+       "expected a list of 7 numbers"},
+      {"NaN in pose", kArtifacts + kStart + "initial_grasp: {pose: [0, 0, .nan, 0, 0, 0, 1]}\n", "initial_grasp.pose",
+       "not a finite number"},
+      {"zero quaternion", kArtifacts + kStart + "initial_grasp: {pose: [0, 0, 0, 0, 0, 0, 0]}\n", "initial_grasp.pose",
+       "zero quaternion"},
+      {"unknown variant", kArtifacts + kStart + kGrasp + "variant: best\n", "variant", "unknown variant 'best'"},
+      {"negative time limit", kArtifacts + kStart + kGrasp + "time_limit: -1\n", "time_limit", "finite number >= 0"},
+      {"NaN time limit", kArtifacts + kStart + kGrasp + "time_limit: .nan\n", "time_limit", "finite number >= 0"},
+      {"inverted volume", kArtifacts + kStart + kGrasp + "volume: [1, 1, 1, 0, 0, 0]\n", "volume", "min exceeds max"},
+      {"NaN option", kArtifacts + kStart + kGrasp + "options: {ucb_c: .nan}\n", "options.ucb_c", "not a finite number"},
+      {"unknown option", kArtifacts + kStart + kGrasp + "options: {speed: 2}\n", "options.speed", "unknown option"},
+      {"NaN weight", kArtifacts + kStart + kGrasp + "objective: [{term: clearance, weight: .nan}]\n", "objective[0].weight",
+       "not a finite number"},
+      {"text for a number", kArtifacts + kStart + kGrasp + "seed: many\n", "line 6", "malformed query"},
+      {"not a map", "- 1\n- 2\n", "", "expected a map"},
+  };
+  TempDir dir;
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    const auto path = dir / "broken.yaml";
+    write_text(path, c.yaml);
+    EXPECT_THAT(error_of([&] { read_placement_query(path); }),
+                AllOf(HasSubstr(path.string()), HasSubstr(c.element), HasSubstr(c.reason)));
+  }
+}
+
+// resolve_start is the second gate: the arm's joint count and limits.
+TEST(PlacementQueryFile, StartsThatDoNotFitTheArmAreRejected) {
+  TempDir dir;
+  const auto kin = dmgarm();
+  const auto path = dir / "q.yaml";
+  write_text(path, kArtifacts + "start: [0, 0, 0]\n" + kGrasp);
+  EXPECT_THAT(error_of([&] { resolve_start(read_placement_query(path), kin); }),
+              AllOf(HasSubstr(path.string()), HasSubstr("has 3 values, the arm has 7 joints")));
+  write_text(path, kArtifacts + "start: {dmgarm_joint1: 0}\n" + kGrasp);
+  EXPECT_THAT(error_of([&] { resolve_start(read_placement_query(path), kin); }),
+              AllOf(HasSubstr(path.string()), HasSubstr("no value for joint 'dmgarm_joint2'")));
+  write_text(path, kArtifacts + "start: [0, 0, 10, 0, 0, 0, 0]\n" + kGrasp);
+  EXPECT_THAT(error_of([&] { resolve_start(read_placement_query(path), kin); }),
+              AllOf(HasSubstr(path.string()), HasSubstr("outside the arm's joint limits")));
+}
+
+}  // namespace
+}  // namespace dmgplace::tools
