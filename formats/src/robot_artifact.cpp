@@ -245,7 +245,12 @@ Summary summarize_robot(const RobotArtifact& a) {
   s.emplace_back("collision_shapes", std::to_string(shapes));
   s.emplace_back("allowed_pairs", std::to_string(m.allowed_pairs.size()));
   s.emplace_back("spheres", std::to_string(a.spheres.size()));
-  s.emplace_back("self_distance_tables", std::to_string(a.self_tables.size()));
+  std::string tables = std::to_string(a.self_tables.size());
+  const auto name = [&](int l) { return l >= 0 && std::size_t(l) < m.links.size() ? m.links[std::size_t(l)].name : "?"; };
+  for (std::size_t i = 0; i < a.self_tables.size(); ++i)
+    tables += (i == 0 ? " (" : ", ") + name(a.self_tables[i].link_a) + "/" + name(a.self_tables[i].link_b) +
+              (i + 1 == a.self_tables.size() ? ")" : "");
+  s.emplace_back("self_distance_tables", tables);
   s.emplace_back("arm_chain", m.arm_base + " -> " + m.arm_tip);
   return s;
 }

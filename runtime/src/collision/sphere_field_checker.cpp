@@ -29,6 +29,7 @@ SphereFieldChecker::SphereFieldChecker(const Kinematics& kin, std::vector<format
       for (int j = 0; j < cd[1]; ++j)
         for (int i = 0; i < cd[0]; ++i)
           coarse->values()[coarse->index(i, j, k)] = sdf_->at(i * kCoarseStride, j * kCoarseStride, k * kCoarseStride);
+    coarse_inv_ = 1.0 / coarse->resolution();
     coarse_ = std::move(coarse);
   }
   std::stable_sort(spheres_.begin(), spheres_.end(),
@@ -40,9 +41,8 @@ double SphereFieldChecker::coarse_lower_bound(const Eigen::Vector3d& p) const {
   if (!coarse_) return -1;
   const Grid3& g = *coarse_;
   int c[3];
-  const double inv = 1.0 / g.resolution();
   for (int a = 0; a < 3; ++a) {
-    double u = (p[a] - g.origin()[a]) * inv;
+    double u = (p[a] - g.origin()[a]) * coarse_inv_;
     u = u > 0 ? u : 0.0;  // also maps NaN to 0
     const double hi = double(g.dims()[std::size_t(a)] - 1);
     c[a] = int((u < hi ? u : hi) + 0.5);
@@ -119,6 +119,11 @@ void SphereFieldChecker::build_bodies() {
     return out;
   };
   pairs_.clear();
+  pair_moves_.clear();
+  auto add_pair = [&](std::size_t i, std::size_t j, int table) {
+    pairs_.push_back({int(i), int(j), table, bodies_[i].radius + bodies_[j].radius + padding_});
+    pair_moves_.push_back(relative_chain(bodies_[i], bodies_[j]));
+  };
   for (std::size_t i = 0; i < bodies_.size(); ++i)
     for (std::size_t j = i + 1; j < bodies_.size(); ++j) {
       const Body &a = bodies_[i], &b = bodies_[j];
@@ -127,7 +132,7 @@ void SphereFieldChecker::build_bodies() {
         const int other = a.attached ? b.link : a.link;
         // The object may touch the link holding it and the fingers.
         if (other == attached_link_ || std::find(touching_.begin(), touching_.end(), other) != touching_.end()) continue;
-        pairs_.push_back({int(i), int(j), -1, relative_chain(a, b)});
+        add_pair(i, j, -1);
         continue;
       }
       if (allowed(a.link, b.link)) continue;
@@ -136,7 +141,7 @@ void SphereFieldChecker::build_bodies() {
         const auto& tt = (*tables_)[t].data;
         if ((tt.link_a == a.link && tt.link_b == b.link) || (tt.link_a == b.link && tt.link_b == a.link)) table = int(t);
       }
-      pairs_.push_back({int(i), int(j), table, relative_chain(a, b)});
+      add_pair(i, j, table);
     }
 }
 
@@ -267,14 +272,15 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
   auto certify_pair = [&](double clearance, double speed) {
     if (speed > 0) free_distance = std::min(free_distance, clearance / speed);
   };
-  for (const auto& p : pairs_) {
-    const Body &a = bodies_[std::size_t(p.a)], &b = bodies_[std::size_t(p.b)];
-    const double rb = a.radius + b.radius + padding_;
+  for (std::size_t pi = 0; pi < pairs_.size(); ++pi) {
+    const Pair& p = pairs_[pi];
+    const double rb = p.reach;
     const double d2 = (body_center[std::size_t(p.a)] - body_center[std::size_t(p.b)]).squaredNorm();
     if (d2 >= rb * rb) {
-      if (certify && out.free()) certify_pair(std::sqrt(d2) - rb, speed(p.moves));
+      if (certify && out.free()) certify_pair(std::sqrt(d2) - rb, speed(pair_moves_[pi]));
       continue;
     }
+    const Body &a = bodies_[std::size_t(p.a)], &b = bodies_[std::size_t(p.b)];
     if (p.table >= 0) {
       const Table& t = (*tables_)[std::size_t(p.table)];
       const double lb = t.lower_bound(q) - padding_;
@@ -305,7 +311,7 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
       }
     }
     if (!hit) {
-      if (certify && out.free()) certify_pair(gap, speed(p.moves));
+      if (certify && out.free()) certify_pair(gap, speed(pair_moves_[pi]));
       continue;
     }
     out.self_free = false;

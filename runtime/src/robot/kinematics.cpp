@@ -58,6 +58,18 @@ Kinematics::Kinematics(const RobotModel& model, const std::string& base, const s
       }
     }
   if (order_.size() != nj) throw Error(model_.name, "joints", "kinematic loop");
+  terms_.resize(nj);
+  for (std::size_t j = 0; j < nj; ++j) {
+    const auto& jt = model_.joints[j];
+    Eigen::Matrix3d K;
+    K << 0, -jt.axis.z(), jt.axis.y(), jt.axis.z(), 0, -jt.axis.x(), -jt.axis.y(), jt.axis.x(), 0;
+    auto& m = terms_[j];
+    m.O = jt.origin.linear();
+    m.OK = m.O * K;
+    m.OKK = m.OK * K;
+    m.t = jt.origin.translation();
+    m.Oa = m.O * jt.axis;
+  }
   base_is_root_ = parent_joint[std::size_t(base_)] < 0;
 }
 
@@ -77,14 +89,17 @@ double Kinematics::joint_value(int j, const Eigen::VectorXd& q) const {
 
 Eigen::Isometry3d Kinematics::joint_motion(int j, double v) const {
   const auto& jt = model_.joints[std::size_t(j)];
+  const auto& terms = terms_[std::size_t(j)];
   Eigen::Isometry3d m = jt.origin;
   switch (jt.type) {
     case JointType::Revolute:
-    case JointType::Continuous:
-      m.linear() = m.linear() * Eigen::AngleAxisd(v, jt.axis).toRotationMatrix();
+    case JointType::Continuous: {
+      const double s = std::sin(v), c = std::cos(v);
+      m.linear() = terms.O + s * terms.OK + (1 - c) * terms.OKK;
       break;
+    }
     case JointType::Prismatic:
-      m.translation() += m.linear() * (jt.axis * v);
+      m.translation() = terms.t + v * terms.Oa;
       break;
     case JointType::Fixed:
       break;
@@ -98,7 +113,12 @@ void Kinematics::link_poses(const Eigen::VectorXd& q, std::vector<Eigen::Isometr
   std::fill(poses.begin(), poses.end(), Eigen::Isometry3d::Identity());
   for (int j : order_) {
     const auto& jt = model_.joints[std::size_t(j)];
-    poses[std::size_t(jt.child)] = poses[std::size_t(jt.parent)] * joint_motion(j, joint_value(j, q));
+    const Eigen::Isometry3d& parent = poses[std::size_t(jt.parent)];
+    const Eigen::Isometry3d m = joint_motion(j, joint_value(j, q));
+    Eigen::Isometry3d& child = poses[std::size_t(jt.child)];
+    child.linear().noalias() = parent.linear() * m.linear();
+    child.translation().noalias() = parent.linear() * m.translation();
+    child.translation() += parent.translation();
   }
   if (base_is_root_) return;
   const Eigen::Isometry3d to_base = poses[std::size_t(base_)].inverse();

@@ -87,8 +87,8 @@ class SphereFieldChecker {
     bool attached = false;
   };
   struct Pair {
-    int a, b, table = -1;           // body indices, self-distance table or -1
-    std::vector<ChainJoint> moves;  // joints that move one body relative to the other (not common ancestors)
+    int a, b, table = -1;  // body indices, self-distance table or -1
+    double reach = 0;      // bounding radii + padding: centres farther apart than this are clear
   };
   struct Table {
     int slot[2] = {-1, -1};  // q indices of the table's joints; slot[1] = -1 for a 1-D table
@@ -102,12 +102,14 @@ class SphereFieldChecker {
   std::vector<formats::LinkSphere> spheres_;  // robot + attached, link frames, grouped by body
   std::vector<Body> bodies_;
   std::vector<Pair> pairs_;                   // body pairs checked for self-collision
+  std::vector<std::vector<ChainJoint>> pair_moves_;  // per pair: joints moving one body relative to the other
   std::shared_ptr<const std::vector<Table>> tables_;  // shared by every per-grasp copy
   // Every `kCoarseStride`-th node of the distance grid: small enough to stay in cache, and with
   // a nearest-node bound (value - distance to the node, 1-Lipschitz) it clears most bodies in one
   // load instead of a trilinear lookup that misses the cache.
   static constexpr int kCoarseStride = 4;
   std::shared_ptr<const Grid3> coarse_;
+  double coarse_inv_ = 1;  // 1 / coarse resolution
   double coarse_lower_bound(const Eigen::Vector3d& p) const;
   std::vector<std::pair<int, int>> allowed_;  // link pairs
   std::vector<int> touching_;                 // links the attached object may touch

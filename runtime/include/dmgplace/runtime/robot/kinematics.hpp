@@ -49,6 +49,14 @@ class Kinematics {
 
  private:
   Eigen::Isometry3d joint_motion(int joint, double value) const;
+  // Per joint, Rodrigues' formula folded into the origin: the child frame's rotation is
+  // O + sin(q) OK + (1 - cos(q)) OKK for a revolute joint (K the axis' cross-product matrix), its
+  // translation t + q O a for a prismatic one. Saves building an angle-axis rotation per joint.
+  struct JointMotionTerms {
+    Eigen::Matrix3d O, OK, OKK;
+    Eigen::Vector3d t, Oa;
+  };
+  std::vector<JointMotionTerms> terms_;
   double joint_value(int joint, const Eigen::VectorXd& q) const;
 
   RobotModel model_;
