@@ -44,7 +44,10 @@ std::string line_chart_svg(const std::vector<ChartSeries>& series, const ChartOp
   const double pad = 0.05 * (y1 - y0);
   if (!o.y_from_zero) y0 -= pad;
   if (!std::isfinite(o.y_max)) y1 += pad;
-  const double L = 70, R = 170, T = 40, B = 55;
+  // The legend sits right of the plot: room for its longest label (about 7 px a character at 12 px).
+  std::size_t longest = 0;
+  for (const auto& se : series) longest = std::max(longest, se.label.size());
+  const double L = 70, R = std::max(170.0, 60.0 + 7.0 * double(longest)), T = 40, B = 55;
   const double W = o.width - L - R, H = o.height - T - B;
   auto px = [&](double x) { return L + (x - x0) / (x1 - x0) * W; };
   auto py = [&](double y) { return T + (1 - (y - y0) / (y1 - y0)) * H; };
