@@ -37,7 +37,7 @@ SphereFieldChecker::SphereFieldChecker(const Kinematics& kin, std::vector<format
   build_bodies();
 }
 
-double SphereFieldChecker::coarse_lower_bound(const Eigen::Vector3d& p) const {
+inline __attribute__((always_inline)) double SphereFieldChecker::coarse_lower_bound(const Eigen::Vector3d& p) const {
   if (!coarse_) return -1;
   const Grid3& g = *coarse_;
   int c[3];

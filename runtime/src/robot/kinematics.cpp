@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "dmgplace/formats/error.hpp"
+#include "dmgplace/runtime/geometry/fast_sincos.hpp"
 
 namespace dmgplace::runtime {
 
@@ -94,7 +95,8 @@ Eigen::Isometry3d Kinematics::joint_motion(int j, double v) const {
   switch (jt.type) {
     case JointType::Revolute:
     case JointType::Continuous: {
-      const double s = std::sin(v), c = std::cos(v);
+      double s, c;
+      fast_sincos(v, s, c);
       m.linear() = terms.O + s * terms.OK + (1 - c) * terms.OKK;
       break;
     }
