@@ -90,10 +90,7 @@ TEST(SphereCover, EverySamplePointOfEveryLinkIsInsideASphere) {
 
 TEST(Collision, FastLayerNeverSaysFreeWhereExactLayerCollides) {
   ShelfWorld w;
-  const Arm& arm = w.arm;
-  const Kinematics& kin = w.kin;
-  const Scene& scene = w.scene;
-  const auto& sdf = w.sdf;
+  const auto& [arm, kin, scene, sdf] = w;
   SphereFieldChecker fast(kin, arm.spheres, sdf, 0.3);
   ExactChecker exact(kin, scene);
   TwoLayerChecker both_layers(fast, exact);
@@ -201,10 +198,7 @@ TEST(Collision, HeldObjectIsCheckedAndMayTouchTheFingers) {
 // tables included.
 TEST(Collision, CertifiedFreeDistanceIsFreeForFclAlongTheWholeStretch) {
   ShelfWorld w;
-  const Arm& arm = w.arm;
-  const Kinematics& kin = w.kin;
-  const Scene& scene = w.scene;
-  const auto& sdf = w.sdf;
+  const auto& [arm, kin, scene, sdf] = w;
   SphereFieldChecker fast(kin, arm.spheres, sdf, 0.3);
   fast.set_self_tables(tools::build_self_distance_tables(kin, arm.spheres));
   ExactChecker exact(kin, scene);
