@@ -38,7 +38,8 @@ Eigen::Isometry3d side_grasp() {
 
 class Placement : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() {
+  static void SetUpTestSuite() { test::set_up_suite_or_exit("Placement", [] { bake(); }); }
+  static void bake() {
     dir_ = new test::TempDir();
     const fs::path data = test::source_dir() / "datasets";
     const fs::path d = dir_->path();

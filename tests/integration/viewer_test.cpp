@@ -42,7 +42,8 @@ std::string status_attr(const std::string& dom, const std::string& name) {
 class Viewer : public ::testing::Test {
  protected:
   // Bakes the cabinet, dmgarm and the bottle once, places for ~2 s and writes the page.
-  static void SetUpTestSuite() {
+  static void SetUpTestSuite() { test::set_up_suite_or_exit("Viewer", [] { bake(); }); }
+  static void bake() {
     dir_ = new test::TempDir();
     const fs::path data = test::source_dir() / "datasets", d = dir_->path(), art = d / "artifacts";
     fs::create_directories(art);

@@ -1,5 +1,9 @@
 #pragma once
 // Helpers every test program shares: scratch folders and the location of shared data.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 
@@ -45,6 +49,18 @@ inline Shape box_shape(const Eigen::Vector3d& size, const Eigen::Vector3d& at) {
   s.size = size;
   s.origin.translation() = at;
   return s;
+}
+
+// Runs a test suite's shared set-up and ends the test program when it failed. GoogleTest would
+// report the suite's tests as skipped, which ctest counts as passing.
+template <class F>
+void set_up_suite_or_exit(const char* suite, F&& set_up) {
+  set_up();
+  if (::testing::Test::HasFatalFailure() || ::testing::Test::HasNonfatalFailure()) {
+    std::fprintf(stderr, "%s: the suite's set-up failed, see above\n", suite);
+    std::fflush(nullptr);
+    std::_Exit(1);
+  }
 }
 
 // The message of the dmgplace::Error that f() throws, or a marker when it throws none.

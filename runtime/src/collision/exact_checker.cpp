@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
+#include <optional>
 
 #include "dmgplace/formats/error.hpp"
 
@@ -39,6 +41,26 @@ Geometry make_geometry(const Shape& s) {
   g->computeLocalAABB();
   return g;
 }
+
+// FCL's CollisionObject constructor recomputes its geometry's local AABB: a write to the geometry,
+// which per-grasp checkers on every planner thread share (all BVHs are shared). Constructions are
+// serialised; nothing else writes to a geometry after it is built.
+std::mutex& fcl_object_mutex() {
+  static std::mutex m;
+  return m;
+}
+
+class Placed {
+ public:
+  Placed(const Geometry& g, const Eigen::Isometry3d& t) {
+    std::lock_guard<std::mutex> lock(fcl_object_mutex());
+    obj_.emplace(g, t.linear(), t.translation());
+  }
+  fcl::CollisionObjectd* get() { return &*obj_; }
+
+ private:
+  std::optional<fcl::CollisionObjectd> obj_;
+};
 
 struct Part {
   int link;               // robot link, or -1 for the attached object
@@ -183,17 +205,13 @@ ExactCheck ExactChecker::check(const Eigen::VectorXd& q) const {
   kin_->link_poses(q, poses);
   const Impl& impl = *impl_;
   ExactCheck out;
-  std::vector<fcl::CollisionObjectd> objs;
+  std::vector<Placed> objs;
   objs.reserve(impl.parts.size());
-  for (const auto& p : impl.parts) {
-    const Eigen::Isometry3d t = poses[std::size_t(p.link)] * p.local;
-    objs.emplace_back(p.geometry, t.linear(), t.translation());
-    objs.back().computeAABB();
-  }
+  for (const auto& p : impl.parts) objs.emplace_back(p.geometry, poses[std::size_t(p.link)] * p.local);
   for (std::size_t i = 0; i < impl.parts.size(); ++i) {
     if (!impl.moving[std::size_t(impl.parts[i].link)] && !impl.part_is_object[i]) continue;
     EnvHit hit;
-    impl.env->collide(&objs[i], &hit, env_callback);
+    impl.env->collide(objs[i].get(), &hit, env_callback);
     if (hit.hit) {
       out.environment_free = false;
       std::size_t name = reinterpret_cast<std::size_t>(hit.other->getUserData());
@@ -205,7 +223,7 @@ ExactCheck ExactChecker::check(const Eigen::VectorXd& q) const {
   fcl::CollisionRequestd req;
   for (auto [a, b] : impl.self_pairs) {
     fcl::CollisionResultd res;
-    if (fcl::collide(&objs[std::size_t(a)], &objs[std::size_t(b)], req, res) > 0) {
+    if (fcl::collide(objs[std::size_t(a)].get(), objs[std::size_t(b)].get(), req, res) > 0) {
       out.self_free = false;
       auto name = [&](int k) {
         return impl.part_is_object[std::size_t(k)] ? std::string("held object") : impl.link_names[std::size_t(impl.parts[std::size_t(k)].link)];
@@ -222,11 +240,9 @@ bool ExactChecker::links_free(const std::vector<std::pair<int, Eigen::Isometry3d
     if (p.link < 0) continue;
     for (const auto& [link, pose] : link_poses) {
       if (link != p.link) continue;
-      const Eigen::Isometry3d t = pose * p.local;
-      fcl::CollisionObjectd obj(p.geometry, t.linear(), t.translation());
-      obj.computeAABB();
+      Placed obj(p.geometry, pose * p.local);
       EnvHit hit;
-      impl_->env->collide(&obj, &hit, env_callback);
+      impl_->env->collide(obj.get(), &hit, env_callback);
       if (hit.hit) return false;
     }
   }
@@ -234,10 +250,9 @@ bool ExactChecker::links_free(const std::vector<std::pair<int, Eigen::Isometry3d
 }
 
 bool ExactChecker::mesh_free(const CollisionMesh& mesh, const Eigen::Isometry3d& pose, std::string* contact) const {
-  fcl::CollisionObjectd obj(mesh.impl->geometry, pose.linear(), pose.translation());
-  obj.computeAABB();
+  Placed obj(mesh.impl->geometry, pose);
   EnvHit hit;
-  impl_->env->collide(&obj, &hit, env_callback);
+  impl_->env->collide(obj.get(), &hit, env_callback);
   if (hit.hit && contact) {
     const std::size_t name = reinterpret_cast<std::size_t>(hit.other->getUserData());
     *contact = name > 0 ? (*impl_->env_names)[name - 1] : std::string("?");
@@ -253,11 +268,9 @@ bool ExactChecker::links_environment_free(const Eigen::VectorXd& q, const int* l
     const Part& p = impl.parts[i];
     const bool wanted = impl.part_is_object[i] ? object : std::find(links, links + count, p.link) != links + count;
     if (!wanted) continue;
-    const Eigen::Isometry3d t = poses[std::size_t(p.link)] * p.local;
-    fcl::CollisionObjectd obj(p.geometry, t.linear(), t.translation());
-    obj.computeAABB();
+    Placed obj(p.geometry, poses[std::size_t(p.link)] * p.local);
     EnvHit hit;
-    impl.env->collide(&obj, &hit, env_callback);
+    impl.env->collide(obj.get(), &hit, env_callback);
     if (hit.hit) return false;
   }
   return true;
@@ -277,10 +290,9 @@ bool ExactChecker::link_pairs_free(const Eigen::VectorXd& q, const std::pair<int
     if (!wanted) continue;
     const auto& pa = impl.parts[std::size_t(a)];
     const auto& pb = impl.parts[std::size_t(b)];
-    const Eigen::Isometry3d ta = poses[std::size_t(la)] * pa.local, tb = poses[std::size_t(lb)] * pb.local;
-    fcl::CollisionObjectd oa(pa.geometry, ta.linear(), ta.translation()), ob(pb.geometry, tb.linear(), tb.translation());
+    Placed oa(pa.geometry, poses[std::size_t(la)] * pa.local), ob(pb.geometry, poses[std::size_t(lb)] * pb.local);
     fcl::CollisionResultd res;
-    if (fcl::collide(&oa, &ob, req, res) > 0) return false;
+    if (fcl::collide(oa.get(), ob.get(), req, res) > 0) return false;
   }
   return true;
 }
@@ -293,14 +305,13 @@ double ExactChecker::link_distance(const Eigen::VectorXd& q, int link_a, int lin
     if (pa.link != link_a) continue;
     for (const auto& pb : impl_->parts) {
       if (pb.link != link_b) continue;
-      const Eigen::Isometry3d ta = poses[std::size_t(link_a)] * pa.local, tb = poses[std::size_t(link_b)] * pb.local;
-      fcl::CollisionObjectd oa(pa.geometry, ta.linear(), ta.translation()), ob(pb.geometry, tb.linear(), tb.translation());
+      Placed oa(pa.geometry, poses[std::size_t(link_a)] * pa.local), ob(pb.geometry, poses[std::size_t(link_b)] * pb.local);
       fcl::CollisionRequestd creq;
       fcl::CollisionResultd cres;
-      if (fcl::collide(&oa, &ob, creq, cres) > 0) return 0.0;  // FCL's distance is unsigned inside
+      if (fcl::collide(oa.get(), ob.get(), creq, cres) > 0) return 0.0;  // FCL's distance is unsigned inside
       fcl::DistanceRequestd req;
       fcl::DistanceResultd res;
-      fcl::distance(&oa, &ob, req, res);
+      fcl::distance(oa.get(), ob.get(), req, res);
       best = std::min(best, std::max(0.0, res.min_distance));
     }
   }
