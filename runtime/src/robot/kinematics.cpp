@@ -59,6 +59,8 @@ Kinematics::Kinematics(const RobotModel& model, const std::string& base, const s
       }
     }
   if (order_.size() != nj) throw Error(model_.name, "joints", "kinematic loop");
+  for (std::size_t l = 0; l < nl; ++l)
+    if (parent_joint[l] < 0) roots_.push_back(int(l));
   terms_.resize(nj);
   for (std::size_t j = 0; j < nj; ++j) {
     const auto& jt = model_.joints[j];
@@ -110,9 +112,10 @@ Eigen::Isometry3d Kinematics::joint_motion(int j, double v) const {
 }
 
 void Kinematics::link_poses(const Eigen::VectorXd& q, std::vector<Eigen::Isometry3d>& poses) const {
-  poses.resize(model_.links.size());
+  // Every link but the roots is written below (joints in topological order): only roots are reset.
+  if (poses.size() != model_.links.size()) poses.assign(model_.links.size(), Eigen::Isometry3d::Identity());
+  for (int r : roots_) poses[std::size_t(r)].setIdentity();
   // Express the tree in the base frame: first the root-to-base transform, then invert it.
-  std::fill(poses.begin(), poses.end(), Eigen::Isometry3d::Identity());
   for (int j : order_) {
     const auto& jt = model_.joints[std::size_t(j)];
     const Eigen::Isometry3d& parent = poses[std::size_t(jt.parent)];

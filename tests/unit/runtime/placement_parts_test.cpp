@@ -71,7 +71,9 @@ TEST(ObjectSpheres, CoverContainsTheSurfaceAndTheInside) {
     for (int k = 0; k < 300; ++k) {
       const Eigen::Vector3d p = random_surface_point(m, rng);
       const Eigen::Vector3d x = c + 0.9 * (p - c);
-      if (inside_mesh(m, x)) ASSERT_TRUE(covered(s, x));
+      if (inside_mesh(m, x)) {
+        ASSERT_TRUE(covered(s, x));
+      }
     }
   }
 }
@@ -114,7 +116,9 @@ TEST(PlacementTree, RolloutsStayInsideTheirNodeAndOnSupport) {
     const PlacementSample s = tree.rollout(n, rng);
     ASSERT_GE(s.face, 0);
     ASSERT_GE(s.region, 0);
-    if (cell.face >= 0) EXPECT_EQ(s.face, cell.face);
+    if (cell.face >= 0) {
+      EXPECT_EQ(s.face, cell.face);
+    }
     EXPECT_TRUE(space.supported(s.region, s.xy));
     EXPECT_GE(s.theta, cell.t0);
     EXPECT_LE(s.theta, cell.t1);

@@ -36,4 +36,27 @@ class Grid3 {
   std::vector<float> values_;
 };
 
+// Inline: the hot path of collision checks, without the gradient's extra work.
+inline double Grid3::sample(const Eigen::Vector3d& p) const {
+  int c[3];
+  double t[3];
+  for (int a = 0; a < 3; ++a) {
+    double u = (p[a] - origin_[a]) * inv_resolution_;
+    u = u > 0 ? u : 0.0;  // also maps NaN to 0
+    const double hi = double(dims_[a] - 1);
+    u = u < hi ? u : hi;
+    int i = int(u);
+    i = i < dims_[a] - 2 ? i : dims_[a] - 2;
+    c[a] = i;
+    t[a] = u - i;
+  }
+  const float* v = values_.data() + index(c[0], c[1], c[2]);
+  const std::size_t sy = std::size_t(dims_[0]), sz = std::size_t(dims_[0]) * std::size_t(dims_[1]);
+  const double x = t[0];
+  const double c00 = v[0] + (v[1] - v[0]) * x, c10 = v[sy] + (v[sy + 1] - v[sy]) * x;
+  const double c01 = v[sz] + (v[sz + 1] - v[sz]) * x, c11 = v[sy + sz] + (v[sy + sz + 1] - v[sy + sz]) * x;
+  const double c0 = c00 + (c10 - c00) * t[1], c1 = c01 + (c11 - c01) * t[1];
+  return c0 + (c1 - c0) * t[2];
+}
+
 }  // namespace dmgplace::runtime

@@ -57,6 +57,7 @@ class Kinematics {
     Eigen::Vector3d t, Oa;
   };
   std::vector<JointMotionTerms> terms_;
+  std::vector<int> roots_;  // links without a parent joint
   double joint_value(int joint, const Eigen::VectorXd& q) const;
 
   RobotModel model_;
