@@ -213,44 +213,36 @@ ob::PlannerStatus MultiGoalRRTConnect::solve(const ob::PlannerTerminationConditi
       std::this_thread::sleep_for(std::chrono::microseconds(200));
       continue;
     }
-    // A new goal first tries the straight line from the start: often free, and then no tree grows.
+    Node *from_start = nullptr, *from_goal = nullptr;  // the two ends of a connection
+    int goal_id = -1;
     if (!untried_direct_.empty()) {
-      const int id = untried_direct_.back();
+      // A new goal first tries the straight line from the start: often free, and then no tree grows.
+      goal_id = untried_direct_.back();
       untried_direct_.pop_back();
-      auto g = goal_trees_.find(id);
+      auto g = goal_trees_.find(goal_id);
       if (g == goal_trees_.end()) continue;
-      Node* root = g->second->nodes.front().get();
-      Node* start = start_tree_->nodes.front().get();
-      if (!motion_valid(start->q, root->q)) continue;
-      FoundPath f;
-      f.goal_id = id;
-      f.path = {start->q, root->q};
-      f.length = distance(start->q, root->q);
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        goal_trees_.erase(g);  // owns `root`
-      }
-      if (report(std::move(f), t0)) {
-        solved = true;
-        if (!anytime_) break;
-      }
-      continue;
+      from_start = start_tree_->nodes.front().get();
+      from_goal = g->second->nodes.front().get();
+      if (!motion_valid(from_start->q, from_goal->q)) continue;
+    } else {
+      sample(q_rand);
+      // Pick one goal tree per iteration, round robin, so every goal gets attention.
+      auto it = goal_trees_.begin();
+      std::advance(it, std::ptrdiff_t(turn++ % goal_trees_.size()));
+      goal_id = it->first;
+      Tree& goal = *it->second;
+      // Alternate which tree grows toward the sample (RRT-Connect).
+      const bool forward = turn % 2 == 0;
+      Tree& grow = forward ? *start_tree_ : goal;
+      Tree& other = forward ? goal : *start_tree_;
+      Node* a = nullptr;
+      if (extend(grow, q_rand, a) == Grow::Trapped) continue;
+      Node* b = nullptr;
+      if (connect(other, a->q, b) != Grow::Reached) continue;
+      from_start = forward ? a : b;
+      from_goal = forward ? b : a;
     }
-    sample(q_rand);
-    // Pick one goal tree per iteration, round robin, so every goal gets attention.
-    auto it = goal_trees_.begin();
-    std::advance(it, std::ptrdiff_t(turn++ % goal_trees_.size()));
-    const int goal_id = it->first;
-    Tree& goal = *it->second;
-    // Alternate which tree grows toward the sample (RRT-Connect).
-    const bool forward = turn % 2 == 0;
-    Tree& grow = forward ? *start_tree_ : goal;
-    Tree& other = forward ? goal : *start_tree_;
-    Node* a = nullptr;
-    if (extend(grow, q_rand, a) == Grow::Trapped) continue;
-    Node* b = nullptr;
-    if (connect(other, a->q, b) != Grow::Reached) continue;
-    FoundPath f = forward ? make_path(a, b, goal_id) : make_path(b, a, goal_id);
+    FoundPath f = make_path(from_start, from_goal, goal_id);
     {
       // Writers hold the mutex: goal_count() reads the map from other threads.
       std::lock_guard<std::mutex> lock(mutex_);

@@ -67,11 +67,9 @@ Kinematics::Kinematics(const RobotModel& model, const std::string& base, const s
     Eigen::Matrix3d K;
     K << 0, -jt.axis.z(), jt.axis.y(), jt.axis.z(), 0, -jt.axis.x(), -jt.axis.y(), jt.axis.x(), 0;
     auto& m = terms_[j];
-    m.O = jt.origin.linear();
-    m.OK = m.O * K;
+    m.OK = jt.origin.linear() * K;
     m.OKK = m.OK * K;
-    m.t = jt.origin.translation();
-    m.Oa = m.O * jt.axis;
+    m.Oa = jt.origin.linear() * jt.axis;
   }
   base_is_root_ = parent_joint[std::size_t(base_)] < 0;
 }
@@ -99,11 +97,11 @@ Eigen::Isometry3d Kinematics::joint_motion(int j, double v) const {
     case JointType::Continuous: {
       double s, c;
       fast_sincos(v, s, c);
-      m.linear() = terms.O + s * terms.OK + (1 - c) * terms.OKK;
+      m.linear() += s * terms.OK + (1 - c) * terms.OKK;
       break;
     }
     case JointType::Prismatic:
-      m.translation() = terms.t + v * terms.Oa;
+      m.translation() += v * terms.Oa;
       break;
     case JointType::Fixed:
       break;

@@ -122,3 +122,29 @@ TEST(CollisionMbm, SelfDistanceTablesNeverExceedTheExactDistanceOnThePanda) {
     EXPECT_LT(worst_gap, 2 * (t.slope[0] + t.slope[1]) * std::max(t.step[0], t.step[1]) + 1e-6);
   }
 }
+
+// The Panda's SRDF "ready" pose (the MBM problems' start) is free: exactly, on its own and in both
+// MBM scenes, and the fast layer with the self-distance tables proves it free by itself in
+// free space (no FCL call), which it could not while the wrist spheres overlapped.
+TEST(CollisionMbm, PandaReadyPoseIsCollisionFree) {
+  DMGPLACE_REQUIRE_SHARED();
+  const auto shared = test::shared_datasets();
+  const PandaArm& panda = panda_arm();
+  const runtime::Kinematics& kin = *panda.kin;
+  Eigen::VectorXd ready(7);
+  ready << 0, -0.785, 0, -2.356, 0, 1.571, 0.785;
+  const runtime::ExactChecker alone(kin, Scene{});
+  EXPECT_TRUE(alone.is_free(ready)) << alone.check(ready).contact;
+  const Eigen::AlignedBox3d box(Eigen::Vector3d(-1.2, -1.2, -0.3), Eigen::Vector3d(1.6, 1.2, 1.7));
+  runtime::SphereFieldChecker empty(kin, panda.spheres, test::analytic_sdf(Scene{}, box, 0.02, 0.25), 0.25);
+  empty.set_self_tables(panda.tables);
+  EXPECT_TRUE(empty.check(ready).self_free) << "the self-distance tables must settle the wrist at the ready pose";
+  for (auto scene_file : {"mbm_problems/bookshelf_small_panda/scene0001.yaml", "mbm_problems/table_pick_panda/scene0001.yaml"}) {
+    const Scene scene = tools::load_scene(shared / scene_file);
+    runtime::SphereFieldChecker fast(kin, panda.spheres, test::analytic_sdf(scene, box, 0.02, 0.25), 0.25);
+    fast.set_self_tables(panda.tables);
+    const runtime::ExactChecker exact(kin, scene);
+    EXPECT_TRUE(exact.is_free(ready)) << scene_file << ": " << exact.check(ready).contact;
+    EXPECT_TRUE(runtime::TwoLayerChecker(fast, exact).is_free(ready)) << scene_file;
+  }
+}

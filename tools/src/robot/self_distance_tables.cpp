@@ -37,10 +37,9 @@ void tree_path(const RobotModel& m, const std::vector<int>& parent_joint, int a,
 // the link up to k are rigid offsets (every joint between is revolute or fixed), plus the farthest
 // sphere surface in the link frame.
 double slope_bound(const RobotModel& m, const std::vector<int>& parent_joint, int link, int k,
-                   const std::vector<formats::LinkSphere>& spheres) {
+                   const std::vector<formats::LinkSphere>& link_spheres) {
   double reach = 0;
-  for (const auto& s : spheres)
-    if (s.link == link) reach = std::max(reach, s.center.norm() + s.radius);
+  for (const auto& s : link_spheres) reach = std::max(reach, s.center.norm() + s.radius);
   for (int l = link; parent_joint[std::size_t(l)] >= 0;) {
     const int j = parent_joint[std::size_t(l)];
     if (j == k) return reach;
@@ -50,13 +49,12 @@ double slope_bound(const RobotModel& m, const std::vector<int>& parent_joint, in
   return std::numeric_limits<double>::infinity();  // not reached: k is not above the link
 }
 
-bool spheres_overlap(const std::vector<formats::LinkSphere>& spheres, int a, int b, const Eigen::Isometry3d& Ta,
-                     const Eigen::Isometry3d& Tb) {
-  for (const auto& sa : spheres) {
-    if (sa.link != a) continue;
+bool spheres_overlap(const std::vector<formats::LinkSphere>& a, const std::vector<formats::LinkSphere>& b,
+                     const Eigen::Isometry3d& Ta, const Eigen::Isometry3d& Tb) {
+  for (const auto& sa : a) {
     const Eigen::Vector3d ca = Ta * sa.center;
-    for (const auto& sb : spheres)
-      if (sb.link == b && (ca - Tb * sb.center).norm() < sa.radius + sb.radius) return true;
+    for (const auto& sb : b)
+      if ((ca - Tb * sb.center).norm() < sa.radius + sb.radius) return true;
   }
   return false;
 }
@@ -83,9 +81,9 @@ std::vector<formats::SelfDistanceTable> build_self_distance_tables(const runtime
       if ((x == a && y == b) || (x == b && y == a)) return true;
     return false;
   };
-  auto has_spheres = [&](int l) {
-    return std::any_of(spheres.begin(), spheres.end(), [&](const formats::LinkSphere& s) { return s.link == l; });
-  };
+  std::vector<std::vector<formats::LinkSphere>> by_link(m.links.size());
+  for (const auto& s : spheres)
+    if (s.link >= 0 && std::size_t(s.link) < by_link.size()) by_link[std::size_t(s.link)].push_back(s);
   Eigen::VectorXd mid = (kin.lower() + kin.upper()) / 2;
   std::mt19937_64 rng(7);
   std::vector<Eigen::Isometry3d> poses;
@@ -95,7 +93,7 @@ std::vector<formats::SelfDistanceTable> build_self_distance_tables(const runtime
   for (int a = 0; a < nl; ++a)
     for (int b = a + 1; b < nl; ++b) {
       if (m.links[std::size_t(a)].collision.empty() || m.links[std::size_t(b)].collision.empty()) continue;
-      if (!has_spheres(a) || !has_spheres(b) || allowed(a, b)) continue;
+      if (by_link[std::size_t(a)].empty() || by_link[std::size_t(b)].empty() || allowed(a, b)) continue;
       if (!moving[std::size_t(a)] && !moving[std::size_t(b)]) continue;
       tree_path(m, parent_joint, a, b, path, a_side);
       std::vector<int> joints;
@@ -118,7 +116,7 @@ std::vector<formats::SelfDistanceTable> build_self_distance_tables(const runtime
           q[kin.chain_slot(j)] = std::uniform_real_distribution<double>(jj.lower, jj.upper)(rng);
         }
         kin.link_poses(q, poses);
-        overlap = spheres_overlap(spheres, a, b, poses[std::size_t(a)], poses[std::size_t(b)]);
+        overlap = spheres_overlap(by_link[std::size_t(a)], by_link[std::size_t(b)], poses[std::size_t(a)], poses[std::size_t(b)]);
       }
       if (!overlap) continue;
       formats::SelfDistanceTable t;
@@ -130,7 +128,7 @@ std::vector<formats::SelfDistanceTable> build_self_distance_tables(const runtime
         t.lower[k] = j.lower;
         t.count[k] = std::max(2, int(std::ceil((j.upper - j.lower) / o.step)) + 1);
         t.step[k] = (j.upper - j.lower) / (t.count[k] - 1);
-        t.slope[k] = slope_bound(m, parent_joint, moves_a[k] ? a : b, joints[k], spheres);
+        t.slope[k] = slope_bound(m, parent_joint, moves_a[k] ? a : b, joints[k], by_link[std::size_t(moves_a[k] ? a : b)]);
       }
       t.distance.resize(std::size_t(t.count[0]) * std::size_t(t.count[1]));
       detail::parallel_for(t.distance.size(), o.threads, [&](std::size_t n) {

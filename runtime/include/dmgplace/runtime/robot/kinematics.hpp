@@ -49,12 +49,13 @@ class Kinematics {
 
  private:
   Eigen::Isometry3d joint_motion(int joint, double value) const;
-  // Per joint, Rodrigues' formula folded into the origin: the child frame's rotation is
-  // O + sin(q) OK + (1 - cos(q)) OKK for a revolute joint (K the axis' cross-product matrix), its
-  // translation t + q O a for a prismatic one. Saves building an angle-axis rotation per joint.
+  // Per joint, Rodrigues' formula folded into the origin (rotation O, translation t): the child
+  // frame's rotation is O + sin(q) OK + (1 - cos(q)) OKK for a revolute joint (K the axis'
+  // cross-product matrix), its translation t + q Oa for a prismatic one. Saves building an
+  // angle-axis rotation per joint.
   struct JointMotionTerms {
-    Eigen::Matrix3d O, OK, OKK;
-    Eigen::Vector3d t, Oa;
+    Eigen::Matrix3d OK, OKK;
+    Eigen::Vector3d Oa;
   };
   std::vector<JointMotionTerms> terms_;
   std::vector<int> roots_;  // links without a parent joint
