@@ -31,6 +31,7 @@ void add(Stats& s, const tools::PlanOutcome& o) {
 }
 
 void print(const std::string& name, const Stats& s) {
+  if (s.runs == 0) return;
   std::cout << std::left << std::setw(28) << name << " solved " << s.solved << "/" << s.runs << " (valid " << s.valid
             << "), median " << quantile(s.times, 0.5) * 1e3 << " ms, p95 " << quantile(s.times, 0.95) * 1e3
             << " ms, median length " << quantile(s.lengths, 0.5) << "\n";
@@ -45,6 +46,7 @@ int run_bench_mbm(const BenchMbmArgs& a) {
     csv << "set,problem,planner,run,solved,valid,seconds,length\n";
   }
   Stats ours_all, stock_all;
+  const bool run_ours = a.planners != "stock", run_stock = a.planners != "ours";
   std::vector<double> field_seconds;  // ours needs the scene's distance field (offline in dmgplace: bake-env)
   for (const auto& dir : a.dirs) {
     std::vector<fs::path> requests;
@@ -62,18 +64,18 @@ int run_bench_mbm(const BenchMbmArgs& a) {
       opt.sdf_resolution = a.sdf_resolution;
       auto problem = tools::load_arm_problem(a.robot, scene, requests[i], opt);
       field_seconds.push_back(problem.bake_seconds);
+      auto record = [&](const char* planner, int r, const tools::PlanOutcome& o, Stats& set_stats, Stats& all) {
+        add(set_stats, o);
+        add(all, o);
+        if (csv)
+          csv << set << "," << id << "," << planner << "," << r << "," << o.solved << "," << o.valid << "," << o.seconds << ","
+              << o.length << "\n";
+      };
       for (int r = 0; r < a.runs; ++r) {
-        auto o = tools::plan_ours(problem, a.time_limit, a.resolution, std::uint64_t(r + 1));
-        auto s = tools::plan_stock(problem, a.time_limit, a.resolution, std::uint64_t(r + 1));
-        add(ours, o);
-        add(stock, s);
-        add(ours_all, o);
-        add(stock_all, s);
-        if (csv) {
-          csv << set << "," << id << ",ours," << r << "," << o.solved << "," << o.valid << "," << o.seconds << "," << o.length << "\n";
-          csv << set << "," << id << ",ompl_rrtconnect_fcl," << r << "," << s.solved << "," << s.valid << "," << s.seconds << ","
-              << s.length << "\n";
-        }
+        const auto seed = std::uint64_t(r + 1);
+        if (run_ours) record("ours", r, tools::plan_ours(problem, a.time_limit, a.resolution, seed), ours, ours_all);
+        if (run_stock)
+          record("ompl_rrtconnect_fcl", r, tools::plan_stock(problem, a.time_limit, a.resolution, seed), stock, stock_all);
       }
       std::cerr << "\r" << set << ": " << (i + 1) << "/" << requests.size() << std::flush;
     }
@@ -85,7 +87,8 @@ int run_bench_mbm(const BenchMbmArgs& a) {
   print("all OMPL RRTConnect+FCL", stock_all);
   std::cout << "distance field per scene (not in ours' times; bake-env does it offline): median "
             << quantile(field_seconds, 0.5) * 1e3 << " ms at " << a.sdf_resolution << " m\n";
-  std::cout << "ratio of medians (stock / ours): " << quantile(stock_all.times, 0.5) / quantile(ours_all.times, 0.5) << "\n";
+  if (run_ours && run_stock)
+    std::cout << "ratio of medians (stock / ours): " << quantile(stock_all.times, 0.5) / quantile(ours_all.times, 0.5) << "\n";
   return 0;
 }
 

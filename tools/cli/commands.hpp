@@ -71,6 +71,7 @@ int run_plan(const PlanArgs& a);
 struct BenchMbmArgs {
   std::vector<std::string> dirs;
   std::string robot, csv;
+  std::string planners = "both";  // ours, stock or both
   int runs = 1, limit = 0;
   double time_limit = 10, resolution = 0.01, sdf_resolution = 0.02;
 };

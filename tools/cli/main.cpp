@@ -160,6 +160,8 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   c_bench->add_option("--resolution", bench_mbm.resolution, "Motion check step in radians")->check(CLI::PositiveNumber);
   c_bench->add_option("--csv", bench_mbm.csv, "Write every run as CSV");
+  c_bench->add_option("--planners", bench_mbm.planners, "Which planners to run (the ratio needs both)")
+      ->check(CLI::IsMember({"ours", "stock", "both"}));
 
   MakeObjectsArgs make_objects;
   auto* c_make = app.add_subcommand("make-objects", "Write the built-in procedural object meshes (eraser, bottle)");

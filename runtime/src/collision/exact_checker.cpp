@@ -15,8 +15,12 @@ namespace dmgplace::runtime {
 namespace {
 using Geometry = std::shared_ptr<fcl::CollisionGeometryd>;
 
+// Collision BVHs use OBB nodes: FCL has a closed-form OBB for a box, cylinder or sphere obstacle,
+// while for OBBRSS it fits one by eigen-decomposition on every mesh-vs-primitive query (a third of
+// the exact layer's time). Distance queries need RSS nodes, so links also keep an OBBRSS copy.
+template <typename BV>
 Geometry make_mesh(const TriMesh& m) {
-  auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+  auto model = std::make_shared<fcl::BVHModel<BV>>();
   std::vector<fcl::Vector3d> v(std::size_t(m.vertices.rows()));
   std::vector<fcl::Triangle> t(std::size_t(m.triangles.rows()));
   for (std::size_t i = 0; i < v.size(); ++i) v[i] = m.vertices.row(Eigen::Index(i)).transpose();
@@ -30,13 +34,13 @@ Geometry make_mesh(const TriMesh& m) {
   return model;
 }
 
-Geometry make_geometry(const Shape& s) {
+Geometry make_geometry(const Shape& s, bool for_distance = false) {
   Geometry g;
   switch (s.type) {
     case ShapeType::Box: g = std::make_shared<fcl::Boxd>(s.size.x(), s.size.y(), s.size.z()); break;
     case ShapeType::Cylinder: g = std::make_shared<fcl::Cylinderd>(s.size[0], s.size[1]); break;
     case ShapeType::Sphere: g = std::make_shared<fcl::Sphered>(s.size[0]); break;
-    case ShapeType::Mesh: return make_mesh(s.mesh);
+    case ShapeType::Mesh: return for_distance ? make_mesh<fcl::OBBRSSd>(s.mesh) : make_mesh<fcl::OBBd>(s.mesh);
   }
   g->computeLocalAABB();
   return g;
@@ -64,8 +68,56 @@ class Placed {
 
 struct Part {
   int link;               // robot link, or -1 for the attached object
-  Geometry geometry;
+  Geometry geometry;      // for collision queries
+  Geometry distance_geometry;  // for distance queries (links only)
   Eigen::Isometry3d local;  // in the link frame
+};
+
+// One CollisionObject per part, built once and reused: the constructor walks every vertex of a
+// mesh (FCL recomputes the local AABB), far more than the query itself near an obstacle. A query
+// leases a set, so concurrent queries never share one.
+class ObjectPool {
+ public:
+  using Set = std::vector<std::unique_ptr<fcl::CollisionObjectd>>;
+  class Lease {
+   public:
+    Lease(ObjectPool& pool, const std::vector<Part>& parts) : pool_(&pool), set_(pool.acquire(parts)) {}
+    ~Lease() { pool_->release(std::move(set_)); }
+    Lease(const Lease&) = delete;
+    Lease& operator=(const Lease&) = delete;
+    fcl::CollisionObjectd* place(std::size_t part, const Eigen::Isometry3d& pose) {
+      fcl::CollisionObjectd* o = (*set_)[part].get();
+      o->setTransform(pose.linear(), pose.translation());
+      o->computeAABB();
+      return o;
+    }
+
+   private:
+    ObjectPool* pool_;
+    std::unique_ptr<Set> set_;
+  };
+
+ private:
+  std::unique_ptr<Set> acquire(const std::vector<Part>& parts) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!free_.empty()) {
+        auto s = std::move(free_.back());
+        free_.pop_back();
+        return s;
+      }
+    }
+    auto s = std::make_unique<Set>();
+    std::lock_guard<std::mutex> lock(fcl_object_mutex());
+    for (const auto& p : parts) s->push_back(std::make_unique<fcl::CollisionObjectd>(p.geometry));
+    return s;
+  }
+  void release(std::unique_ptr<Set> s) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    free_.push_back(std::move(s));
+  }
+  std::mutex mutex_;
+  std::vector<std::unique_ptr<Set>> free_;
 };
 }  // namespace
 
@@ -76,7 +128,7 @@ struct CollisionMesh::Impl {
 CollisionMesh::CollisionMesh(const TriMesh& mesh) {
   if (mesh.empty()) throw Error("CollisionMesh", "mesh", "empty");
   auto impl = std::make_shared<Impl>();
-  impl->geometry = make_mesh(mesh);
+  impl->geometry = make_mesh<fcl::OBBd>(mesh);
   this->impl = impl;
 }
 
@@ -91,6 +143,7 @@ struct ExactChecker::Impl {
   std::shared_ptr<std::vector<std::string>> env_names;
   std::shared_ptr<fcl::DynamicAABBTreeCollisionManagerd> env;
   std::vector<int> touching;  // links the attached object may touch
+  std::shared_ptr<ObjectPool> pool = std::make_shared<ObjectPool>();  // per parts list, never copied
 };
 
 namespace {
@@ -145,7 +198,7 @@ ExactChecker::ExactChecker(const Kinematics& kin, const Scene& env, double scan_
   for (std::size_t l = 0; l < m.links.size(); ++l) {
     impl->link_names.push_back(m.links[l].name);
     for (const auto& s : m.links[l].collision) {
-      impl->parts.push_back({int(l), make_geometry(s), s.origin});
+      impl->parts.push_back({int(l), make_geometry(s), make_geometry(s, true), s.origin});
       impl->part_is_object.push_back(0);
     }
   }
@@ -191,8 +244,9 @@ ExactChecker ExactChecker::with_attached(const CollisionMesh& object, int link, 
   if (link < 0 || std::size_t(link) >= kin_->model().links.size())
     throw Error("ExactChecker", "attached object", "link index out of range");
   auto impl = std::make_shared<Impl>(*impl_);  // shares the environment and geometry (shared_ptrs)
-  impl->parts.push_back({link, object.impl->geometry, object_in_link});
+  impl->parts.push_back({link, object.impl->geometry, nullptr, object_in_link});
   impl->part_is_object.push_back(1);
+  impl->pool = std::make_shared<ObjectPool>();  // sets hold one object per part: a new list, a new pool
   impl->touching = std::move(touching_links);
   build_self_pairs(*impl, *kin_);
   ExactChecker c(*this);
@@ -205,13 +259,14 @@ ExactCheck ExactChecker::check(const Eigen::VectorXd& q) const {
   kin_->link_poses(q, poses);
   const Impl& impl = *impl_;
   ExactCheck out;
-  std::vector<Placed> objs;
-  objs.reserve(impl.parts.size());
-  for (const auto& p : impl.parts) objs.emplace_back(p.geometry, poses[std::size_t(p.link)] * p.local);
+  ObjectPool::Lease lease(*impl.pool, impl.parts);
+  std::vector<fcl::CollisionObjectd*> objs(impl.parts.size());
+  for (std::size_t i = 0; i < impl.parts.size(); ++i)
+    objs[i] = lease.place(i, poses[std::size_t(impl.parts[i].link)] * impl.parts[i].local);
   for (std::size_t i = 0; i < impl.parts.size(); ++i) {
     if (!impl.moving[std::size_t(impl.parts[i].link)] && !impl.part_is_object[i]) continue;
     EnvHit hit;
-    impl.env->collide(objs[i].get(), &hit, env_callback);
+    impl.env->collide(objs[i], &hit, env_callback);
     if (hit.hit) {
       out.environment_free = false;
       std::size_t name = reinterpret_cast<std::size_t>(hit.other->getUserData());
@@ -223,7 +278,7 @@ ExactCheck ExactChecker::check(const Eigen::VectorXd& q) const {
   fcl::CollisionRequestd req;
   for (auto [a, b] : impl.self_pairs) {
     fcl::CollisionResultd res;
-    if (fcl::collide(objs[std::size_t(a)].get(), objs[std::size_t(b)].get(), req, res) > 0) {
+    if (fcl::collide(objs[std::size_t(a)], objs[std::size_t(b)], req, res) > 0) {
       out.self_free = false;
       auto name = [&](int k) {
         return impl.part_is_object[std::size_t(k)] ? std::string("held object") : impl.link_names[std::size_t(impl.parts[std::size_t(k)].link)];
@@ -236,13 +291,14 @@ ExactCheck ExactChecker::check(const Eigen::VectorXd& q) const {
 }
 
 bool ExactChecker::links_free(const std::vector<std::pair<int, Eigen::Isometry3d>>& link_poses) const {
-  for (const auto& p : impl_->parts) {
+  ObjectPool::Lease lease(*impl_->pool, impl_->parts);
+  for (std::size_t i = 0; i < impl_->parts.size(); ++i) {
+    const Part& p = impl_->parts[i];
     if (p.link < 0) continue;
     for (const auto& [link, pose] : link_poses) {
       if (link != p.link) continue;
-      Placed obj(p.geometry, pose * p.local);
       EnvHit hit;
-      impl_->env->collide(obj.get(), &hit, env_callback);
+      impl_->env->collide(lease.place(i, pose * p.local), &hit, env_callback);
       if (hit.hit) return false;
     }
   }
@@ -264,13 +320,13 @@ bool ExactChecker::links_environment_free(const Eigen::VectorXd& q, const int* l
   thread_local std::vector<Eigen::Isometry3d> poses;
   kin_->link_poses(q, poses);
   const Impl& impl = *impl_;
+  ObjectPool::Lease lease(*impl.pool, impl.parts);
   for (std::size_t i = 0; i < impl.parts.size(); ++i) {
     const Part& p = impl.parts[i];
     const bool wanted = impl.part_is_object[i] ? object : std::find(links, links + count, p.link) != links + count;
     if (!wanted) continue;
-    Placed obj(p.geometry, poses[std::size_t(p.link)] * p.local);
     EnvHit hit;
-    impl.env->collide(obj.get(), &hit, env_callback);
+    impl.env->collide(lease.place(i, poses[std::size_t(p.link)] * p.local), &hit, env_callback);
     if (hit.hit) return false;
   }
   return true;
@@ -281,6 +337,7 @@ bool ExactChecker::link_pairs_free(const Eigen::VectorXd& q, const std::pair<int
   kin_->link_poses(q, poses);
   const Impl& impl = *impl_;
   fcl::CollisionRequestd req;
+  ObjectPool::Lease lease(*impl.pool, impl.parts);
   for (auto [a, b] : impl.self_pairs) {
     const int la = impl.parts[std::size_t(a)].link, lb = impl.parts[std::size_t(b)].link;
     if (impl.part_is_object[std::size_t(a)] || impl.part_is_object[std::size_t(b)]) continue;
@@ -290,9 +347,10 @@ bool ExactChecker::link_pairs_free(const Eigen::VectorXd& q, const std::pair<int
     if (!wanted) continue;
     const auto& pa = impl.parts[std::size_t(a)];
     const auto& pb = impl.parts[std::size_t(b)];
-    Placed oa(pa.geometry, poses[std::size_t(la)] * pa.local), ob(pb.geometry, poses[std::size_t(lb)] * pb.local);
     fcl::CollisionResultd res;
-    if (fcl::collide(oa.get(), ob.get(), req, res) > 0) return false;
+    if (fcl::collide(lease.place(std::size_t(a), poses[std::size_t(la)] * pa.local),
+                     lease.place(std::size_t(b), poses[std::size_t(lb)] * pb.local), req, res) > 0)
+      return false;
   }
   return true;
 }
@@ -305,7 +363,8 @@ double ExactChecker::link_distance(const Eigen::VectorXd& q, int link_a, int lin
     if (pa.link != link_a) continue;
     for (const auto& pb : impl_->parts) {
       if (pb.link != link_b) continue;
-      Placed oa(pa.geometry, poses[std::size_t(link_a)] * pa.local), ob(pb.geometry, poses[std::size_t(link_b)] * pb.local);
+      Placed oa(pa.distance_geometry, poses[std::size_t(link_a)] * pa.local),
+          ob(pb.distance_geometry, poses[std::size_t(link_b)] * pb.local);
       fcl::CollisionRequestd creq;
       fcl::CollisionResultd cres;
       if (fcl::collide(oa.get(), ob.get(), creq, cres) > 0) return 0.0;  // FCL's distance is unsigned inside

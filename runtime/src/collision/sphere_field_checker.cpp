@@ -95,7 +95,7 @@ void SphereFieldChecker::build_bodies() {
       const int j = parent_joint[std::size_t(l)];
       const Joint& jt = model.joints[std::size_t(j)];
       const bool prismatic = jt.type == JointType::Prismatic;
-      if (kin_->chain_slot(j) >= 0) b.chain.push_back({kin_->chain_slot(j), prismatic ? 1.0 : reach});
+      if (kin_->chain_slot(j) >= 0) b.chain.push_back({kin_->chain_slot(j), prismatic ? 1.0 : reach, jt.child, jt.axis.normalized(), prismatic});
       reach += jt.origin.translation().norm() + (prismatic ? std::max(std::abs(jt.lower), std::abs(jt.upper)) : 0.0);
       l = jt.parent;
     }
@@ -182,13 +182,13 @@ SphereFieldChecker SphereFieldChecker::with_attached(AttachedSpheres object) con
   return c;
 }
 
-SphereCheck SphereFieldChecker::check(const Eigen::VectorXd& q) const { return evaluate(q, nullptr); }
+SphereCheck SphereFieldChecker::check(const Eigen::VectorXd& q) const { return evaluate(q, nullptr, 0.0); }
 
-SphereCheck SphereFieldChecker::check_along(const Eigen::VectorXd& q, const Eigen::VectorXd& direction) const {
-  return evaluate(q, &direction);
+SphereCheck SphereFieldChecker::check_along(const Eigen::VectorXd& q, const Eigen::VectorXd& direction, double enough) const {
+  return evaluate(q, &direction, enough);
 }
 
-SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::VectorXd* dir) const {
+SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::VectorXd* dir, double enough) const {
   thread_local std::vector<Eigen::Isometry3d> poses;
   thread_local std::vector<Eigen::Vector3d> body_center, world;
   thread_local std::vector<char> world_done;
@@ -323,12 +323,75 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
     out.pairs[std::size_t(out.pair_count++)] = {a.link, b.link};
   }
   if (certify && out.free()) {
+    // Bodies: a cheap bound first (the clearance seen, over the static reach). The body that
+    // limits the certificate is refined (its speed from its distances to the joint axes, then its
+    // spheres' own clearances) until the limit is final or the certificate is long enough.
+    struct Candidate {
+      double t;
+      std::size_t body;
+      int level;  // 0 cheap, 1 local speeds, 2 local speeds and sphere clearances (final)
+      BodySpeed speed;
+    };
+    thread_local std::vector<Candidate> cands;
+    cands.clear();
     for (std::size_t bi = 0; bi < bodies_.size(); ++bi)
-      if ((bodies_[bi].moving || bodies_[bi].attached) && std::isfinite(body_clear[bi]))
-        certify_pair(body_clear[bi], speed(bodies_[bi].chain));
+      if ((bodies_[bi].moving || bodies_[bi].attached) && std::isfinite(body_clear[bi])) {
+        const double v = speed(bodies_[bi].chain);
+        if (v > 0) cands.push_back({body_clear[bi] / v, bi, 0, {}});
+      }
+    const double limit = std::min(free_distance, enough);
+    while (!cands.empty()) {
+      auto c = std::min_element(cands.begin(), cands.end(), [](const Candidate& x, const Candidate& y) { return x.t < y.t; });
+      if (c->t >= limit || c->level == 2) break;
+      const std::size_t bi = c->body;
+      if (c->level == 0) {
+        c->speed = body_speed(bi, poses, body_center[bi], *dir);
+        c->t = c->speed.time_to_move(body_clear[bi]);
+      } else {
+        // Every sphere's own clearance (the body's bounding sphere, or the coarse grid, gave less).
+        centres(bi);
+        double clearance = std::numeric_limits<double>::infinity();
+        for (int i = bodies_[bi].begin; i < bodies_[bi].end; ++i) {
+          const auto& sp = spheres_[std::size_t(i)];
+          const Eigen::Vector3d& w = world[std::size_t(i)];
+          clearance =
+              std::min(clearance, std::max(coarse_lower_bound(w) - sp.radius - padding_, sdf_->sample(w) - sp.radius - pad));
+        }
+        c->t = c->speed.time_to_move(std::max(clearance, body_clear[bi]));
+      }
+      ++c->level;
+    }
+    for (const auto& c : cands) free_distance = std::min(free_distance, c.t);
     out.free_distance = std::isfinite(free_distance) ? free_distance : 1e9;
   }
   return out;
+}
+
+SphereFieldChecker::BodySpeed SphereFieldChecker::body_speed(std::size_t bi, const std::vector<Eigen::Isometry3d>& poses,
+                                                             const Eigen::Vector3d& center, const Eigen::VectorXd& dir) const {
+  const Body& b = bodies_[bi];
+  BodySpeed out;
+  for (const auto& j : b.chain) {
+    const double u = std::abs(dir[j.slot]);
+    out.reach_speed += u * j.reach;
+    if (j.prismatic) {
+      out.local_speed += u;
+      continue;
+    }
+    const Eigen::Isometry3d& T = poses[std::size_t(j.child)];
+    const Eigen::Vector3d axis = T.linear() * j.axis;
+    out.local_speed += u * ((center - T.translation()).cross(axis).norm() + b.radius);
+    out.turn_rate += u;
+  }
+  return out;
+}
+
+double SphereFieldChecker::BodySpeed::time_to_move(double clearance) const {
+  const double t_static = reach_speed > 0 ? clearance / reach_speed : std::numeric_limits<double>::infinity();
+  double t_local = std::numeric_limits<double>::infinity();
+  if (turn_rate > 1e-12) t_local = std::log1p(clearance * turn_rate / local_speed) / turn_rate;
+  else if (local_speed > 0) t_local = clearance / local_speed;
+  return std::max(t_static, t_local);
 }
 
 }  // namespace dmgplace::runtime

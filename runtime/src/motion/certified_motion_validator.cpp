@@ -39,14 +39,15 @@ bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State*
   const Segment seg(*si_, s1, s2);
   const int steps = seg.steps;
   // A certificate is symmetric (speeds bound |direction|): state i proves states i-k .. i+k.
-  auto check = [&](int i, int& k) {
-    const double fd = free_distance_(seg.at(i), seg.dir);
+  // `need` steps on either side is all that is left to prove around i.
+  auto check = [&](int i, int need, int& k) {
+    const double fd = free_distance_(seg.at(i), seg.dir, (need + 1e-6) * seg.h);
     if (fd < 0) return false;
     k = seg.h > 0 ? int(std::min(fd / seg.h, double(steps))) : steps;
     return true;
   };
   int k = 0;
-  if (!check(steps, k)) {  // the far end first: a bad goal is found at once
+  if (!check(steps, steps - 1, k)) {  // the far end first: a bad goal is found at once
     ++invalid_;
     return false;
   }
@@ -58,7 +59,7 @@ bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State*
     const auto [lo, hi] = queue[head];
     if (lo > hi) continue;
     const int mid = (lo + hi) / 2;
-    if (!check(mid, k)) {
+    if (!check(mid, std::max(mid - lo, hi - mid), k)) {
       ++invalid_;
       return false;
     }
@@ -78,7 +79,7 @@ bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State*
   for (int i = 1; i <= steps; ++i) {
     const double t = i * seg.h;
     if (t <= covered && i < steps) continue;
-    const double ahead = free_distance_(seg.at(i), seg.dir);
+    const double ahead = free_distance_(seg.at(i), seg.dir, (steps - i + 1e-6) * seg.h);
     if (ahead < 0) {
       last_valid.second = double(i - 1) / steps;
       if (last_valid.first) si_->getStateSpace()->interpolate(s1, s2, last_valid.second, last_valid.first);

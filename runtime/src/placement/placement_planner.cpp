@@ -150,7 +150,9 @@ struct PlacementPlanner::Run {
       auto checker = spaces->checker(g);
       return make_arm_space(
           world.kin(), [checker](const Eigen::VectorXd& x) { return checker->is_free(x); }, o.motion_resolution,
-          [checker](const Eigen::VectorXd& x, const Eigen::VectorXd& dir) { return checker->free_distance(x, dir); });
+          [checker](const Eigen::VectorXd& x, const Eigen::VectorXd& dir, double enough) {
+            return checker->free_distance(x, dir, enough);
+          });
     };
     motion = std::make_unique<MultiGraspPlanner>(factory, std::vector<double>(q.q0.data(), q.q0.data() + q.q0.size()),
                                                  std::max(1, o.threads), q.seed);

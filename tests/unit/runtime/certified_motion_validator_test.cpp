@@ -44,7 +44,7 @@ TEST(CertifiedMotionValidator, AgreesWithTheDiscreteValidatorOnEveryMotionWithFe
   auto si = make_space(&discrete_checks);
   ob::DiscreteMotionValidator discrete(si);
   // A point robot moves 1 m per unit of motion: its clearance is the certified free distance.
-  CertifiedMotionValidator certified(si, [&](const Eigen::VectorXd& q, const Eigen::VectorXd&) {
+  CertifiedMotionValidator certified(si, [&](const Eigen::VectorXd& q, const Eigen::VectorXd&, double) {
     ++certified_checks;
     const double c = clearance(q[0], q[1]);
     return c > 0 ? c : -1.0;

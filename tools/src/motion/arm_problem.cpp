@@ -83,7 +83,7 @@ PlanOutcome plan_ours(const ArmProblem& p, double time_limit, double resolution,
   const auto t0 = Clock::now();
   auto si = runtime::make_arm_space(
       *p.kin, [&](const Eigen::VectorXd& q) { return p.checker->is_free(q); }, resolution,
-      [&](const Eigen::VectorXd& q, const Eigen::VectorXd& dir) { return p.checker->free_distance(q, dir); });
+      [&](const Eigen::VectorXd& q, const Eigen::VectorXd& dir, double enough) { return p.checker->free_distance(q, dir, enough); });
   auto pdef = std::make_shared<ob::ProblemDefinition>(si);
   ob::ScopedState<> start(si->getStateSpace());
   for (int i = 0; i < p.kin->dof(); ++i) start[unsigned(i)] = p.start[i];

@@ -4,6 +4,7 @@
 // touch. Conservative by construction: interpolation error and grid band are accounted for, so it
 // may say "collision" near surfaces but never "free" where the spheres touch an obstacle.
 #include <array>
+#include <limits>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -64,7 +65,9 @@ class SphereFieldChecker {
   // check() plus a certified free distance along `direction` (joint space; any length): every
   // body's clearance divided by how fast the motion can move it (sum over the joints above it of
   // |direction_j| times its farthest possible reach from joint j's axis, whatever the other joints).
-  SphereCheck check_along(const Eigen::VectorXd& q, const Eigen::VectorXd& direction) const;
+  // `enough`: a certificate this long is all the caller needs (refining stops there).
+  SphereCheck check_along(const Eigen::VectorXd& q, const Eigen::VectorXd& direction,
+                          double enough = std::numeric_limits<double>::infinity()) const;
   bool is_free(const Eigen::VectorXd& q) const { return check(q).free(); }
 
   std::size_t sphere_count() const { return spheres_.size(); }
@@ -76,6 +79,9 @@ class SphereFieldChecker {
   struct ChainJoint {
     int slot = -1;     // index in q
     double reach = 1;  // metres per unit of this joint: farthest the body gets from its axis (1 if prismatic)
+    int child = -1;    // the joint's child link: its frame holds the axis at its origin
+    Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // in the child frame
+    bool prismatic = false;
   };
   struct Body {
     int link = -1;
@@ -96,7 +102,19 @@ class SphereFieldChecker {
     double lower_bound(const Eigen::VectorXd& q) const { return data.lower_bound(q[slot[0]], slot[1] >= 0 ? q[slot[1]] : 0.0); }
   };
   void build_bodies();
-  SphereCheck evaluate(const Eigen::VectorXd& q, const Eigen::VectorXd* direction) const;
+  SphereCheck evaluate(const Eigen::VectorXd& q, const Eigen::VectorXd* direction, double enough) const;
+  // How fast body `bi` can move along `direction`. Every point x of the body moves at
+  // |x'| <= sum_j |u_j| r_j(t), r_j its distance to joint j's axis. Two bounds on r_j(t): the
+  // static reach (`reach_speed` = sum |u_j| reach_j), and r_j(0) + D(t), D the body's displacement
+  // so far (only motion relative to joint j's frame changes r_j, and that is at most D). With
+  // `local_speed` V0 = sum |u_j| r_j(0) and `turn_rate` W = sum |u_j|, D' <= V0 + W D, so
+  // D(t) <= V0 / W (exp(W t) - 1) (Gronwall). Either bound proves a clearance lasts until used up.
+  struct BodySpeed {
+    double reach_speed = 0, local_speed = 0, turn_rate = 0;
+    double time_to_move(double clearance) const;
+  };
+  BodySpeed body_speed(std::size_t bi, const std::vector<Eigen::Isometry3d>& poses, const Eigen::Vector3d& center,
+                       const Eigen::VectorXd& direction) const;
   bool certifiable_ = true;  // false when a mimic joint follows a chain joint (speeds unknown)
   const Kinematics* kin_;
   std::vector<formats::LinkSphere> spheres_;  // robot + attached, link frames, grouped by body

@@ -23,9 +23,11 @@ class TwoLayerChecker {
 
   bool is_free(const Eigen::VectorXd& q) const { return settle(q, fast_.check(q)); }
   // < 0: q collides; otherwise q is free and so is q + t * direction for t in [0, result]
-  // (0 when the exact layer had to decide, which certifies nothing beyond q).
-  double free_distance(const Eigen::VectorXd& q, const Eigen::VectorXd& direction) const {
-    const SphereCheck f = fast_.check_along(q, direction);
+  // (0 when the exact layer had to decide, which certifies nothing beyond q). `enough`: the
+  // longest certificate the caller can use.
+  double free_distance(const Eigen::VectorXd& q, const Eigen::VectorXd& direction,
+                       double enough = std::numeric_limits<double>::infinity()) const {
+    const SphereCheck f = fast_.check_along(q, direction, enough);
     if (!settle(q, f)) return -1.0;
     return f.free() ? f.free_distance : 0.0;
   }

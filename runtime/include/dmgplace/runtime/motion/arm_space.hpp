@@ -13,7 +13,7 @@ namespace dmgplace::runtime {
 using ValidityFn = std::function<bool(const Eigen::VectorXd&)>;
 // < 0: q is invalid; otherwise q is valid and so is q + t * direction for t in [0, result]
 // (TwoLayerChecker::free_distance).
-using FreeDistanceFn = std::function<double(const Eigen::VectorXd& q, const Eigen::VectorXd& direction)>;
+using FreeDistanceFn = std::function<double(const Eigen::VectorXd& q, const Eigen::VectorXd& direction, double enough)>;
 
 // With `free_distance`, motions are checked by a CertifiedMotionValidator: the same states at
 // `resolution` steps, except those inside an interval the checker proved free.

@@ -13,7 +13,7 @@ namespace dmgplace::runtime {
 
 class CertifiedMotionValidator : public ompl::base::MotionValidator {
  public:
-  using FreeDistanceFn = std::function<double(const Eigen::VectorXd& q, const Eigen::VectorXd& direction)>;
+  using FreeDistanceFn = std::function<double(const Eigen::VectorXd& q, const Eigen::VectorXd& direction, double enough)>;
   CertifiedMotionValidator(const ompl::base::SpaceInformationPtr& si, FreeDistanceFn free_distance);
 
   bool checkMotion(const ompl::base::State* s1, const ompl::base::State* s2) const override;
