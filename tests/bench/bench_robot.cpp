@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <iostream>
+#include <limits>
 #include <random>
 
 #include "analytic_sdf.hpp"
@@ -77,6 +78,34 @@ void BM_FkPlusFastSphereCheck(benchmark::State& st) {
   st.counters["free_fraction"] = double(free) / double(st.iterations());
 }
 BENCHMARK(BM_FkPlusFastSphereCheck);
+
+// check_along on the configurations the fast layer proves free (a planner's motions are mostly
+// free), unit random directions; the argument is `enough` in mrad (0: unlimited).
+void BM_FkPlusCertifiedCheck(benchmark::State& st) {
+  auto& w = world();
+  static std::vector<std::pair<Eigen::VectorXd, Eigen::VectorXd>> cases = [&] {
+    std::vector<std::pair<Eigen::VectorXd, Eigen::VectorXd>> out;
+    std::mt19937_64 rng(2);
+    std::normal_distribution<double> g(0, 1);
+    for (const auto& q : w.configs)
+      if (w.fast->is_free(q)) {
+        Eigen::VectorXd d(q.size());
+        for (Eigen::Index j = 0; j < d.size(); ++j) d[j] = g(rng);
+        out.emplace_back(q, d.normalized());
+      }
+    return out;
+  }();
+  const double enough = st.range(0) > 0 ? 1e-3 * double(st.range(0)) : std::numeric_limits<double>::infinity();
+  std::size_t i = 0;
+  double certified = 0;
+  for (auto _ : st) {
+    const auto& [q, d] = cases[i++ % cases.size()];
+    certified += std::min(1.0, w.fast->check_along(q, d, enough).free_distance);
+  }
+  st.SetItemsProcessed(st.iterations());
+  st.counters["mean_certified"] = certified / double(st.iterations());
+}
+BENCHMARK(BM_FkPlusCertifiedCheck)->Arg(0)->Arg(20);
 
 void BM_TwoLayerCheck(benchmark::State& st) {
   auto& w = world();

@@ -378,7 +378,7 @@ double ExactChecker::link_distance(const Eigen::VectorXd& q, int link_a, int lin
 }
 
 bool ExactChecker::segment_free(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution) const {
-  const double span = (b - a).cwiseAbs().maxCoeff();
+  const double span = (b - a).norm();  // the planners' metric: Euclidean joint-space length
   const int steps = std::max(1, int(std::ceil(span / resolution)));
   for (int i = 0; i <= steps; ++i)
     if (!is_free(a + (b - a) * (double(i) / steps))) return false;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 #include "dmgplace/formats/error.hpp"
@@ -182,6 +183,10 @@ SphereFieldChecker SphereFieldChecker::with_attached(AttachedSpheres object) con
   return c;
 }
 
+namespace {
+const double kExactBelow = std::getenv("EXB") ? std::atof(std::getenv("EXB")) : 0.05;  // metres
+}
+
 SphereCheck SphereFieldChecker::check(const Eigen::VectorXd& q) const { return evaluate(q, nullptr, 0.0); }
 
 SphereCheck SphereFieldChecker::check_along(const Eigen::VectorXd& q, const Eigen::VectorXd& direction, double enough) const {
@@ -253,9 +258,16 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
         cleared(bi, clearance);
         continue;
       }
+      if (obstacles_) {  // exact, inside the grid or not
+        const double exact = obstacles_->distance(w) - s.radius - padding_;
+        if (exact >= 0) {
+          cleared(bi, exact);
+          continue;
+        }
+      }
       if (!out_of_grid) out.min_clearance = std::min(out.min_clearance, clearance);
       out.environment_free = false;
-      out.outside_grid |= out_of_grid;
+      out.outside_grid |= out_of_grid && !obstacles_;
       if (b.attached) out.attached_near_env = true;
       else if (out.env_link_count < SphereCheck::kMaxPairs) out.env_links[std::size_t(out.env_link_count++)] = b.link;
       else out.env_overflow = true;
@@ -342,7 +354,8 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
     const double limit = std::min(free_distance, enough);
     while (!cands.empty()) {
       auto c = std::min_element(cands.begin(), cands.end(), [](const Candidate& x, const Candidate& y) { return x.t < y.t; });
-      if (c->t >= limit || c->level == 2) break;
+      static const int max_level = std::getenv("MAXLEV") ? std::atoi(std::getenv("MAXLEV")) : 2;
+      if (c->t >= limit || c->level == max_level) break;
       const std::size_t bi = c->body;
       if (c->level == 0) {
         c->speed = body_speed(bi, poses, body_center[bi], *dir);
@@ -354,8 +367,10 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
         for (int i = bodies_[bi].begin; i < bodies_[bi].end; ++i) {
           const auto& sp = spheres_[std::size_t(i)];
           const Eigen::Vector3d& w = world[std::size_t(i)];
-          clearance =
-              std::min(clearance, std::max(coarse_lower_bound(w) - sp.radius - padding_, sdf_->sample(w) - sp.radius - pad));
+          double c = std::max(coarse_lower_bound(w) - sp.radius - padding_, sdf_->sample(w) - sp.radius - pad);
+          // Near a surface the field's margin is most of the clearance: ask the exact shapes.
+          if (obstacles_ && c < kExactBelow) c = std::max(c, obstacles_->distance(w) - sp.radius - padding_);
+          clearance = std::min(clearance, c);
         }
         c->t = c->speed.time_to_move(std::max(clearance, body_clear[bi]));
       }

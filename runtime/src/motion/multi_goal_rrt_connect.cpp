@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <thread>
 
 namespace ob = ompl::base;
@@ -47,7 +48,7 @@ void MultiGoalRRTConnect::setup() {
   auto* rv = si_->getStateSpace()->as<ob::RealVectorStateSpace>();
   lo_ = rv->getBounds().low;
   hi_ = rv->getBounds().high;
-  if (range_ <= 0) range_ = 0.2 * si_->getMaximumExtent();
+  if (range_ <= 0) range_ = (std::getenv("RANGE") ? std::atof(std::getenv("RANGE")) : 0.08) * si_->getMaximumExtent();
 }
 
 void MultiGoalRRTConnect::clear() {

@@ -73,6 +73,7 @@ ArmProblem load_arm_problem(const std::filesystem::path& robot_h5, const std::fi
   p.bake_seconds = since(t0);
   runtime::SphereFieldChecker fast(*p.kin, p.robot.spheres, p.sdf, o.sdf_band);
   fast.set_self_tables(p.robot.self_tables);
+  if (o.exact_primitives) fast.set_exact_obstacles(runtime::PrimitiveObstacles::from_scene(p.scene));
   p.exact = std::make_unique<runtime::ExactChecker>(*p.kin, p.scene);
   p.checker = std::make_unique<runtime::TwoLayerChecker>(std::move(fast), *p.exact);
   return p;

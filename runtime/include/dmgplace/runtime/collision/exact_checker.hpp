@@ -59,7 +59,8 @@ class ExactChecker {
   // Smallest distance between two links' collision geometry at q (0 when they touch).
   double link_distance(const Eigen::VectorXd& q, int link_a, int link_b) const;
 
-  // Exact checks along the straight joint-space segment at `resolution` (max joint step, radians).
+  // Exact checks along the straight joint-space segment every `resolution` of Euclidean length
+  // (radians), the states an OMPL motion validator at that resolution checks.
   bool segment_free(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution) const;
 
   struct Impl;  // FCL objects; defined in the .cpp so FCL headers stay out of ours

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "dmgplace/formats/robot_artifact.hpp"
+#include "dmgplace/runtime/collision/primitive_obstacles.hpp"
 #include "dmgplace/runtime/geometry/grid3.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
 
@@ -57,6 +58,10 @@ class SphereFieldChecker {
   // Exact self-distance tables (from ROBOT.h5): a pair with a table is settled by its proven lower
   // bound where its spheres overlap, instead of being flagged for FCL.
   void set_self_tables(const std::vector<formats::SelfDistanceTable>& tables);
+
+  // The environment's exact primitives, when it is made only of those (PrimitiveObstacles::
+  // from_scene): spheres the field leaves undecided are settled by their exact distance.
+  void set_exact_obstacles(std::shared_ptr<const PrimitiveObstacles> obstacles) { obstacles_ = std::move(obstacles); }
 
   // A checker for one grasp: same robot and environment (shared, no copy), plus the object.
   SphereFieldChecker with_attached(AttachedSpheres object) const;
@@ -132,6 +137,7 @@ class SphereFieldChecker {
   std::vector<std::pair<int, int>> allowed_;  // link pairs
   std::vector<int> touching_;                 // links the attached object may touch
   std::shared_ptr<const Grid3> sdf_;
+  std::shared_ptr<const PrimitiveObstacles> obstacles_;  // null unless the scene is all primitives
   double band_, padding_, margin_;
   Eigen::Vector3d lo_, hi_;  // grid bounds
   int attached_link_ = -1;   // link carrying the attached object, -1 when none

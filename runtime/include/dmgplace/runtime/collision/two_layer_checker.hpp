@@ -2,6 +2,7 @@
 // The checker IK, the sampler and the planner use: the fast sphere layer answers "free" on its own
 // (it is conservative), and only its "maybe" is sent to the exact FCL layer.
 #include <atomic>
+#include <limits>
 #include <memory>
 
 #include "dmgplace/runtime/collision/exact_checker.hpp"

@@ -20,7 +20,8 @@ using FreeDistanceFn = std::function<double(const Eigen::VectorXd& q, const Eige
 ompl::base::SpaceInformationPtr make_arm_space(const Kinematics& kin, ValidityFn valid, double resolution,
                                                FreeDistanceFn free_distance = nullptr);
 
-// Every segment of `path` valid when checked at `resolution` (max joint step).
+// Every segment of `path` valid when checked every `resolution` of Euclidean joint-space length
+// (the metric of OMPL's motion validators, so the same states the planner checked).
 bool path_valid(const std::vector<std::vector<double>>& path, const ValidityFn& valid, double resolution);
 
 }  // namespace dmgplace::runtime

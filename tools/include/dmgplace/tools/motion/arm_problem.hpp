@@ -16,6 +16,7 @@ struct ArmProblemOptions {
   double sdf_resolution = 0.02;  // metres
   double sdf_band = 0.25;        // metres
   double reach = 1.2;            // half-width of the workspace grid around the arm base
+  bool exact_primitives = true;  // the fast layer also uses the scene's exact primitives (when all are)
 };
 
 struct ArmProblem {
