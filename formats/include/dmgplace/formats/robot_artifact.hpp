@@ -1,5 +1,6 @@
 #pragma once
 // ROBOT.h5: the kinematic tree, collision geometry, planning chain and allowed collision pairs.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
@@ -42,8 +43,9 @@ struct SelfDistanceTable {
     std::size_t index = 0;
     double loss = 0;
     for (std::size_t k = 0; k < 2; ++k) {
-      long i = std::lround((x[k] - lower[k]) / step[k]);
-      i = i < 0 ? 0 : (i >= count[k] ? count[k] - 1 : i);
+      // Nearest node, clamped to the grid (no libm call: this runs in every fast check).
+      const double u = (x[k] - lower[k]) / step[k];
+      const long i = !(u > 0) ? 0 : std::min(long(std::min(u, 1e9) + 0.5), long(count[k]) - 1);  // NaN to 0
       loss += slope[k] * std::abs(x[k] - (lower[k] + double(i) * step[k]));
       index = index * std::size_t(count[k]) + std::size_t(i);
     }

@@ -1,8 +1,9 @@
 #pragma once
 // The fast collision layer: the robot's (and held object's) spheres against the environment's
 // signed distance grid, plus sphere-sphere self-collision for link pairs that are not allowed to
-// touch. Conservative by construction: interpolation error and grid band are accounted for, so it
-// may say "collision" near surfaces but never "free" where the spheres touch an obstacle.
+// touch. Conservative by construction: a grid node's value minus the distance to it bounds the
+// 1-Lipschitz distance from below (band clamping only lowers values), so it may say "collision"
+// near surfaces but never "free" where the spheres touch an obstacle.
 #include <array>
 #include <limits>
 #include <memory>
@@ -41,7 +42,7 @@ struct SphereCheck {
   bool env_overflow = false;
   bool attached_near_env = false;
   bool outside_grid = false;  // a sphere left the distance grid: only the exact layer can tell
-  double min_clearance = 0;   // smallest (distance - radius - margin) seen, metres
+  double min_clearance = 0;   // smallest proven (distance - radius) seen, metres
   // check_along() only, when free: q + t * direction is free for every t in [0, free_distance]
   // (the spheres cannot move farther than their clearance); 0 when nothing is certified.
   double free_distance = 0;
@@ -76,7 +77,6 @@ class SphereFieldChecker {
   bool is_free(const Eigen::VectorXd& q) const { return check(q).free(); }
 
   std::size_t sphere_count() const { return spheres_.size(); }
-  double interpolation_margin() const { return margin_; }
 
  private:
   // A body is one link's spheres (or the attached object's), with a bounding sphere that is
@@ -134,11 +134,13 @@ class SphereFieldChecker {
   std::shared_ptr<const Grid3> coarse_;
   double coarse_inv_ = 1;  // 1 / coarse resolution
   double coarse_lower_bound(const Eigen::Vector3d& p) const;
+  double fine_lower_bound(const Eigen::Vector3d& p) const;
+  double fine_inv_ = 1;  // 1 / fine resolution
   std::vector<std::pair<int, int>> allowed_;  // link pairs
   std::vector<int> touching_;                 // links the attached object may touch
   std::shared_ptr<const Grid3> sdf_;
   std::shared_ptr<const PrimitiveObstacles> obstacles_;  // null unless the scene is all primitives
-  double band_, padding_, margin_;
+  double band_, padding_;
   Eigen::Vector3d lo_, hi_;  // grid bounds
   int attached_link_ = -1;   // link carrying the attached object, -1 when none
   int attached_begin_ = 0;   // first sphere of the attached object
