@@ -295,15 +295,19 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
   };
   // A pair gap only matters below what the certificate still needs (`enough`, or a smaller limit
   // found so far): checking gap >= need is a comparison of squares, so most pairs cost no sqrt.
+  bool skipped_pair = false;
   for (std::size_t pi = 0; pi < pairs_.size(); ++pi) {
     const Pair& p = pairs_[pi];
     const double rb = p.reach;
     const double d2 = (body_center[std::size_t(p.a)] - body_center[std::size_t(p.b)]).squaredNorm();
-    const bool certify_this = certify && out.free();
-    const double v = certify_this ? speed(pair_moves_[pi]) : 0.0;
+    const double v = certify && out.free() ? speed(pair_moves_[pi]) : 0.0;
+    const bool certify_this = v > 0;  // (a pair the motion does not move relative needs nothing)
     const double need = certify_this ? std::min(free_distance, enough) * v : 0.0;
     if (d2 >= rb * rb) {
-      if (certify_this && d2 < (rb + need) * (rb + need)) certify_pair(std::sqrt(d2) - rb, v);
+      if (certify_this) {
+        if (d2 < (rb + need) * (rb + need)) certify_pair(std::sqrt(d2) - rb, v);
+        else skipped_pair = true;
+      }
       continue;
     }
     const Body &a = bodies_[std::size_t(p.a)], &b = bodies_[std::size_t(p.b)];
@@ -334,7 +338,9 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
           hit = true;
           break;
         }
-        if (certify_this && s2 < (r + need) * (r + need)) gap = std::min(gap, std::sqrt(s2) - r);
+        if (!certify_this) continue;
+        if (s2 < (r + need) * (r + need)) gap = std::min(gap, std::sqrt(s2) - r);
+        else skipped_pair = true;
       }
     }
     if (!hit) {
@@ -392,6 +398,8 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
       ++c->level;
     }
     for (const auto& c : cands) free_distance = std::min(free_distance, c.t);
+    // A pair skipped as "no limit below what is needed" is only known to allow `enough`.
+    if (skipped_pair) free_distance = std::min(free_distance, enough);
     out.free_distance = std::isfinite(free_distance) ? free_distance : 1e9;
   }
   return out;

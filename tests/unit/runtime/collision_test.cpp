@@ -88,10 +88,22 @@ TEST(SphereCover, EverySamplePointOfEveryLinkIsInsideASphere) {
   }
 }
 
-TEST(Collision, FastLayerNeverSaysFreeWhereExactLayerCollides) {
+// Both forms of the fast layer: the field alone, and the field with the scene's exact primitives.
+class FastLayer : public ::testing::TestWithParam<bool> {
+ protected:
+  SphereFieldChecker make(const ShelfWorld& w) const {
+    SphereFieldChecker fast(w.kin, w.arm.spheres, w.sdf, 0.3);
+    if (GetParam()) fast.set_exact_obstacles(PrimitiveObstacles::from_scene(w.scene));
+    return fast;
+  }
+};
+INSTANTIATE_TEST_SUITE_P(Collision, FastLayer, ::testing::Values(false, true),
+                         [](const auto& info) { return info.param ? "WithExactPrimitives" : "FieldOnly"; });
+
+TEST_P(FastLayer, NeverSaysFreeWhereExactLayerCollides) {
   ShelfWorld w;
   const auto& [arm, kin, scene, sdf] = w;
-  SphereFieldChecker fast(kin, arm.spheres, sdf, 0.3);
+  SphereFieldChecker fast = make(w);
   ExactChecker exact(kin, scene);
   TwoLayerChecker both_layers(fast, exact);
   std::mt19937_64 rng(42);
@@ -196,10 +208,10 @@ TEST(Collision, HeldObjectIsCheckedAndMayTouchTheFingers) {
 // The certified free distance is a proof: every configuration within it along the direction is
 // free for FCL (random directions and random points of the certified stretch), self-distance
 // tables included.
-TEST(Collision, CertifiedFreeDistanceIsFreeForFclAlongTheWholeStretch) {
+TEST_P(FastLayer, CertifiedFreeDistanceIsFreeForFclAlongTheWholeStretch) {
   ShelfWorld w;
   const auto& [arm, kin, scene, sdf] = w;
-  SphereFieldChecker fast(kin, arm.spheres, sdf, 0.3);
+  SphereFieldChecker fast = make(w);
   fast.set_self_tables(tools::build_self_distance_tables(kin, arm.spheres));
   ExactChecker exact(kin, scene);
   std::mt19937_64 rng(7);
@@ -215,21 +227,97 @@ TEST(Collision, CertifiedFreeDistanceIsFreeForFclAlongTheWholeStretch) {
     EXPECT_EQ(c.free(), fast.check(q).free());
     if (!c.free()) continue;
     ASSERT_GE(c.free_distance, 0.0);
+    // A caller that needs less gets a cheaper certificate: at least what it asked for (or all
+    // there is), and just as sound.
+    const double enough = std::uniform_real_distribution<double>(0.0, 0.05)(rng);
+    const double limited = fast.check_along(q, dir, enough).free_distance;
+    EXPECT_GE(limited, std::min(enough, c.free_distance) - 1e-12);
+    EXPECT_LE(limited, c.free_distance + 1e-12) << "less work cannot prove more";
     if (c.free_distance <= 0) continue;
     ++certified;
     longest = std::max(longest, std::min(c.free_distance, 10.0));
     // Walk both ways in 2 mrad steps to the first FCL contact (or the joint limits): the
-    // certificate must stop short of it.
-    for (const double sign : {1.0, -1.0}) {
-      for (double t = 0.002; t <= std::min(c.free_distance, 3.0); t += 0.002) {
-        const Eigen::VectorXd x = q + sign * t * dir;
-        if (!kin.within_limits(x)) break;  // beyond the limits nothing is claimed
-        ASSERT_TRUE(exact.is_free(x)) << "certified " << c.free_distance << " from q = " << q.transpose() << " but "
-                                      << exact.check(x).contact << " at t = " << sign * t;
+    // certificates must stop short of it.
+    for (const double certificate : {c.free_distance, limited})
+      for (const double sign : {1.0, -1.0}) {
+        for (double t = 0.002; t <= std::min(certificate, 3.0); t += 0.002) {
+          const Eigen::VectorXd x = q + sign * t * dir;
+          if (!kin.within_limits(x)) break;  // beyond the limits nothing is claimed
+          ASSERT_TRUE(exact.is_free(x)) << "certified " << certificate << " from q = " << q.transpose() << " but "
+                                        << exact.check(x).contact << " at t = " << sign * t;
+        }
       }
-    }
   }
   EXPECT_GT(certified, 100) << "the certificate must be non-trivial in free space";
   EXPECT_GT(longest, 0.02);
   RecordProperty("certified", certified);
+}
+
+namespace {
+// A UV sphere whose vertices lie at `radius` around `at`: inside the ball of that radius, and
+// containing the ball of radius `radius * cos(pi / 12)` (its faces' distance from the centre).
+TriMesh uv_sphere(double radius) {
+  const int nu = 24, nv = 12;
+  TriMesh m;
+  m.vertices.resize(2 + nu * (nv - 1), 3);
+  m.vertices.row(0) = Eigen::RowVector3d(0, 0, radius);
+  m.vertices.row(1) = Eigen::RowVector3d(0, 0, -radius);
+  for (int v = 1; v < nv; ++v)
+    for (int u = 0; u < nu; ++u) {
+      const double th = M_PI * v / nv, ph = 2 * M_PI * u / nu;
+      m.vertices.row(2 + (v - 1) * nu + u) =
+          radius * Eigen::RowVector3d(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+    }
+  std::vector<Eigen::RowVector3i> t;
+  auto at = [&](int v, int u) { return 2 + (v - 1) * nu + (u % nu); };
+  for (int u = 0; u < nu; ++u) {
+    t.emplace_back(0, at(1, u), at(1, u + 1));
+    t.emplace_back(1, at(nv - 1, u + 1), at(nv - 1, u));
+    for (int v = 1; v + 1 < nv; ++v) {
+      t.emplace_back(at(v, u), at(v + 1, u), at(v + 1, u + 1));
+      t.emplace_back(at(v, u), at(v + 1, u + 1), at(v, u + 1));
+    }
+  }
+  m.triangles.resize(Eigen::Index(t.size()), 3);
+  for (std::size_t i = 0; i < t.size(); ++i) m.triangles.row(Eigen::Index(i)) = t[i];
+  return m;
+}
+}  // namespace
+
+// The exact primitive distance against FCL on the same scene: a ball slightly smaller than the
+// distance is free, one slightly larger touches; inside an obstacle the distance is negative.
+TEST(PrimitiveObstacles, DistanceAgreesWithFclOnBoxesCylindersAndSpheres) {
+  ShelfWorld w;
+  const auto obstacles = PrimitiveObstacles::from_scene(w.scene);
+  ASSERT_TRUE(obstacles);
+  ASSERT_EQ(obstacles->size(), 4u);
+  ExactChecker exact(w.kin, w.scene);
+  const double cos_face = std::cos(M_PI / 12);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> x(0.1, 1.0), y(-0.6, 0.6), z(0.2, 1.0);
+  int near = 0, inside = 0;
+  for (int i = 0; i < 3000 && near < 150; ++i) {
+    const Eigen::Vector3d p(x(rng), y(rng), z(rng));
+    const double d = obstacles->distance(p);
+    Eigen::Isometry3d at = Eigen::Isometry3d::Identity();
+    at.translation() = p;
+    if (d < 0) {
+      ++inside;
+      EXPECT_FALSE(exact.mesh_free(CollisionMesh(uv_sphere(0.002)), at)) << p.transpose() << " inside at " << d;
+      continue;
+    }
+    if (d < 0.004 || d > 0.05) continue;  // small enough that no obstacle fits inside the larger ball
+    ++near;
+    EXPECT_TRUE(exact.mesh_free(CollisionMesh(uv_sphere(0.97 * d)), at)) << p.transpose() << " distance " << d;
+    EXPECT_FALSE(exact.mesh_free(CollisionMesh(uv_sphere(1.03 * d / cos_face)), at)) << p.transpose() << " distance " << d;
+  }
+  EXPECT_GE(near, 100);
+  EXPECT_GE(inside, 20);
+  EXPECT_EQ(PrimitiveObstacles::from_scene(Scene{}) ? PrimitiveObstacles::from_scene(Scene{})->size() : 99u, 0u);
+  Scene with_mesh = w.scene;
+  Shape mesh;
+  mesh.type = ShapeType::Mesh;
+  mesh.mesh = uv_sphere(0.1);
+  with_mesh.objects.push_back({"mesh", {mesh}});
+  EXPECT_FALSE(PrimitiveObstacles::from_scene(with_mesh)) << "a mesh is the field's job";
 }
