@@ -19,6 +19,8 @@ int run_bake_robot(const BakeRobotArgs& a) {
   o.arm_tip = a.arm.substr(colon + 1);
   o.spheres.max_radius = a.sphere_max_radius;
   o.spheres.sample_spacing = a.sphere_spacing;
+  o.spheres.max_excess = a.sphere_max_excess;
+  o.spheres.max_spheres = a.sphere_count;
   o.self_tables.enabled = a.self_table_step > 0;
   if (o.self_tables.enabled) o.self_tables.step = a.self_table_step;
   if (a.tcp) {
@@ -36,6 +38,8 @@ int run_bake_robot(const BakeRobotArgs& a) {
                            {"package_paths", a.package_paths},
                            {"sphere_max_radius", a.sphere_max_radius},
                            {"sphere_spacing", a.sphere_spacing},
+                           {"sphere_max_excess", a.sphere_max_excess},
+                           {"sphere_count", a.sphere_count},
                            {"self_table_step", a.self_table_step}};
   if (a.tcp) params["tcp"] = *a.tcp;
   robot.header = make_header(params, inputs);

@@ -32,7 +32,7 @@ void add(Stats& s, const tools::PlanOutcome& o) {
 
 void print(const std::string& name, const Stats& s) {
   if (s.runs == 0) return;
-  std::cout << std::left << std::setw(28) << name << " solved " << s.solved << "/" << s.runs << " (valid " << s.valid
+  std::cout << std::left << std::setw(36) << name << " solved " << s.solved << "/" << s.runs << " (valid " << s.valid
             << "), median " << quantile(s.times, 0.5) * 1e3 << " ms, p95 " << quantile(s.times, 0.95) * 1e3
             << " ms, median length " << quantile(s.lengths, 0.5) << "\n";
 }
@@ -62,6 +62,7 @@ int run_bench_mbm(const BenchMbmArgs& a) {
       const fs::path scene = fs::path(dir) / ("scene" + id + ".yaml");
       tools::ArmProblemOptions opt;
       opt.sdf_resolution = a.sdf_resolution;
+      opt.stock_bvh = a.stock_bvh == "obb" ? runtime::MeshBvh::Obb : runtime::MeshBvh::Obbrss;
       auto problem = tools::load_arm_problem(a.robot, scene, requests[i], opt);
       field_seconds.push_back(problem.bake_seconds);
       auto record = [&](const char* planner, int r, const tools::PlanOutcome& o, Stats& set_stats, Stats& all) {
@@ -81,10 +82,10 @@ int run_bench_mbm(const BenchMbmArgs& a) {
     }
     std::cerr << "\n";
     print(set + " ours", ours);
-    print(set + " OMPL RRTConnect+FCL", stock);
+    print(set + " OMPL RRTConnect+FCL " + a.stock_bvh, stock);
   }
   print("all ours", ours_all);
-  print("all OMPL RRTConnect+FCL", stock_all);
+  print("all OMPL RRTConnect+FCL " + a.stock_bvh, stock_all);
   std::cout << "distance field per scene (not in ours' times; bake-env does it offline): median "
             << quantile(field_seconds, 0.5) * 1e3 << " ms at " << a.sdf_resolution << " m\n";
   if (run_ours && run_stock)

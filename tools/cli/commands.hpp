@@ -55,6 +55,8 @@ struct BakeRobotArgs {
   std::string urdf, srdf, arm, out;
   double sphere_max_radius = 0.08;  // metres (SphereCoverOptions default)
   double sphere_spacing = 0.005;    // metres between coverage samples
+  double sphere_max_excess = 0.015; // metres a sphere may exceed half its median extent
+  int sphere_count = 12;            // most spheres per link
   double self_table_step = 0.02;    // radians between self-distance table nodes (0: none)
   std::optional<std::array<double, 7>> tcp;  // TCP pose on the tip: x y z qx qy qz qw
   std::vector<std::string> package_paths;
@@ -72,6 +74,7 @@ struct BenchMbmArgs {
   std::vector<std::string> dirs;
   std::string robot, csv;
   std::string planners = "both";  // ours, stock or both
+  std::string stock_bvh = "obbrss";  // the baseline's FCL mesh BVHs: obbrss (MoveIt's) or obb
   int runs = 1, limit = 0;
   double time_limit = 10, resolution = 0.01, sdf_resolution = 0.02;
 };

@@ -132,6 +132,9 @@ int main(int argc, char** argv) {
                       "Split a link's spheres until none is larger (m)")->check(CLI::PositiveNumber);
   c_robot->add_option("--sphere-spacing", bake_robot.sphere_spacing,
                       "Sample spacing that the sphere cover is checked on (m)")->check(CLI::PositiveNumber);
+  c_robot->add_option("--sphere-max-excess", bake_robot.sphere_max_excess,
+                      "Split spheres that exceed half their cluster's median extent by more (m)")->check(CLI::PositiveNumber);
+  c_robot->add_option("--sphere-count", bake_robot.sphere_count, "Most spheres per link")->check(CLI::PositiveNumber);
   c_robot->add_option("--self-table-step", bake_robot.self_table_step,
                       "Joint step (rad) of the exact self-distance tables; 0 bakes none")->check(CLI::NonNegativeNumber);
   std::string tcp_text;
@@ -162,6 +165,9 @@ int main(int argc, char** argv) {
   c_bench->add_option("--csv", bench_mbm.csv, "Write every run as CSV");
   c_bench->add_option("--planners", bench_mbm.planners, "Which planners to run (the ratio needs both)")
       ->check(CLI::IsMember({"ours", "stock", "both"}));
+  c_bench->add_option("--stock-bvh", bench_mbm.stock_bvh,
+                      "FCL mesh BVHs of the stock baseline: obbrss (as MoveIt builds them) or obb (as our exact layer)")
+      ->check(CLI::IsMember({"obbrss", "obb"}));
 
   MakeObjectsArgs make_objects;
   auto* c_make = app.add_subcommand("make-objects", "Write the built-in procedural object meshes (eraser, bottle)");

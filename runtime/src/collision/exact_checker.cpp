@@ -15,9 +15,8 @@ namespace dmgplace::runtime {
 namespace {
 using Geometry = std::shared_ptr<fcl::CollisionGeometryd>;
 
-// Collision BVHs use OBB nodes: FCL has a closed-form OBB for a box, cylinder or sphere obstacle,
-// while for OBBRSS it fits one by eigen-decomposition on every mesh-vs-primitive query (a third of
-// the exact layer's time). Distance queries need RSS nodes, so links also keep an OBBRSS copy.
+// Collision BVHs use OBB nodes unless asked otherwise (MeshBvh). Distance queries need RSS nodes,
+// so links also keep an OBBRSS copy.
 template <typename BV>
 Geometry make_mesh(const TriMesh& m) {
   auto model = std::make_shared<fcl::BVHModel<BV>>();
@@ -34,13 +33,15 @@ Geometry make_mesh(const TriMesh& m) {
   return model;
 }
 
-Geometry make_geometry(const Shape& s, bool for_distance = false) {
+// Meshes get `nodes` bounding volumes; distance queries always need RSS ones.
+Geometry make_geometry(const Shape& s, MeshBvh nodes, bool for_distance = false) {
   Geometry g;
   switch (s.type) {
     case ShapeType::Box: g = std::make_shared<fcl::Boxd>(s.size.x(), s.size.y(), s.size.z()); break;
     case ShapeType::Cylinder: g = std::make_shared<fcl::Cylinderd>(s.size[0], s.size[1]); break;
     case ShapeType::Sphere: g = std::make_shared<fcl::Sphered>(s.size[0]); break;
-    case ShapeType::Mesh: return for_distance ? make_mesh<fcl::OBBRSSd>(s.mesh) : make_mesh<fcl::OBBd>(s.mesh);
+    case ShapeType::Mesh:
+      return for_distance || nodes == MeshBvh::Obbrss ? make_mesh<fcl::OBBRSSd>(s.mesh) : make_mesh<fcl::OBBd>(s.mesh);
   }
   g->computeLocalAABB();
   return g;
@@ -192,13 +193,13 @@ void build_self_pairs(ExactChecker::Impl& impl, const Kinematics& kin) {
 }
 }  // namespace
 
-ExactChecker::ExactChecker(const Kinematics& kin, const Scene& env, double scan_resolution) : kin_(&kin) {
+ExactChecker::ExactChecker(const Kinematics& kin, const Scene& env, double scan_resolution, MeshBvh nodes) : kin_(&kin) {
   auto impl = std::make_shared<Impl>();
   const auto& m = kin.model();
   for (std::size_t l = 0; l < m.links.size(); ++l) {
     impl->link_names.push_back(m.links[l].name);
     for (const auto& s : m.links[l].collision) {
-      impl->parts.push_back({int(l), make_geometry(s), make_geometry(s, true), s.origin});
+      impl->parts.push_back({int(l), make_geometry(s, nodes), make_geometry(s, nodes, true), s.origin});
       impl->part_is_object.push_back(0);
     }
   }
@@ -209,7 +210,7 @@ ExactChecker::ExactChecker(const Kinematics& kin, const Scene& env, double scan_
   for (const auto& o : env.objects)
     for (const auto& s : o.shapes) {
       impl->env_names->push_back(o.name);
-      auto obj = std::make_unique<fcl::CollisionObjectd>(make_geometry(s), s.origin.linear(), s.origin.translation());
+      auto obj = std::make_unique<fcl::CollisionObjectd>(make_geometry(s, nodes), s.origin.linear(), s.origin.translation());
       obj->setUserData(reinterpret_cast<void*>(impl->env_names->size()));  // 1-based name index
       obj->computeAABB();
       impl->env_objects->push_back(std::move(obj));

@@ -75,6 +75,7 @@ ArmProblem load_arm_problem(const std::filesystem::path& robot_h5, const std::fi
   fast.set_self_tables(p.robot.self_tables);
   if (o.exact_primitives) fast.set_exact_obstacles(runtime::PrimitiveObstacles::from_scene(p.scene));
   p.exact = std::make_unique<runtime::ExactChecker>(*p.kin, p.scene);
+  p.stock_exact = std::make_unique<runtime::ExactChecker>(*p.kin, p.scene, 0.01, o.stock_bvh);
   p.checker = std::make_unique<runtime::TwoLayerChecker>(std::move(fast), *p.exact);
   return p;
 }
@@ -116,7 +117,7 @@ PlanOutcome plan_stock(const ArmProblem& p, double time_limit, double resolution
   // are therefore reproducible only as a whole process (OMPL's own design), not per call.
   (void)seed;
   const auto t0 = Clock::now();
-  auto si = runtime::make_arm_space(*p.kin, [&](const Eigen::VectorXd& q) { return p.exact->is_free(q); }, resolution);
+  auto si = runtime::make_arm_space(*p.kin, [&](const Eigen::VectorXd& q) { return p.stock_exact->is_free(q); }, resolution);
   auto pdef = std::make_shared<ob::ProblemDefinition>(si);
   ob::ScopedState<> start(si->getStateSpace()), goal(si->getStateSpace());
   for (int i = 0; i < p.kin->dof(); ++i) {

@@ -79,7 +79,7 @@ class MultiGoalRRTConnect : public ompl::base::Planner {
   std::function<void(const FoundPath&)> callback_;
   std::function<bool(const JointPath&)> validator_;
   std::mt19937_64 rng_{1};
-  double range_ = 0;  // 0: 20% of the space's maximum extent
+  double range_ = 0;  // 0: 8% of the space's maximum extent
   bool anytime_ = true;
   std::size_t dim_ = 0;
   std::vector<double> lo_, hi_;

@@ -17,6 +17,8 @@ struct ArmProblemOptions {
   double sdf_band = 0.25;        // metres
   double reach = 1.2;            // half-width of the workspace grid around the arm base
   bool exact_primitives = true;  // the fast layer also uses the scene's exact primitives (when all are)
+  // The stock baseline's FCL mesh BVHs: OBBRSS as MoveIt builds them, or OBB as our exact layer does.
+  runtime::MeshBvh stock_bvh = runtime::MeshBvh::Obbrss;
 };
 
 struct ArmProblem {
@@ -27,6 +29,7 @@ struct ArmProblem {
   std::shared_ptr<runtime::Grid3> sdf;
   std::unique_ptr<runtime::TwoLayerChecker> checker;
   std::unique_ptr<runtime::ExactChecker> exact;
+  std::unique_ptr<runtime::ExactChecker> stock_exact;  // the baseline's validity checker (stock_bvh)
   double bake_seconds = 0;  // time spent building the distance field
 };
 
@@ -45,7 +48,7 @@ struct PlanOutcome {
 
 // Our planner: multi-goal RRT-Connect over the two-layer checker, single goal, one thread.
 PlanOutcome plan_ours(const ArmProblem& p, double time_limit, double resolution, std::uint64_t seed);
-// What MoveIt users run today: OMPL's RRTConnect with an FCL mesh validity checker.
+// What MoveIt users run today: OMPL's RRTConnect with an FCL mesh validity checker (stock_exact).
 PlanOutcome plan_stock(const ArmProblem& p, double time_limit, double resolution, std::uint64_t seed);
 
 }  // namespace dmgplace::tools
