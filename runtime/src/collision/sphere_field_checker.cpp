@@ -12,53 +12,29 @@ SphereFieldChecker::SphereFieldChecker(const Kinematics& kin, std::vector<format
     : kin_(&kin), spheres_(std::move(spheres)), allowed_(kin.model().allowed_pairs), sdf_(std::move(sdf)),
       band_(band), padding_(padding) {
   if (!sdf_) throw Error("SphereFieldChecker", "", "no distance field");
-  fine_inv_ = 1.0 / sdf_->resolution();
   lo_ = sdf_->origin();
   hi_ = sdf_->point(sdf_->dims()[0] - 1, sdf_->dims()[1] - 1, sdf_->dims()[2] - 1);
   for (const auto& s : spheres_)
     if (s.link < 0 || std::size_t(s.link) >= kin.model().links.size())
       throw Error("SphereFieldChecker", "spheres", "link index out of range");
+  fine_ = std::make_shared<NodeBoundGrid>(*sdf_, 1);
   const auto& d = sdf_->dims();
-  std::array<int, 3> cd{};
-  for (int a = 0; a < 3; ++a) cd[std::size_t(a)] = (d[std::size_t(a)] - 1) / kCoarseStride + 1;
-  if (cd[0] >= 2 && cd[1] >= 2 && cd[2] >= 2) {
-    auto coarse = std::make_shared<Grid3>(sdf_->origin(), sdf_->resolution() * kCoarseStride, cd);
-    for (int k = 0; k < cd[2]; ++k)
-      for (int j = 0; j < cd[1]; ++j)
-        for (int i = 0; i < cd[0]; ++i)
-          coarse->values()[coarse->index(i, j, k)] = sdf_->at(i * kCoarseStride, j * kCoarseStride, k * kCoarseStride);
-    coarse_inv_ = 1.0 / coarse->resolution();
-    coarse_ = std::move(coarse);
-  }
+  if ((d[0] - 1) / kCoarseStride >= 1 && (d[1] - 1) / kCoarseStride >= 1 && (d[2] - 1) / kCoarseStride >= 1)
+    coarse_ = std::make_shared<NodeBoundGrid>(*sdf_, kCoarseStride);
   std::stable_sort(spheres_.begin(), spheres_.end(),
                    [](const formats::LinkSphere& a, const formats::LinkSphere& b) { return a.link < b.link; });
   build_bodies();
 }
 
-namespace {
-// A node holds the field's value there and the field is 1-Lipschitz (band clamping keeps it so):
-// value - distance to the node is a proven lower bound anywhere. One load.
-inline __attribute__((always_inline)) double node_lower_bound(const Grid3& g, double inv_res, const Eigen::Vector3d& p) {
-  int c[3];
-  for (int a = 0; a < 3; ++a) {
-    double u = (p[a] - g.origin()[a]) * inv_res;
-    u = u > 0 ? u : 0.0;  // also maps NaN to 0
-    const double hi = double(g.dims()[std::size_t(a)] - 1);
-    c[a] = int((u < hi ? u : hi) + 0.5);
-  }
-  return double(g.at(c[0], c[1], c[2])) - (p - g.point(c[0], c[1], c[2])).norm() - 1e-6;  // float slack
-}
-}  // namespace
-
 inline __attribute__((always_inline)) double SphereFieldChecker::coarse_lower_bound(const Eigen::Vector3d& p) const {
-  return coarse_ ? node_lower_bound(*coarse_, coarse_inv_, p) : -1.0;
+  return coarse_ ? coarse_->lower_bound(p) : -1.0;
 }
 
 // The fine grid's bound at p from its nearest node: one load where a trilinear sample takes eight
 // (four cache lines), and on average tighter than the sample minus its worst-case interpolation
 // error (sqrt(3)/2 of a cell): the loss is |p - node| (about half a cell) plus or minus the slope.
 inline __attribute__((always_inline)) double SphereFieldChecker::fine_lower_bound(const Eigen::Vector3d& p) const {
-  return node_lower_bound(*sdf_, fine_inv_, p);
+  return fine_->lower_bound(p);
 }
 
 void SphereFieldChecker::build_bodies() {
@@ -155,11 +131,19 @@ void SphereFieldChecker::build_bodies() {
     }
 }
 
+SphereFieldChecker::Table::Table(const formats::SelfDistanceTable& t) : data(t) {
+  for (int k = 0; k < 2; ++k) inv_step[k] = 1.0 / t.step[std::size_t(k)];
+  tenths_mm.reserve(t.distance.size());
+  for (float d : t.distance)  // rounded down, one step lower for float rounding
+    tenths_mm.push_back(std::uint16_t(std::clamp(std::floor(double(d) * 1e4) - 1.0, 0.0, 65535.0)));
+  data.distance.clear();  // kept once, above
+}
+
 void SphereFieldChecker::set_self_tables(const std::vector<formats::SelfDistanceTable>& tables) {
   auto out = std::make_shared<std::vector<Table>>();
   const int nl = int(kin_->model().links.size());
   for (const auto& t : tables) {
-    Table r;
+    Table r(t);
     if (t.link_a < 0 || t.link_b < 0 || t.link_a >= nl || t.link_b >= nl)
       throw Error("SphereFieldChecker", "self tables", "link index out of range");
     for (int k = 0; k < 2; ++k) {
@@ -170,7 +154,6 @@ void SphereFieldChecker::set_self_tables(const std::vector<formats::SelfDistance
     if (r.slot[0] < 0 || t.count[0] < 1 || t.count[1] < 1 || (r.slot[1] < 0 && t.count[1] != 1) ||
         std::size_t(t.count[0]) * std::size_t(t.count[1]) != t.distance.size())
       throw Error("SphereFieldChecker", "self tables", "table grid and distances disagree");
-    r.data = t;
     out->push_back(std::move(r));
   }
   tables_ = std::move(out);
