@@ -317,17 +317,35 @@ bool ExactChecker::mesh_free(const CollisionMesh& mesh, const Eigen::Isometry3d&
   return !hit.hit;
 }
 
-bool ExactChecker::links_environment_free(const Eigen::VectorXd& q, const int* links, int count, bool object) const {
+bool ExactChecker::links_environment_free(const Eigen::VectorXd& q, const int* links, int count, bool object,
+                                          const std::uint64_t* masks) const {
   thread_local std::vector<Eigen::Isometry3d> poses;
   kin_->link_poses(q, poses);
   const Impl& impl = *impl_;
   ObjectPool::Lease lease(*impl.pool, impl.parts);
+  const auto& env = *impl.env_objects;
   for (std::size_t i = 0; i < impl.parts.size(); ++i) {
     const Part& p = impl.parts[i];
-    const bool wanted = impl.part_is_object[i] ? object : std::find(links, links + count, p.link) != links + count;
-    if (!wanted) continue;
+    std::uint64_t mask = 0;
+    if (impl.part_is_object[i]) {
+      if (!object) continue;
+    } else {
+      const int* at = std::find(links, links + count, p.link);
+      if (at == links + count) continue;
+      if (masks) mask = masks[at - links];
+    }
+    fcl::CollisionObjectd* obj = lease.place(i, poses[std::size_t(p.link)] * p.local);
+    if (mask != 0 && env.size() >= std::size_t(64 - __builtin_clzll(mask))) {
+      // Only the named shapes can touch it: test those, no broadphase.
+      fcl::CollisionRequestd req;
+      for (std::uint64_t m = mask; m; m &= m - 1) {
+        fcl::CollisionResultd res;
+        if (fcl::collide(obj, env[std::size_t(__builtin_ctzll(m))].get(), req, res) > 0) return false;
+      }
+      continue;
+    }
     EnvHit hit;
-    impl.env->collide(lease.place(i, poses[std::size_t(p.link)] * p.local), &hit, env_callback);
+    impl.env->collide(obj, &hit, env_callback);
     if (hit.hit) return false;
   }
   return true;

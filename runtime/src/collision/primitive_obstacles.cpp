@@ -65,4 +65,15 @@ double PrimitiveObstacles::distance(const Eigen::Vector3d& p) const {
   return best;
 }
 
+std::uint64_t PrimitiveObstacles::touching(const Eigen::Vector3d& p, double radius) const {
+  std::uint64_t mask = 0;
+  const std::size_t n = std::min<std::size_t>(prims_.size(), 64);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Primitive& s = prims_[k];
+    if ((p - s.origin).norm() - s.bound_radius >= radius) continue;
+    if (local_distance(s, p) < radius) mask |= std::uint64_t(1) << k;
+  }
+  return mask;
+}
+
 }  // namespace dmgplace::runtime

@@ -233,6 +233,11 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
     }
     centres(bi);
     // Keep going after a hit: every flagged link is listed, so the exact layer can check just those.
+    // With exact primitives every sphere of a flagged link is looked at, to name every primitive
+    // the link may touch; without, the first flagged sphere settles the link.
+    const bool masks = obstacles_ && obstacles_->all_have_bits() && !b.attached;
+    std::uint64_t mask = 0;
+    bool flagged = false;
     for (int i = b.begin; i < b.end; ++i) {
       const auto& s = spheres_[std::size_t(i)];
       const Eigen::Vector3d& w = world[std::size_t(i)];
@@ -261,11 +266,17 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
       if (!out_of_grid) out.min_clearance = std::min(out.min_clearance, clearance);
       out.environment_free = false;
       out.outside_grid |= out_of_grid && !obstacles_;
-      if (b.attached) out.attached_near_env = true;
-      else if (out.env_link_count < SphereCheck::kMaxPairs) out.env_links[std::size_t(out.env_link_count++)] = b.link;
-      else out.env_overflow = true;
-      break;
+      if (!flagged) {
+        flagged = true;
+        if (b.attached) out.attached_near_env = true;
+        else if (out.env_link_count < SphereCheck::kMaxPairs) out.env_links[std::size_t(out.env_link_count++)] = b.link;
+        else out.env_overflow = true;
+      }
+      if (!masks) break;
+      mask |= obstacles_->touching(w, s.radius + padding_);
     }
+    if (flagged && masks && !out.env_overflow && out.env_links[std::size_t(out.env_link_count - 1)] == b.link)
+      out.env_masks[std::size_t(out.env_link_count - 1)] = mask;
   }
   // Certified mode: how fast each body can move along `dir` (metres per unit of joint motion).
   auto speed = [&](const std::vector<ChainJoint>& joints) {

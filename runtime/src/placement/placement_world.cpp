@@ -76,6 +76,7 @@ PlacementWorld::PlacementWorld(formats::RobotArtifact robot, formats::ObjectArti
   exact_ = std::make_unique<ExactChecker>(*kin_, scene_);
   fast_ = std::make_unique<SphereFieldChecker>(*kin_, robot_.spheres, env_.sdf, env_.sdf_band);
   fast_->set_self_tables(robot_.self_tables);
+  fast_->set_exact_obstacles(PrimitiveObstacles::from_scene(scene_));  // null unless all primitives
   object_mesh_ = std::make_unique<CollisionMesh>(object_.mesh);
   object_spheres_ = cover_object(object_.mesh);
 }

@@ -2,6 +2,7 @@
 // The exact collision layer (FCL): the robot's collision primitives and meshes, the held object's
 // mesh attached at its grasp, and the environment's exact geometry (primitives, triangle BVHs, an
 // octree for scan points). Used where the fast layer cannot decide and to validate every path.
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -57,7 +58,10 @@ class ExactChecker {
   ExactCheck check(const Eigen::VectorXd& q) const;
   // Just these links (and the held object when `object`) against the environment at q: the ones
   // the sphere layer flagged.
-  bool links_environment_free(const Eigen::VectorXd& q, const int* links, int count, bool object) const;
+  // `masks` (optional, per link): bit k set names the scene's k-th shape (objects, then their
+  // shapes, in order) as the only ones that link can touch; 0 means any.
+  bool links_environment_free(const Eigen::VectorXd& q, const int* links, int count, bool object,
+                              const std::uint64_t* masks = nullptr) const;
   // Self-collision of just these link pairs (the ones the sphere layer flagged).
   bool link_pairs_free(const Eigen::VectorXd& q, const std::pair<int, int>* pairs, int count) const;
   bool is_free(const Eigen::VectorXd& q) const { return check(q).free(); }

@@ -4,6 +4,7 @@
 // margin leaves a sphere undecided: no margin, so far fewer configurations go to FCL, and longer
 // certified motions near surfaces.
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -18,6 +19,10 @@ class PrimitiveObstacles {
 
   // Signed distance from p to the nearest primitive (negative inside one); +inf when there are none.
   double distance(const Eigen::Vector3d& p) const;
+  // Bit k set: primitive k (scene order: objects, then their shapes) comes within `radius` of p.
+  // Only the first 64 primitives have bits; `all_have_bits()` says whether that is every one.
+  std::uint64_t touching(const Eigen::Vector3d& p, double radius) const;
+  bool all_have_bits() const { return prims_.size() <= 64; }
   std::size_t size() const { return prims_.size(); }
 
  private:

@@ -42,6 +42,9 @@ struct SphereCheck {
   // Links whose spheres come too close to the environment or leave the grid (the exact layer
   // checks just those against the scene); `attached_near_env` for the held object.
   std::array<int, kMaxPairs> env_links{};
+  // Per flagged link, with exact primitives: bit k set when one of its spheres reaches scene
+  // primitive k, so FCL need only test those (0: unknown, test the whole scene).
+  std::array<std::uint64_t, kMaxPairs> env_masks{};
   int env_link_count = 0;
   bool env_overflow = false;
   bool attached_near_env = false;

@@ -44,7 +44,7 @@ class TwoLayerChecker {
     // against each other. Overflows and held-object self pairs take the full check.
     if (!f.env_overflow && !f.pairs_overflow && !f.attached_involved) {
       ++counters_->exact_pairs;
-      return exact_.links_environment_free(q, f.env_links.data(), f.env_link_count, f.attached_near_env) &&
+      return exact_.links_environment_free(q, f.env_links.data(), f.env_link_count, f.attached_near_env, f.env_masks.data()) &&
              exact_.link_pairs_free(q, f.pairs.data(), f.pair_count);
     }
     ++counters_->exact_full;
