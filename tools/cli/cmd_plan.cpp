@@ -24,11 +24,13 @@ int run_plan(const PlanArgs& a) {
   j["state_checks"] = c.fast.load();
   j["exact_pair_checks"] = c.exact_pairs.load();
   j["exact_full_checks"] = c.exact_full.load();
+  j["proven_collisions"] = c.proven_collisions.load();
   j["waypoints"] = ours.path;
   std::cout << (ours.solved ? (ours.valid ? "solved" : "solved but INVALID") : "no solution") << " in " << ours.seconds * 1e3
             << " ms, " << ours.path.size() << " waypoints, joint-space length " << ours.length << "\n"
             << "state checks: " << c.fast.load() << " (" << c.exact_pairs.load() << " needed FCL on flagged links, "
-            << c.exact_full.load() << " a full FCL check)\n";
+            << c.exact_full.load() << " a full FCL check, " << c.proven_collisions.load()
+            << " proved colliding by the spheres' inner balls)\n";
   if (!a.out.empty()) {
     std::ofstream f(a.out);
     f << j.dump(2) << "\n";

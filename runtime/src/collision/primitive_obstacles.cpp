@@ -4,7 +4,41 @@
 #include <cmath>
 #include <limits>
 
+#include "dmgplace/formats/triangle_distance.hpp"
+#include "dmgplace/formats/winding_number.hpp"
+
 namespace dmgplace::runtime {
+
+namespace {
+// `half`: box half extents; cylinder (radius, -, half length) about z; sphere (radius, -, -).
+double local_signed_distance(ShapeType type, const Eigen::Vector3d& half, const Eigen::Vector3d& p) {
+  switch (type) {
+    case ShapeType::Box: {
+      const Eigen::Vector3d d = p.cwiseAbs() - half;
+      return d.cwiseMax(0.0).norm() + std::min(d.maxCoeff(), 0.0);
+    }
+    case ShapeType::Cylinder: {
+      const Eigen::Vector2d d(std::hypot(p.x(), p.y()) - half.x(), std::abs(p.z()) - half.z());
+      return d.cwiseMax(0.0).norm() + std::min(d.maxCoeff(), 0.0);
+    }
+    case ShapeType::Sphere:
+      return p.norm() - half.x();
+    case ShapeType::Mesh:
+      break;
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+Eigen::Vector3d half_extents(const Shape& s) {
+  switch (s.type) {
+    case ShapeType::Box: return 0.5 * s.size;
+    case ShapeType::Cylinder: return Eigen::Vector3d(s.size[0], 0, 0.5 * s.size[1]);  // FCL: axis z, centred
+    case ShapeType::Sphere: return Eigen::Vector3d::Constant(s.size[0]);
+    case ShapeType::Mesh: break;
+  }
+  return Eigen::Vector3d::Zero();
+}
+}  // namespace
 
 std::shared_ptr<const PrimitiveObstacles> PrimitiveObstacles::from_scene(const Scene& scene) {
   if (scene.points.rows() > 0) return nullptr;
@@ -15,44 +49,43 @@ std::shared_ptr<const PrimitiveObstacles> PrimitiveObstacles::from_scene(const S
       p.type = s.type;
       p.to_local = s.origin.linear().transpose();
       p.origin = s.origin.translation();
-      switch (s.type) {
-        case ShapeType::Box:
-          p.half = 0.5 * s.size;
-          p.bound_radius = p.half.norm();
-          break;
-        case ShapeType::Cylinder:  // FCL's convention: axis z, centred
-          p.half = Eigen::Vector3d(s.size[0], 0, 0.5 * s.size[1]);
-          p.bound_radius = std::hypot(p.half.x(), p.half.z());
-          break;
-        case ShapeType::Sphere:
-          p.half = Eigen::Vector3d::Constant(s.size[0]);
-          p.bound_radius = s.size[0];
-          break;
-        case ShapeType::Mesh:
-          return nullptr;
-      }
+      if (s.type == ShapeType::Mesh) return nullptr;
+      p.half = half_extents(s);
+      p.bound_radius = s.type == ShapeType::Box        ? p.half.norm()
+                       : s.type == ShapeType::Cylinder ? std::hypot(p.half.x(), p.half.z())
+                                                        : p.half.x();
       out->prims_.push_back(p);
     }
   return out;
 }
 
-double PrimitiveObstacles::local_distance(const Primitive& s, const Eigen::Vector3d& world) {
-  const Eigen::Vector3d p = s.to_local * (world - s.origin);
-  switch (s.type) {
-    case ShapeType::Box: {
-      const Eigen::Vector3d d = p.cwiseAbs() - s.half;
-      return d.cwiseMax(0.0).norm() + std::min(d.maxCoeff(), 0.0);
+double shape_signed_distance(const Shape& s, const Eigen::Vector3d& p) {
+  return local_signed_distance(s.type, half_extents(s), s.origin.inverse() * p);
+}
+
+double inner_radius(const std::vector<Shape>& shapes, const Eigen::Vector3d& p) {
+  double best = 0;
+  for (const auto& s : shapes) {
+    if (s.type != ShapeType::Mesh) {
+      best = std::max(best, -shape_signed_distance(s, p));
+      continue;
     }
-    case ShapeType::Cylinder: {
-      const Eigen::Vector2d d(std::hypot(p.x(), p.y()) - s.half.x(), std::abs(p.z()) - s.half.z());
-      return d.cwiseMax(0.0).norm() + std::min(d.maxCoeff(), 0.0);
+    const Eigen::Vector3d local = s.origin.inverse() * p;
+    if (s.mesh.empty() || winding_number(s.mesh, local) < 0.5) continue;
+    double d2 = std::numeric_limits<double>::infinity();
+    for (Eigen::Index t = 0; t < s.mesh.triangles.rows(); ++t) {
+      const Eigen::Vector3d a = s.mesh.vertices.row(s.mesh.triangles(t, 0)).transpose();
+      const Eigen::Vector3d b = s.mesh.vertices.row(s.mesh.triangles(t, 1)).transpose();
+      const Eigen::Vector3d c = s.mesh.vertices.row(s.mesh.triangles(t, 2)).transpose();
+      d2 = std::min(d2, (closest_point_on_triangle(local, a, b, c) - local).squaredNorm());
     }
-    case ShapeType::Sphere:
-      return p.norm() - s.half.x();
-    case ShapeType::Mesh:
-      break;
+    best = std::max(best, std::sqrt(d2));
   }
-  return std::numeric_limits<double>::infinity();
+  return best;
+}
+
+double PrimitiveObstacles::local_distance(const Primitive& s, const Eigen::Vector3d& world) {
+  return local_signed_distance(s.type, s.half, s.to_local * (world - s.origin));
 }
 
 double PrimitiveObstacles::distance(const Eigen::Vector3d& p) const {

@@ -23,6 +23,9 @@ SphereFieldChecker::SphereFieldChecker(const Kinematics& kin, std::vector<format
     coarse_ = std::make_shared<NodeBoundGrid>(*sdf_, kCoarseStride);
   std::stable_sort(spheres_.begin(), spheres_.end(),
                    [](const formats::LinkSphere& a, const formats::LinkSphere& b) { return a.link < b.link; });
+  auto inner = std::make_shared<std::vector<double>>();
+  for (const auto& s : spheres_) inner->push_back(inner_radius(kin.model().links[std::size_t(s.link)].collision, s.center));
+  inner_ = std::move(inner);
   build_bodies();
 }
 
@@ -257,10 +260,16 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
         continue;
       }
       if (obstacles_) {  // exact, inside the grid or not
-        const double exact = obstacles_->distance(w) - s.radius - padding_;
+        const double distance = obstacles_->distance(w);
+        const double exact = distance - s.radius - padding_;
         if (exact >= 0) {
           cleared(bi, exact);
           continue;
+        }
+        if (inner(i) > 0 && distance < inner(i)) {  // part of the link's solid is inside an obstacle (0: unknown)
+          out.environment_free = false;
+          out.proven_collision = true;
+          return out;
         }
       }
       if (!out_of_grid) out.min_clearance = std::min(out.min_clearance, clearance);
@@ -330,6 +339,13 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
         const double r = ra + spheres_[std::size_t(j)].radius;
         const double s2 = (wa - world[std::size_t(j)]).squaredNorm();
         if (s2 < r * r) {
+          // The two inner balls overlap: so do the solids (both must have a ball: 0 is unknown).
+          const double ia = inner(i), ib = inner(j), in = ia + ib;
+          if (ia > 0 && ib > 0 && s2 < in * in) {
+            out.self_free = false;
+            out.proven_collision = true;
+            return out;
+          }
           hit = true;
           break;
         }

@@ -56,7 +56,7 @@ TEST(CollisionMbm, FastLayerNeverSaysFreeWhereFclCollidesOnPandaScenes) {
   const auto& tables = panda.tables;
   std::mt19937_64 rng(2024);
   std::uniform_real_distribution<double> u(0, 1);
-  long total = 0, exact_free = 0, fast_free = 0, full = 0;
+  long total = 0, exact_free = 0, fast_free = 0, full = 0, proven = 0;
   for (auto scene_file : {"mbm_problems/bookshelf_small_panda/scene0001.yaml", "mbm_problems/table_pick_panda/scene0001.yaml"}) {
     Scene scene = tools::load_scene(shared / scene_file);
     auto sdf = test::analytic_sdf(scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.3), Eigen::Vector3d(1.6, 1.2, 1.7)),
@@ -65,6 +65,11 @@ TEST(CollisionMbm, FastLayerNeverSaysFreeWhereFclCollidesOnPandaScenes) {
     fast.set_self_tables(tables);
     runtime::ExactChecker exact(kin, scene);
     runtime::TwoLayerChecker both(fast, exact);
+    // As bench-mbm runs it: exact primitives, inner-ball collision proofs, FCL only against the
+    // primitives a flagged link's spheres reach.
+    runtime::SphereFieldChecker fast_exact = fast;
+    fast_exact.set_exact_obstacles(runtime::PrimitiveObstacles::from_scene(scene));
+    runtime::TwoLayerChecker both_exact(fast_exact, exact);
     for (int i = 0; i < 50000; ++i) {
       Eigen::VectorXd q(7);
       for (int j = 0; j < 7; ++j) q[j] = kin.lower()[j] + u(rng) * (kin.upper()[j] - kin.lower()[j]);
@@ -76,15 +81,20 @@ TEST(CollisionMbm, FastLayerNeverSaysFreeWhereFclCollidesOnPandaScenes) {
       ASSERT_FALSE(f && !e.free()) << scene_file << ": fast layer said free where FCL finds " << e.contact
                                    << " at q = " << q.transpose();
       ASSERT_EQ(both.is_free(q), e.free()) << scene_file;
+      ASSERT_FALSE(fast_exact.is_free(q) && !e.free()) << scene_file << " (exact primitives) at q = " << q.transpose();
+      ASSERT_EQ(both_exact.is_free(q), e.free()) << scene_file << " (exact primitives) at q = " << q.transpose();
     }
     full += both.counters().exact_full.load();
+    proven += both_exact.counters().proven_collisions.load();
   }
   EXPECT_GT(exact_free, 0);
   // The wrist pairs' tables let the fast layer prove most free configurations free by itself
   // (without them, link5 / link7 spheres overlap in ~80% of configurations and it proved none).
   EXPECT_GT(fast_free, exact_free / 2);
   EXPECT_LT(full, total / 2) << "the sphere layer must settle most environment queries itself";
+  EXPECT_GT(proven, (total - exact_free) / 10) << "inner balls should prove a good share of the collisions";
   RecordProperty("configurations", int(total));
+  RecordProperty("proven_collisions", int(proven));
   RecordProperty("exact_free", int(exact_free));
   RecordProperty("fast_free", int(fast_free));
   RecordProperty("full_exact_checks", int(full));

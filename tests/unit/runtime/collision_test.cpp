@@ -3,6 +3,7 @@
 #include <random>
 
 #include "analytic_sdf.hpp"
+#include "dmgplace/formats/winding_number.hpp"
 #include "dmgplace/runtime/collision/exact_checker.hpp"
 #include "dmgplace/runtime/collision/sphere_field_checker.hpp"
 #include "dmgplace/runtime/collision/two_layer_checker.hpp"
@@ -121,6 +122,8 @@ TEST_P(FastLayer, NeverSaysFreeWhereExactLayerCollides) {
   // The sphere layer must settle the environment on its own most of the time, or it is no layer.
   const long full = both_layers.counters().exact_full.load();
   EXPECT_LT(full, long(n) / 2) << "full exact checks: " << full << " of " << n;
+  // With exact primitives the inner balls prove collisions (each one agreed with FCL above).
+  if (GetParam()) EXPECT_GT(both_layers.counters().proven_collisions.load(), long(n) / 50);
   RecordProperty("fast_free", fast_free);
   RecordProperty("exact_full", int(full));
   RecordProperty("exact_free", exact_free);
@@ -320,4 +323,30 @@ TEST(PrimitiveObstacles, DistanceAgreesWithFclOnBoxesCylindersAndSpheres) {
   mesh.mesh = uv_sphere(0.1);
   with_mesh.objects.push_back({"mesh", {mesh}});
   EXPECT_FALSE(PrimitiveObstacles::from_scene(with_mesh)) << "a mesh is the field's job";
+}
+
+// Every sphere's inner ball lies inside its link's geometry: points on and in the ball (Fibonacci
+// directions at three depths) are inside by the winding number or the primitive's distance.
+TEST(SphereCover, InnerBallsLieInsideTheLinkGeometry) {
+  Arm arm = built_in_arm();
+  int with_ball = 0;
+  for (const auto& s : arm.spheres) {
+    const auto& shapes = arm.model.links[std::size_t(s.link)].collision;
+    const double r = inner_radius(shapes, s.center);
+    ASSERT_GE(r, 0.0);
+    if (r <= 0) continue;
+    ++with_ball;
+    for (int k = 0; k < 64; ++k)
+      for (const double depth : {0.999, 0.7, 0.3}) {
+        const double z = 1 - 2 * (k + 0.5) / 64, ph = k * M_PI * (3 - std::sqrt(5.0));
+        const Eigen::Vector3d x =
+            s.center + depth * r * Eigen::Vector3d(std::sqrt(1 - z * z) * std::cos(ph), std::sqrt(1 - z * z) * std::sin(ph), z);
+        bool inside = false;
+        for (const auto& sh : shapes)
+          inside |= sh.type == ShapeType::Mesh ? winding_number(sh.mesh, sh.origin.inverse() * x) > 0.5
+                                               : shape_signed_distance(sh, x) <= 0;
+        ASSERT_TRUE(inside) << arm.model.links[std::size_t(s.link)].name << " ball " << r << " at " << s.center.transpose();
+      }
+  }
+  EXPECT_GT(with_ball, int(arm.spheres.size()) / 2) << "most sphere centres lie inside their link";
 }

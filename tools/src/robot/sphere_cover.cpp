@@ -5,25 +5,11 @@
 #include <limits>
 #include <numeric>
 
+#include "dmgplace/formats/winding_number.hpp"
 #include "dmgplace/tools/geometry/tessellate.hpp"
 
 namespace dmgplace::tools {
 namespace {
-
-// Generalised winding number: ~1 inside a closed outward mesh, ~0 outside (robust to small gaps).
-double winding_number(const TriMesh& m, const Eigen::Vector3d& p) {
-  double total = 0;
-  for (Eigen::Index t = 0; t < m.triangles.rows(); ++t) {
-    Eigen::Vector3d a = m.vertices.row(m.triangles(t, 0)).transpose() - p;
-    Eigen::Vector3d b = m.vertices.row(m.triangles(t, 1)).transpose() - p;
-    Eigen::Vector3d c = m.vertices.row(m.triangles(t, 2)).transpose() - p;
-    const double la = a.norm(), lb = b.norm(), lc = c.norm();
-    const double num = a.dot(b.cross(c));
-    const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
-    total += 2 * std::atan2(num, den);
-  }
-  return total / (4 * M_PI);
-}
 
 void sample_surface(const TriMesh& m, double spacing, std::vector<Eigen::Vector3d>& out) {
   for (Eigen::Index t = 0; t < m.triangles.rows(); ++t) {

@@ -12,6 +12,15 @@
 
 namespace dmgplace::runtime {
 
+// Signed distance from p (in the shape's parent frame) to a box, cylinder or sphere: negative
+// inside. +inf for a mesh.
+double shape_signed_distance(const Shape& s, const Eigen::Vector3d& p);
+
+// Radius of the largest ball around p (in the shapes' parent frame) inside the union of `shapes`
+// (inside some one of them), 0 when p is outside all. Meshes: generalised winding number for
+// inside, then the distance to the nearest triangle.
+double inner_radius(const std::vector<Shape>& shapes, const Eigen::Vector3d& p);
+
 class PrimitiveObstacles {
  public:
   // Null when the scene has a mesh or scan points (their distance is the field's job).

@@ -49,6 +49,9 @@ struct SphereCheck {
   bool env_overflow = false;
   bool attached_near_env = false;
   bool outside_grid = false;  // a sphere left the distance grid: only the exact layer can tell
+  // A ball inside a link's solid reaches an exact primitive, or another link's inner ball: the
+  // configuration collides, no exact check needed (the rest of this answer is then incomplete).
+  bool proven_collision = false;
   double min_clearance = 0;   // smallest proven (distance - radius) seen, metres
   // check_along() only, when free: q + t * direction is free for every t in [0, free_distance]
   // (the spheres cannot move farther than their clearance); 0 when nothing is certified.
@@ -161,6 +164,10 @@ class SphereFieldChecker {
   std::vector<int> touching_;                 // links the attached object may touch
   std::shared_ptr<const Grid3> sdf_;
   std::shared_ptr<const PrimitiveObstacles> obstacles_;  // null unless the scene is all primitives
+  // Per robot sphere (link frame, in spheres_ order): the largest ball around its centre inside
+  // the link's collision geometry, 0 when the centre is outside it. Held objects have none.
+  std::shared_ptr<const std::vector<double>> inner_;
+  double inner(int sphere) const { return std::size_t(sphere) < inner_->size() ? (*inner_)[std::size_t(sphere)] : 0.0; }
   double band_, padding_;
   Eigen::Vector3d lo_, hi_;  // grid bounds
   int attached_link_ = -1;   // link carrying the attached object, -1 when none

@@ -14,6 +14,7 @@ struct CheckCounters {
   std::atomic<long> fast{0};         // every query
   std::atomic<long> exact_pairs{0};  // settled by exact checks of the flagged links and pairs only
   std::atomic<long> exact_full{0};   // needed the full exact check
+  std::atomic<long> proven_collisions{0};  // settled as colliding by the spheres' inner balls
 };
 
 class TwoLayerChecker {
@@ -40,6 +41,10 @@ class TwoLayerChecker {
   bool settle(const Eigen::VectorXd& q, const SphereCheck& f) const {
     ++counters_->fast;
     if (f.free()) return true;
+    if (f.proven_collision) {
+      ++counters_->proven_collisions;
+      return false;
+    }
     // Only what the spheres flagged goes to FCL: those links against the scene, those link pairs
     // against each other. Overflows and held-object self pairs take the full check.
     if (!f.env_overflow && !f.pairs_overflow && !f.attached_involved) {
