@@ -91,8 +91,10 @@ double PrimitiveObstacles::local_distance(const Primitive& s, const Eigen::Vecto
 double PrimitiveObstacles::distance(const Eigen::Vector3d& p) const {
   double best = std::numeric_limits<double>::infinity();
   for (const auto& s : prims_) {
-    // The bounding sphere gives a lower bound: skip shapes that cannot beat the best so far.
-    if ((p - s.origin).norm() - s.bound_radius >= best) continue;
+    // The bounding sphere gives a lower bound, |p - origin| - bound_radius: skip shapes that
+    // cannot beat the best so far (compared squared: no root per shape).
+    const double reach = best + s.bound_radius;
+    if (reach <= 0 || (p - s.origin).squaredNorm() >= reach * reach) continue;
     best = std::min(best, local_distance(s, p));
   }
   return best;
@@ -103,7 +105,8 @@ std::uint64_t PrimitiveObstacles::touching(const Eigen::Vector3d& p, double radi
   const std::size_t n = std::min<std::size_t>(prims_.size(), 64);
   for (std::size_t k = 0; k < n; ++k) {
     const Primitive& s = prims_[k];
-    if ((p - s.origin).norm() - s.bound_radius >= radius) continue;
+    const double reach = radius + s.bound_radius;
+    if (reach <= 0 || (p - s.origin).squaredNorm() >= reach * reach) continue;
     if (local_distance(s, p) < radius) mask |= std::uint64_t(1) << k;
   }
   return mask;
