@@ -195,7 +195,7 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
   thread_local std::vector<Eigen::Vector3d> body_center, world;
   thread_local std::vector<char> world_done;
   thread_local std::vector<double> body_clear;  // certified mode: each body's clearance
-  const bool certify = dir && certifiable_;
+  const bool certify = dir && certifiable_ && enough > 0;  // enough 0: the caller needs no certificate
   kin_->link_poses(q, poses);
   body_center.resize(bodies_.size());
   world.resize(spheres_.size());

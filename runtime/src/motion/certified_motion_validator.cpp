@@ -41,7 +41,8 @@ bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State*
   // A certificate is symmetric (speeds bound |direction|): state i proves states i-k .. i+k.
   // `need` steps on either side is all that is left to prove around i.
   auto check = [&](int i, int need, int& k) {
-    const double fd = free_distance_(seg.at(i), seg.dir, (need + 1e-6) * seg.h);
+    // Nothing left to prove around i (a bisection leaf): a plain check, no certificate work.
+    const double fd = free_distance_(seg.at(i), seg.dir, need > 0 ? (need + 1e-6) * seg.h : 0.0);
     if (fd < 0) return false;
     k = seg.h > 0 ? int(std::min(fd / seg.h, double(steps))) : steps;
     return true;

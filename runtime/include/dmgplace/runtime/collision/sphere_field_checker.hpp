@@ -81,7 +81,8 @@ class SphereFieldChecker {
   // check() plus a certified free distance along `direction` (joint space; any length): every
   // body's clearance divided by how fast the motion can move it (sum over the joints above it of
   // |direction_j| times its farthest possible reach from joint j's axis, whatever the other joints).
-  // `enough`: a certificate this long is all the caller needs (refining stops there).
+  // `enough`: a certificate this long is all the caller needs (refining stops there); 0 asks for
+  // none (then free_distance is 0, and the check costs what check() does).
   SphereCheck check_along(const Eigen::VectorXd& q, const Eigen::VectorXd& direction,
                           double enough = std::numeric_limits<double>::infinity()) const;
   bool is_free(const Eigen::VectorXd& q) const { return check(q).free(); }
