@@ -398,10 +398,10 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
         for (int i = bodies_[bi].begin; i < bodies_[bi].end; ++i) {
           const auto& sp = spheres_[std::size_t(i)];
           const Eigen::Vector3d& w = world[std::size_t(i)];
-          double c = std::max(coarse_lower_bound(w), fine_lower_bound(w)) - sp.radius - padding_;
+          double sc = std::max(coarse_lower_bound(w), fine_lower_bound(w)) - sp.radius - padding_;
           // Near a surface the node bound's loss is most of the clearance: ask the exact shapes.
-          if (obstacles_ && c < kExactBelow) c = std::max(c, obstacles_->distance(w) - sp.radius - padding_);
-          clearance = std::min(clearance, c);
+          if (obstacles_ && sc < kExactBelow) sc = std::max(sc, obstacles_->distance(w) - sp.radius - padding_);
+          clearance = std::min(clearance, sc);
         }
         c->t = c->speed.time_to_move(std::max(clearance, body_clear[bi]));
       }
