@@ -217,10 +217,13 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
     out.min_clearance = std::min(out.min_clearance, clearance);
     if (certify) body_clear[bi] = std::min(body_clear[bi], clearance);
   };
+  // All body centres first, their fine-grid nodes requested at once (most misses then overlap).
+  for (std::size_t bi = 0; bi < bodies_.size(); ++bi) {
+    body_center[bi] = poses[std::size_t(bodies_[bi].link)] * bodies_[bi].center;
+    if (bodies_[bi].moving || bodies_[bi].attached) fine_->prefetch(body_center[bi]);
+  }
   for (std::size_t bi = 0; bi < bodies_.size(); ++bi) {
     const Body& b = bodies_[bi];
-    const Eigen::Isometry3d& T = poses[std::size_t(b.link)];
-    body_center[bi] = T * b.center;
     if (!b.moving && !b.attached) continue;
     if (!outside(body_center[bi])) {
       const double dc = coarse_lower_bound(body_center[bi]) - b.radius - padding_;
@@ -235,6 +238,7 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
       }
     }
     centres(bi);
+    for (int i = b.begin; i < b.end; ++i) fine_->prefetch(world[std::size_t(i)]);
     // Keep going after a hit: every flagged link is listed, so the exact layer can check just those.
     // With exact primitives every sphere of a flagged link is looked at, to name every primitive
     // the link may touch; without, the first flagged sphere settles the link.
@@ -394,6 +398,7 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
       } else {
         // Every sphere's own clearance (the body's bounding sphere, or the coarse grid, gave less).
         centres(bi);
+        for (int i = bodies_[bi].begin; i < bodies_[bi].end; ++i) fine_->prefetch(world[std::size_t(i)]);
         double clearance = std::numeric_limits<double>::infinity();
         for (int i = bodies_[bi].begin; i < bodies_[bi].end; ++i) {
           const auto& sp = spheres_[std::size_t(i)];

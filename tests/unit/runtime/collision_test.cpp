@@ -123,7 +123,9 @@ TEST_P(FastLayer, NeverSaysFreeWhereExactLayerCollides) {
   const long full = both_layers.counters().exact_full.load();
   EXPECT_LT(full, long(n) / 2) << "full exact checks: " << full << " of " << n;
   // With exact primitives the inner balls prove collisions (each one agreed with FCL above).
-  if (GetParam()) EXPECT_GT(both_layers.counters().proven_collisions.load(), long(n) / 50);
+  if (GetParam()) {
+    EXPECT_GT(both_layers.counters().proven_collisions.load(), long(n) / 50);
+  }
   RecordProperty("fast_free", fast_free);
   RecordProperty("exact_full", int(full));
   RecordProperty("exact_free", exact_free);

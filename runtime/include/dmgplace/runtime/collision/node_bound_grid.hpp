@@ -19,19 +19,28 @@ class NodeBoundGrid {
 
   double lower_bound(const Eigen::Vector3d& p) const {
     int c[3];
+    const double v = double(values_[node(p, c)]);
+    const Eigen::Vector3d at = origin_ + res_ * Eigen::Vector3d(c[0], c[1], c[2]);
+    return v * kUnit - (p - at).norm();
+  }
+  // Start loading p's node: a few queries whose points are known ahead then overlap their misses.
+  void prefetch(const Eigen::Vector3d& p) const {
+    int c[3];
+    __builtin_prefetch(values_.data() + node(p, c));
+  }
+  double resolution() const { return res_; }
+
+ private:
+  // Index of the node nearest p, clamped to the grid; its integer coordinates in c.
+  std::size_t node(const Eigen::Vector3d& p, int c[3]) const {
     for (int a = 0; a < 3; ++a) {
       double u = (p[a] - origin_[a]) * inv_;
       u = u > 0 ? u : 0.0;  // also maps NaN to 0
       const double hi = double(dims_[std::size_t(a)] - 1);
       c[a] = int((u < hi ? u : hi) + 0.5);
     }
-    const double v = double(values_[std::size_t(c[0]) + std::size_t(dims_[0]) * (std::size_t(c[1]) + std::size_t(dims_[1]) * std::size_t(c[2]))]);
-    const Eigen::Vector3d node = origin_ + res_ * Eigen::Vector3d(c[0], c[1], c[2]);
-    return v * kUnit - (p - node).norm();
+    return std::size_t(c[0]) + std::size_t(dims_[0]) * (std::size_t(c[1]) + std::size_t(dims_[1]) * std::size_t(c[2]));
   }
-  double resolution() const { return res_; }
-
- private:
   static constexpr double kUnit = 0.00025;  // metres per stored step
   Eigen::Vector3d origin_;
   double res_, inv_;
