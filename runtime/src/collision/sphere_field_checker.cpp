@@ -196,6 +196,8 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
   thread_local std::vector<char> world_done;
   thread_local std::vector<double> body_clear;  // certified mode: each body's clearance
   const bool certify = dir && certifiable_ && enough > 0;  // enough 0: the caller needs no certificate
+  if (tables_)
+    for (const auto& t : *tables_) t.prefetch(q);
   kin_->link_poses(q, poses);
   body_center.resize(bodies_.size());
   world.resize(spheres_.size());

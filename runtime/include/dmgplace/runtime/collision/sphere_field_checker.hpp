@@ -121,16 +121,23 @@ class SphereFieldChecker {
     std::vector<std::uint16_t> tenths_mm;
     explicit Table(const formats::SelfDistanceTable& t);
     double lower_bound(const Eigen::VectorXd& q) const {
-      std::size_t index = 0;
       double loss = 0;
+      const std::size_t index = node(q, &loss);
+      return 1e-4 * double(tenths_mm[index]) - loss;
+    }
+    // Start loading q's node before FK needs the cache (the lookup comes after it).
+    void prefetch(const Eigen::VectorXd& q) const { __builtin_prefetch(tenths_mm.data() + node(q, nullptr)); }
+    // Nearest node to q's table joints, clamped; `loss` (if given): the slope bound to get there.
+    std::size_t node(const Eigen::VectorXd& q, double* loss) const {
+      std::size_t index = 0;
       for (int k = 0; k < 2; ++k) {
         const double x = slot[k] >= 0 ? q[slot[k]] : 0.0;
         const double u = (x - data.lower[std::size_t(k)]) * inv_step[k];
         const long i = !(u > 0) ? 0 : std::min(long(std::min(u, 1e9) + 0.5), long(data.count[std::size_t(k)]) - 1);
-        loss += data.slope[std::size_t(k)] * std::abs(x - (data.lower[std::size_t(k)] + double(i) * data.step[std::size_t(k)]));
+        if (loss) *loss += data.slope[std::size_t(k)] * std::abs(x - (data.lower[std::size_t(k)] + double(i) * data.step[std::size_t(k)]));
         index = index * std::size_t(data.count[std::size_t(k)]) + std::size_t(i);
       }
-      return 1e-4 * double(tenths_mm[index]) - loss;
+      return index;
     }
   };
   void build_bodies();
