@@ -5,25 +5,14 @@
 #include <limits>
 #include <stdexcept>
 
+#include "dmgplace/runtime/collision/primitive_obstacles.hpp"
+
 namespace dmgplace::test {
 
+// The runtime's exact primitive distance (itself tested against FCL: PrimitiveObstacles test).
 double primitive_signed_distance(const Shape& s, const Eigen::Vector3d& world) {
-  const Eigen::Vector3d p = s.origin.inverse() * world;
-  switch (s.type) {
-    case ShapeType::Box: {
-      Eigen::Vector3d d = p.cwiseAbs() - 0.5 * s.size;
-      return d.cwiseMax(0.0).norm() + std::min(d.maxCoeff(), 0.0);
-    }
-    case ShapeType::Sphere:
-      return p.norm() - s.size[0];
-    case ShapeType::Cylinder: {
-      Eigen::Vector2d d(std::hypot(p.x(), p.y()) - s.size[0], std::abs(p.z()) - 0.5 * s.size[1]);
-      return d.cwiseMax(0.0).norm() + std::min(d.maxCoeff(), 0.0);
-    }
-    case ShapeType::Mesh:
-      break;
-  }
-  throw std::invalid_argument("analytic_sdf: meshes are not supported");
+  if (s.type == ShapeType::Mesh) throw std::invalid_argument("analytic_sdf: meshes are not supported");
+  return runtime::shape_signed_distance(s, world);
 }
 
 double scene_signed_distance(const Scene& scene, const Eigen::Vector3d& p) {

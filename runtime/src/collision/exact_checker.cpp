@@ -15,8 +15,8 @@ namespace dmgplace::runtime {
 namespace {
 using Geometry = std::shared_ptr<fcl::CollisionGeometryd>;
 
-// Collision BVHs use OBB nodes unless asked otherwise (MeshBvh). Distance queries need RSS nodes,
-// so links also keep an OBBRSS copy.
+// Collision BVHs use OBB nodes unless asked otherwise (MeshBvh). Distance queries need RSS nodes:
+// links build an OBBRSS copy when first asked (DistanceGeometry).
 template <typename BV>
 Geometry make_mesh(const TriMesh& m) {
   auto model = std::make_shared<fcl::BVHModel<BV>>();
@@ -33,7 +33,7 @@ Geometry make_mesh(const TriMesh& m) {
   return model;
 }
 
-// Meshes get `nodes` bounding volumes; distance queries always need RSS ones.
+// Meshes get `nodes` bounding volumes; `for_distance` forces RSS ones, which distance queries need.
 Geometry make_geometry(const Shape& s, MeshBvh nodes, bool for_distance = false) {
   Geometry g;
   switch (s.type) {
@@ -67,10 +67,31 @@ class Placed {
   std::optional<fcl::CollisionObjectd> obj_;
 };
 
+// A link shape's geometry for distance queries, built on first use: only self-distance baking and
+// tests ask, so planning start-up builds no second hierarchy. Primitives and OBBRSS meshes serve
+// both kinds of query as they are.
+class DistanceGeometry {
+ public:
+  DistanceGeometry(const Shape& shape, const Geometry& collision, MeshBvh nodes) : shape_(&shape) {
+    if (shape.type != ShapeType::Mesh || nodes == MeshBvh::Obbrss) geometry_ = collision;
+  }
+  const Geometry& get() {
+    std::call_once(once_, [this] {
+      if (!geometry_) geometry_ = make_geometry(*shape_, MeshBvh::Obbrss, true);
+    });
+    return geometry_;
+  }
+
+ private:
+  const Shape* shape_;  // in the robot model, which outlives every checker of it
+  std::once_flag once_;
+  Geometry geometry_;
+};
+
 struct Part {
   int link;               // robot link, or -1 for the attached object
   Geometry geometry;      // for collision queries
-  Geometry distance_geometry;  // for distance queries (links only)
+  std::shared_ptr<DistanceGeometry> distance;  // links only
   Eigen::Isometry3d local;  // in the link frame
 };
 
@@ -124,12 +145,15 @@ class ObjectPool {
 
 struct CollisionMesh::Impl {
   Geometry geometry;
+  std::vector<Part> parts;     // the mesh alone, for its object pool
+  mutable ObjectPool pool;     // mesh_free places it without building an FCL object per call
 };
 
 CollisionMesh::CollisionMesh(const TriMesh& mesh) {
   if (mesh.empty()) throw Error("CollisionMesh", "mesh", "empty");
   auto impl = std::make_shared<Impl>();
   impl->geometry = make_mesh<fcl::OBBd>(mesh);
+  impl->parts.push_back({-1, impl->geometry, nullptr, Eigen::Isometry3d::Identity()});
   this->impl = impl;
 }
 
@@ -199,7 +223,8 @@ ExactChecker::ExactChecker(const Kinematics& kin, const Scene& env, double scan_
   for (std::size_t l = 0; l < m.links.size(); ++l) {
     impl->link_names.push_back(m.links[l].name);
     for (const auto& s : m.links[l].collision) {
-      impl->parts.push_back({int(l), make_geometry(s, nodes), make_geometry(s, nodes, true), s.origin});
+      Geometry g = make_geometry(s, nodes);
+      impl->parts.push_back({int(l), g, std::make_shared<DistanceGeometry>(s, g, nodes), s.origin});
       impl->part_is_object.push_back(0);
     }
   }
@@ -307,9 +332,9 @@ bool ExactChecker::links_free(const std::vector<std::pair<int, Eigen::Isometry3d
 }
 
 bool ExactChecker::mesh_free(const CollisionMesh& mesh, const Eigen::Isometry3d& pose, std::string* contact) const {
-  Placed obj(mesh.impl->geometry, pose);
+  ObjectPool::Lease lease(mesh.impl->pool, mesh.impl->parts);
   EnvHit hit;
-  impl_->env->collide(obj.get(), &hit, env_callback);
+  impl_->env->collide(lease.place(0, pose), &hit, env_callback);
   if (hit.hit && contact) {
     const std::size_t name = reinterpret_cast<std::size_t>(hit.other->getUserData());
     *contact = name > 0 ? (*impl_->env_names)[name - 1] : std::string("?");
@@ -382,8 +407,8 @@ double ExactChecker::link_distance(const Eigen::VectorXd& q, int link_a, int lin
     if (pa.link != link_a) continue;
     for (const auto& pb : impl_->parts) {
       if (pb.link != link_b) continue;
-      Placed oa(pa.distance_geometry, poses[std::size_t(link_a)] * pa.local),
-          ob(pb.distance_geometry, poses[std::size_t(link_b)] * pb.local);
+      Placed oa(pa.distance->get(), poses[std::size_t(link_a)] * pa.local),
+          ob(pb.distance->get(), poses[std::size_t(link_b)] * pb.local);
       fcl::CollisionRequestd creq;
       fcl::CollisionResultd cres;
       if (fcl::collide(oa.get(), ob.get(), creq, cres) > 0) return 0.0;  // FCL's distance is unsigned inside

@@ -9,18 +9,18 @@
 namespace dmgplace::runtime {
 SphereFieldChecker::SphereFieldChecker(const Kinematics& kin, std::vector<formats::LinkSphere> spheres,
                                        std::shared_ptr<const Grid3> sdf, double band, double padding)
-    : kin_(&kin), spheres_(std::move(spheres)), allowed_(kin.model().allowed_pairs), sdf_(std::move(sdf)),
-      band_(band), padding_(padding) {
-  if (!sdf_) throw Error("SphereFieldChecker", "", "no distance field");
-  lo_ = sdf_->origin();
-  hi_ = sdf_->point(sdf_->dims()[0] - 1, sdf_->dims()[1] - 1, sdf_->dims()[2] - 1);
+    : kin_(&kin), spheres_(std::move(spheres)), allowed_(kin.model().allowed_pairs), band_(band), padding_(padding) {
+  if (!sdf) throw Error("SphereFieldChecker", "", "no distance field");
+  lo_ = sdf->origin();
+  hi_ = sdf->point(sdf->dims()[0] - 1, sdf->dims()[1] - 1, sdf->dims()[2] - 1);
   for (const auto& s : spheres_)
     if (s.link < 0 || std::size_t(s.link) >= kin.model().links.size())
       throw Error("SphereFieldChecker", "spheres", "link index out of range");
-  fine_ = std::make_shared<NodeBoundGrid>(*sdf_, 1);
-  const auto& d = sdf_->dims();
+  // Queries read only these node-bound copies of the field (the float grid is not kept).
+  fine_ = std::make_shared<NodeBoundGrid>(*sdf, 1);
+  const auto& d = sdf->dims();
   if ((d[0] - 1) / kCoarseStride >= 1 && (d[1] - 1) / kCoarseStride >= 1 && (d[2] - 1) / kCoarseStride >= 1)
-    coarse_ = std::make_shared<NodeBoundGrid>(*sdf_, kCoarseStride);
+    coarse_ = std::make_shared<NodeBoundGrid>(*sdf, kCoarseStride);
   std::stable_sort(spheres_.begin(), spheres_.end(),
                    [](const formats::LinkSphere& a, const formats::LinkSphere& b) { return a.link < b.link; });
   auto inner = std::make_shared<std::vector<double>>();

@@ -170,7 +170,6 @@ class SphereFieldChecker {
   double fine_lower_bound(const Eigen::Vector3d& p) const;
   std::vector<std::pair<int, int>> allowed_;  // link pairs
   std::vector<int> touching_;                 // links the attached object may touch
-  std::shared_ptr<const Grid3> sdf_;
   std::shared_ptr<const PrimitiveObstacles> obstacles_;  // null unless the scene is all primitives
   // Per robot sphere (link frame, in spheres_ order): the largest ball around its centre inside
   // the link's collision geometry, 0 when the centre is outside it. Held objects have none.
