@@ -342,10 +342,10 @@ bool ExactChecker::mesh_free(const CollisionMesh& mesh, const Eigen::Isometry3d&
   return !hit.hit;
 }
 
-bool ExactChecker::links_environment_free(const Eigen::VectorXd& q, const int* links, int count, bool object,
+bool ExactChecker::links_environment_free(const std::vector<Eigen::Isometry3d>& poses, const int* links, int count, bool object,
                                           const std::uint64_t* masks) const {
-  thread_local std::vector<Eigen::Isometry3d> poses;
-  kin_->link_poses(q, poses);
+  if (count == 0 && !object) return true;
+  if (poses.size() != kin_->model().links.size()) throw Error("ExactChecker", "link poses", "one pose per link expected");
   const Impl& impl = *impl_;
   ObjectPool::Lease lease(*impl.pool, impl.parts);
   const auto& env = *impl.env_objects;
@@ -376,9 +376,9 @@ bool ExactChecker::links_environment_free(const Eigen::VectorXd& q, const int* l
   return true;
 }
 
-bool ExactChecker::link_pairs_free(const Eigen::VectorXd& q, const std::pair<int, int>* pairs, int count) const {
-  thread_local std::vector<Eigen::Isometry3d> poses;
-  kin_->link_poses(q, poses);
+bool ExactChecker::link_pairs_free(const std::vector<Eigen::Isometry3d>& poses, const std::pair<int, int>* pairs, int count) const {
+  if (count == 0) return true;
+  if (poses.size() != kin_->model().links.size()) throw Error("ExactChecker", "link poses", "one pose per link expected");
   const Impl& impl = *impl_;
   fcl::CollisionRequestd req;
   ObjectPool::Lease lease(*impl.pool, impl.parts);

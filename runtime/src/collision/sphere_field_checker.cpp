@@ -96,22 +96,21 @@ void SphereFieldChecker::build_bodies() {
     return false;
   };
   // Joints above both bodies move them together: only the others change their distance.
-  auto relative_chain = [](const Body& a, const Body& b) {
-    std::vector<ChainJoint> out;
-    auto has = [](const Body& x, int slot) {
-      return std::any_of(x.chain.begin(), x.chain.end(), [&](const ChainJoint& c) { return c.slot == slot; });
+  auto relative_moves = [](const Body& a, const Body& b) {
+    auto only = [](const Body& x, const Body& y) {
+      std::vector<ChainJoint> out;
+      for (const auto& c : x.chain)
+        if (std::none_of(y.chain.begin(), y.chain.end(), [&](const ChainJoint& d) { return d.slot == c.slot; }))
+          out.push_back(c);
+      return out;
     };
-    for (const auto& c : a.chain)
-      if (!has(b, c.slot)) out.push_back(c);
-    for (const auto& c : b.chain)
-      if (!has(a, c.slot)) out.push_back(c);
-    return out;
+    return PairMoves{only(a, b), only(b, a)};
   };
   pairs_.clear();
   pair_moves_.clear();
   auto add_pair = [&](std::size_t i, std::size_t j, int table) {
     pairs_.push_back({int(i), int(j), table, bodies_[i].radius + bodies_[j].radius + padding_});
-    pair_moves_.push_back(relative_chain(bodies_[i], bodies_[j]));
+    pair_moves_.push_back(relative_moves(bodies_[i], bodies_[j]));
   };
   for (std::size_t i = 0; i < bodies_.size(); ++i)
     for (std::size_t j = i + 1; j < bodies_.size(); ++j) {
@@ -184,21 +183,36 @@ namespace {
 constexpr double kExactBelow = 0.05;
 }
 
-SphereCheck SphereFieldChecker::check(const Eigen::VectorXd& q) const { return evaluate(q, nullptr, 0.0); }
-
-SphereCheck SphereFieldChecker::check_along(const Eigen::VectorXd& q, const Eigen::VectorXd& direction, double enough) const {
-  return evaluate(q, &direction, enough);
+const std::vector<Eigen::Isometry3d>& SphereFieldChecker::poses_at(const Eigen::VectorXd& q) const {
+  thread_local std::vector<Eigen::Isometry3d> poses;
+  if (tables_)  // start loading the table nodes while FK runs
+    for (const auto& t : *tables_) t.prefetch(q);
+  kin_->link_poses(q, poses);
+  return poses;
 }
 
-SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::VectorXd* dir, double enough) const {
-  thread_local std::vector<Eigen::Isometry3d> poses;
+SphereCheck SphereFieldChecker::check(const Eigen::VectorXd& q) const { return evaluate(q, poses_at(q), nullptr, 0.0); }
+
+SphereCheck SphereFieldChecker::check(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses) const {
+  return evaluate(q, poses, nullptr, 0.0);
+}
+
+SphereCheck SphereFieldChecker::check_along(const Eigen::VectorXd& q, const Eigen::VectorXd& direction, double enough) const {
+  return evaluate(q, poses_at(q), &direction, enough);
+}
+
+SphereCheck SphereFieldChecker::check_along(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses,
+                                            const Eigen::VectorXd& direction, double enough) const {
+  return evaluate(q, poses, &direction, enough);
+}
+
+SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses,
+                                         const Eigen::VectorXd* dir, double enough) const {
+  if (poses.size() != kin_->model().links.size()) throw Error("SphereFieldChecker", "link poses", "one pose per link expected");
   thread_local std::vector<Eigen::Vector3d> body_center, world;
   thread_local std::vector<char> world_done;
   thread_local std::vector<double> body_clear;  // certified mode: each body's clearance
   const bool certify = dir && certifiable_ && enough > 0;  // enough 0: the caller needs no certificate
-  if (tables_)
-    for (const auto& t : *tables_) t.prefetch(q);
-  kin_->link_poses(q, poses);
   body_center.resize(bodies_.size());
   world.resize(spheres_.size());
   world_done.assign(bodies_.size(), 0);
@@ -293,30 +307,44 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
     if (flagged && masks && !out.env_overflow && out.env_links[std::size_t(out.env_link_count - 1)] == b.link)
       out.env_masks[std::size_t(out.env_link_count - 1)] = mask;
   }
-  // Certified mode: how fast each body can move along `dir` (metres per unit of joint motion).
+  // Certified mode: every clearance (a body's to the scene, a pair's) is a candidate limit on the
+  // certificate, first over a cheap static speed (metres per unit of joint motion); the smallest
+  // candidates are refined below until the limit is final or the certificate long enough.
   auto speed = [&](const std::vector<ChainJoint>& joints) {
     double v = 0;
     for (const auto& j : joints) v += std::abs((*dir)[j.slot]) * j.reach;
     return v;
   };
-  double free_distance = std::numeric_limits<double>::infinity();
-  auto certify_pair = [&](double clearance, double speed) {
-    if (speed > 0) free_distance = std::min(free_distance, clearance / speed);
+  struct Candidate {
+    double t;          // how long `clearance` lasts, as far as known
+    double clearance;  // metres
+    std::size_t index; // body, or pair
+    bool pair;
+    bool fine;         // the clearance is already sphere by sphere
+    int level;         // 0 static speed, 1 local speed, 2 local speed and sphere clearances (final)
+    DisplacementBound speed;
   };
-  // A pair gap only matters below what the certificate still needs (`enough`, or a smaller limit
-  // found so far): checking gap >= need is a comparison of squares, so most pairs cost no sqrt.
-  bool skipped_pair = false;
+  thread_local std::vector<Candidate> cands;
+  cands.clear();
+  double free_distance = std::numeric_limits<double>::infinity();
+  // A clearance lasting past `enough` is not looked at closely (most pairs cost no sqrt): it only
+  // proves `enough`, which caps the certificate.
+  bool skipped = false;
   for (std::size_t pi = 0; pi < pairs_.size(); ++pi) {
     const Pair& p = pairs_[pi];
     const double rb = p.reach;
     const double d2 = (body_center[std::size_t(p.a)] - body_center[std::size_t(p.b)]).squaredNorm();
-    const double v = certify && out.free() ? speed(pair_moves_[pi]) : 0.0;
+    const double v = certify && out.free() ? speed(pair_moves_[pi].a) + speed(pair_moves_[pi].b) : 0.0;
     const bool certify_this = v > 0;  // (a pair the motion does not move relative needs nothing)
-    const double need = certify_this ? std::min(free_distance, enough) * v : 0.0;
+    const double need = certify_this ? enough * v : 0.0;
     if (d2 >= rb * rb) {
       if (certify_this) {
-        if (d2 < (rb + need) * (rb + need)) certify_pair(std::sqrt(d2) - rb, v);
-        else skipped_pair = true;
+        if (d2 < (rb + need) * (rb + need)) {
+          const double gap = std::sqrt(d2) - rb;
+          cands.push_back({gap / v, gap, pi, true, false, 0, {}});
+        } else {
+          skipped = true;
+        }
       }
       continue;
     }
@@ -329,7 +357,7 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
           // Only the table's joints move the pair relative to each other, at most `slope` each.
           double vt = t.data.slope[0] * std::abs((*dir)[t.slot[0]]);
           if (t.slot[1] >= 0) vt += t.data.slope[1] * std::abs((*dir)[t.slot[1]]);
-          certify_pair(lb, vt);
+          if (vt > 0) free_distance = std::min(free_distance, lb / vt);
         }
         continue;
       }
@@ -357,11 +385,11 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
         }
         if (!certify_this) continue;
         if (s2 < (r + need) * (r + need)) gap = std::min(gap, std::sqrt(s2) - r);
-        else skipped_pair = true;
+        else skipped = true;
       }
     }
     if (!hit) {
-      if (certify_this && std::isfinite(gap)) certify_pair(gap, v);
+      if (certify_this && std::isfinite(gap)) cands.push_back({gap / v, gap, pi, true, true, 0, {}});
       continue;
     }
     out.self_free = false;
@@ -373,36 +401,37 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
     out.pairs[std::size_t(out.pair_count++)] = {a.link, b.link};
   }
   if (certify && out.free()) {
-    // Bodies: a cheap bound first (the clearance seen, over the static reach). The body that
-    // limits the certificate is refined (its speed from its distances to the joint axes, then its
-    // spheres' own clearances) until the limit is final or the certificate is long enough.
-    struct Candidate {
-      double t;
-      std::size_t body;
-      int level;  // 0 cheap, 1 local speeds, 2 local speeds and sphere clearances (final)
-      BodySpeed speed;
-    };
-    thread_local std::vector<Candidate> cands;
-    cands.clear();
     for (std::size_t bi = 0; bi < bodies_.size(); ++bi)
       if ((bodies_[bi].moving || bodies_[bi].attached) && std::isfinite(body_clear[bi])) {
         const double v = speed(bodies_[bi].chain);
-        if (v > 0) cands.push_back({body_clear[bi] / v, bi, 0, {}});
+        if (v > 0) cands.push_back({body_clear[bi] / v, body_clear[bi], bi, false, false, 0, {}});
       }
     const double limit = std::min(free_distance, enough);
     while (!cands.empty()) {
       auto c = std::min_element(cands.begin(), cands.end(), [](const Candidate& x, const Candidate& y) { return x.t < y.t; });
       if (c->t >= limit || c->level == 2) break;
-      const std::size_t bi = c->body;
       if (c->level == 0) {
-        c->speed = body_speed(bi, poses, body_center[bi], *dir);
-        c->t = c->speed.time_to_move(body_clear[bi]);
+        c->speed = c->pair ? pair_speed(c->index, poses, body_center, *dir)
+                           : joint_speed(bodies_[c->index].chain, poses, body_center[c->index], bodies_[c->index].radius, *dir);
+        c->t = c->speed.time_to_move(c->clearance);
+        c->level = c->fine ? 2 : 1;
+        continue;
+      }
+      // Sphere by sphere (the bounding spheres, or the coarse grid, gave less).
+      double clearance = std::numeric_limits<double>::infinity();
+      if (c->pair) {
+        const Body &a = bodies_[std::size_t(pairs_[c->index].a)], &b = bodies_[std::size_t(pairs_[c->index].b)];
+        centres(std::size_t(pairs_[c->index].a));
+        centres(std::size_t(pairs_[c->index].b));
+        for (int i = a.begin; i < a.end; ++i)
+          for (int j = b.begin; j < b.end; ++j)
+            clearance = std::min(clearance, (world[std::size_t(i)] - world[std::size_t(j)]).norm() - spheres_[std::size_t(i)].radius -
+                                                spheres_[std::size_t(j)].radius - padding_);
       } else {
-        // Every sphere's own clearance (the body's bounding sphere, or the coarse grid, gave less).
-        centres(bi);
-        for (int i = bodies_[bi].begin; i < bodies_[bi].end; ++i) fine_->prefetch(world[std::size_t(i)]);
-        double clearance = std::numeric_limits<double>::infinity();
-        for (int i = bodies_[bi].begin; i < bodies_[bi].end; ++i) {
+        const Body& b = bodies_[c->index];
+        centres(c->index);
+        for (int i = b.begin; i < b.end; ++i) fine_->prefetch(world[std::size_t(i)]);
+        for (int i = b.begin; i < b.end; ++i) {
           const auto& sp = spheres_[std::size_t(i)];
           const Eigen::Vector3d& w = world[std::size_t(i)];
           double sc = std::max(coarse_lower_bound(w), fine_lower_bound(w)) - sp.radius - padding_;
@@ -410,43 +439,37 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const Eigen::
           if (obstacles_ && sc < kExactBelow) sc = std::max(sc, obstacles_->distance(w) - sp.radius - padding_);
           clearance = std::min(clearance, sc);
         }
-        c->t = c->speed.time_to_move(std::max(clearance, body_clear[bi]));
       }
-      ++c->level;
+      c->clearance = std::max(clearance, c->clearance);
+      c->t = c->speed.time_to_move(c->clearance);
+      c->level = 2;
     }
     for (const auto& c : cands) free_distance = std::min(free_distance, c.t);
-    // A pair skipped as "no limit below what is needed" is only known to allow `enough`.
-    if (skipped_pair) free_distance = std::min(free_distance, enough);
+    if (skipped) free_distance = std::min(free_distance, enough);
     out.free_distance = std::isfinite(free_distance) ? free_distance : 1e9;
   }
   return out;
 }
 
-SphereFieldChecker::BodySpeed SphereFieldChecker::body_speed(std::size_t bi, const std::vector<Eigen::Isometry3d>& poses,
-                                                             const Eigen::Vector3d& center, const Eigen::VectorXd& dir) const {
-  const Body& b = bodies_[bi];
-  BodySpeed out;
-  for (const auto& j : b.chain) {
-    const double u = std::abs(dir[j.slot]);
-    out.reach_speed += u * j.reach;
-    if (j.prismatic) {
-      out.local_speed += u;
-      continue;
-    }
-    const Eigen::Isometry3d& T = poses[std::size_t(j.child)];
-    const Eigen::Vector3d axis = T.linear() * j.axis;
-    out.local_speed += u * ((center - T.translation()).cross(axis).norm() + b.radius);
-    out.turn_rate += u;
+DisplacementBound SphereFieldChecker::joint_speed(const std::vector<ChainJoint>& joints,
+                                                  const std::vector<Eigen::Isometry3d>& poses, const Eigen::Vector3d& center,
+                                                  double radius, const Eigen::VectorXd& dir) const {
+  BallMotion m(center, radius);
+  for (auto it = joints.rbegin(); it != joints.rend(); ++it) {  // from the top of the chain down
+    const Eigen::Isometry3d& T = poses[std::size_t(it->child)];
+    const Eigen::Vector3d axis = T.linear() * it->axis;
+    if (it->prismatic) m.add_prismatic(axis, dir[it->slot], it->reach);
+    else m.add_revolute(axis, T.translation(), dir[it->slot], it->reach);
   }
-  return out;
+  return m.bound();
 }
 
-double SphereFieldChecker::BodySpeed::time_to_move(double clearance) const {
-  const double t_static = reach_speed > 0 ? clearance / reach_speed : std::numeric_limits<double>::infinity();
-  double t_local = std::numeric_limits<double>::infinity();
-  if (turn_rate > 1e-12) t_local = std::log1p(clearance * turn_rate / local_speed) / turn_rate;
-  else if (local_speed > 0) t_local = clearance / local_speed;
-  return std::max(t_static, t_local);
+DisplacementBound SphereFieldChecker::pair_speed(std::size_t pi, const std::vector<Eigen::Isometry3d>& poses,
+                                                 const std::vector<Eigen::Vector3d>& centers, const Eigen::VectorXd& dir) const {
+  const Pair& p = pairs_[pi];
+  DisplacementBound s = joint_speed(pair_moves_[pi].a, poses, centers[std::size_t(p.a)], bodies_[std::size_t(p.a)].radius, dir);
+  s.add(joint_speed(pair_moves_[pi].b, poses, centers[std::size_t(p.b)], bodies_[std::size_t(p.b)].radius, dir));
+  return s;
 }
 
 }  // namespace dmgplace::runtime

@@ -56,14 +56,14 @@ class ExactChecker {
   bool mesh_free(const CollisionMesh& mesh, const Eigen::Isometry3d& pose, std::string* contact = nullptr) const;
 
   ExactCheck check(const Eigen::VectorXd& q) const;
-  // Just these links (and the held object when `object`) against the environment at q: the ones
-  // the sphere layer flagged.
+  // Just these links (and the held object when `object`) against the environment, the links at
+  // `poses` (Kinematics::link_poses at q, shared with the sphere layer that flagged them).
   // `masks` (optional, per link): bit k set names the scene's k-th shape (objects, then their
   // shapes, in order) as the only ones that link can touch; 0 means any.
-  bool links_environment_free(const Eigen::VectorXd& q, const int* links, int count, bool object,
+  bool links_environment_free(const std::vector<Eigen::Isometry3d>& poses, const int* links, int count, bool object,
                               const std::uint64_t* masks = nullptr) const;
-  // Self-collision of just these link pairs (the ones the sphere layer flagged).
-  bool link_pairs_free(const Eigen::VectorXd& q, const std::pair<int, int>* pairs, int count) const;
+  // Self-collision of just these link pairs (the ones the sphere layer flagged), links at `poses`.
+  bool link_pairs_free(const std::vector<Eigen::Isometry3d>& poses, const std::pair<int, int>* pairs, int count) const;
   bool is_free(const Eigen::VectorXd& q) const { return check(q).free(); }
   // Smallest distance between two links' collision geometry at q (0 when they touch).
   double link_distance(const Eigen::VectorXd& q, int link_a, int link_b) const;
@@ -71,6 +71,8 @@ class ExactChecker {
   // Exact checks along the straight joint-space segment every `resolution` of Euclidean length
   // (radians), the states an OMPL motion validator at that resolution checks.
   bool segment_free(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution) const;
+
+  const Kinematics& kinematics() const { return *kin_; }
 
   struct Impl;  // FCL objects; defined in the .cpp so FCL headers stay out of ours
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "dmgplace/formats/robot_artifact.hpp"
+#include "dmgplace/runtime/collision/displacement_bound.hpp"
 #include "dmgplace/runtime/collision/node_bound_grid.hpp"
 #include "dmgplace/runtime/collision/primitive_obstacles.hpp"
 #include "dmgplace/runtime/geometry/grid3.hpp"
@@ -85,9 +86,15 @@ class SphereFieldChecker {
   // none (then free_distance is 0, and the check costs what check() does).
   SphereCheck check_along(const Eigen::VectorXd& q, const Eigen::VectorXd& direction,
                           double enough = std::numeric_limits<double>::infinity()) const;
+  // The same with the link poses at q already computed (Kinematics::link_poses), to share one
+  // forward kinematics with the exact layer.
+  SphereCheck check(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses) const;
+  SphereCheck check_along(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses,
+                          const Eigen::VectorXd& direction, double enough = std::numeric_limits<double>::infinity()) const;
   bool is_free(const Eigen::VectorXd& q) const { return check(q).free(); }
 
   std::size_t sphere_count() const { return spheres_.size(); }
+  const Kinematics& kinematics() const { return *kin_; }
 
  private:
   // A body is one link's spheres (or the attached object's), with a bounding sphere that is
@@ -101,7 +108,7 @@ class SphereFieldChecker {
   };
   struct Body {
     int link = -1;
-    std::vector<ChainJoint> chain;  // chain joints that move this body
+    std::vector<ChainJoint> chain;  // chain joints that move this body, the link's own joint first
     int begin = 0, end = 0;  // sphere range
     Eigen::Vector3d center = Eigen::Vector3d::Zero();
     double radius = 0;
@@ -141,25 +148,24 @@ class SphereFieldChecker {
     }
   };
   void build_bodies();
-  SphereCheck evaluate(const Eigen::VectorXd& q, const Eigen::VectorXd* direction, double enough) const;
-  // How fast body `bi` can move along `direction`. Every point x of the body moves at
-  // |x'| <= sum_j |u_j| r_j(t), r_j its distance to joint j's axis. Two bounds on r_j(t): the
-  // static reach (`reach_speed` = sum |u_j| reach_j), and r_j(0) + D(t), D the body's displacement
-  // so far (only motion relative to joint j's frame changes r_j, and that is at most D). With
-  // `local_speed` V0 = sum |u_j| r_j(0) and `turn_rate` W = sum |u_j|, D' <= V0 + W D, so
-  // D(t) <= V0 / W (exp(W t) - 1) (Gronwall). Either bound proves a clearance lasts until used up.
-  struct BodySpeed {
-    double reach_speed = 0, local_speed = 0, turn_rate = 0;
-    double time_to_move(double clearance) const;
+  SphereCheck evaluate(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses, const Eigen::VectorXd* direction,
+                       double enough) const;
+  const std::vector<Eigen::Isometry3d>& poses_at(const Eigen::VectorXd& q) const;  // thread-local FK
+  // How far a ball (a body's bounding sphere) can move along `direction` (displacement_bound.hpp).
+  DisplacementBound joint_speed(const std::vector<ChainJoint>& joints, const std::vector<Eigen::Isometry3d>& poses,
+                                const Eigen::Vector3d& center, double radius, const Eigen::VectorXd& direction) const;
+  // Joints moving one body of a pair relative to the other (those above both move them together).
+  struct PairMoves {
+    std::vector<ChainJoint> a, b;
   };
-  BodySpeed body_speed(std::size_t bi, const std::vector<Eigen::Isometry3d>& poses, const Eigen::Vector3d& center,
-                       const Eigen::VectorXd& direction) const;
+  DisplacementBound pair_speed(std::size_t pair, const std::vector<Eigen::Isometry3d>& poses,
+                               const std::vector<Eigen::Vector3d>& centers, const Eigen::VectorXd& direction) const;
   bool certifiable_ = true;  // false when a mimic joint follows a chain joint (speeds unknown)
   const Kinematics* kin_;
   std::vector<formats::LinkSphere> spheres_;  // robot + attached, link frames, grouped by body
   std::vector<Body> bodies_;
   std::vector<Pair> pairs_;                   // body pairs checked for self-collision
-  std::vector<std::vector<ChainJoint>> pair_moves_;  // per pair: joints moving one body relative to the other
+  std::vector<PairMoves> pair_moves_;         // per pair
   std::shared_ptr<const std::vector<Table>> tables_;  // shared by every per-grasp copy
   // Every `kCoarseStride`-th node of the distance grid: small enough to stay in cache, and with
   // a nearest-node bound (value - distance to the node, 1-Lipschitz) it clears most bodies in one

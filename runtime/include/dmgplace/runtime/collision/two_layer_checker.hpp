@@ -5,6 +5,7 @@
 #include <limits>
 #include <memory>
 
+#include "dmgplace/formats/error.hpp"
 #include "dmgplace/runtime/collision/exact_checker.hpp"
 #include "dmgplace/runtime/collision/sphere_field_checker.hpp"
 
@@ -21,16 +22,25 @@ class TwoLayerChecker {
  public:
   TwoLayerChecker(SphereFieldChecker fast, ExactChecker exact, std::shared_ptr<CheckCounters> counters = nullptr)
       : fast_(std::move(fast)), exact_(std::move(exact)),
-        counters_(counters ? std::move(counters) : std::make_shared<CheckCounters>()) {}
+        counters_(counters ? std::move(counters) : std::make_shared<CheckCounters>()) {
+    // Both layers read one set of link poses per query: they must pose the same robot.
+    if (&fast_.kinematics() != &exact_.kinematics())
+      throw Error("TwoLayerChecker", "layers", "the fast and exact layers use different kinematics");
+  }
 
-  bool is_free(const Eigen::VectorXd& q) const { return settle(q, fast_.check(q)); }
+  // One forward kinematics per query, shared by both layers.
+  bool is_free(const Eigen::VectorXd& q) const {
+    const auto& poses = poses_at(q);
+    return settle(q, poses, fast_.check(q, poses));
+  }
   // < 0: q collides; otherwise q is free and so is q + t * direction for t in [0, result]
   // (0 when the exact layer had to decide, which certifies nothing beyond q). `enough`: the
   // longest certificate the caller can use.
   double free_distance(const Eigen::VectorXd& q, const Eigen::VectorXd& direction,
                        double enough = std::numeric_limits<double>::infinity()) const {
-    const SphereCheck f = fast_.check_along(q, direction, enough);
-    if (!settle(q, f)) return -1.0;
+    const auto& poses = poses_at(q);
+    const SphereCheck f = fast_.check_along(q, poses, direction, enough);
+    if (!settle(q, poses, f)) return -1.0;
     return f.free() ? f.free_distance : 0.0;
   }
   const SphereFieldChecker& fast() const { return fast_; }
@@ -38,7 +48,12 @@ class TwoLayerChecker {
   const CheckCounters& counters() const { return *counters_; }
 
  private:
-  bool settle(const Eigen::VectorXd& q, const SphereCheck& f) const {
+  const std::vector<Eigen::Isometry3d>& poses_at(const Eigen::VectorXd& q) const {
+    thread_local std::vector<Eigen::Isometry3d> poses;
+    exact_.kinematics().link_poses(q, poses);
+    return poses;
+  }
+  bool settle(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses, const SphereCheck& f) const {
     ++counters_->fast;
     if (f.free()) return true;
     if (f.proven_collision) {
@@ -49,8 +64,8 @@ class TwoLayerChecker {
     // against each other. Overflows and held-object self pairs take the full check.
     if (!f.env_overflow && !f.pairs_overflow && !f.attached_involved) {
       ++counters_->exact_pairs;
-      return exact_.links_environment_free(q, f.env_links.data(), f.env_link_count, f.attached_near_env, f.env_masks.data()) &&
-             exact_.link_pairs_free(q, f.pairs.data(), f.pair_count);
+      return exact_.links_environment_free(poses, f.env_links.data(), f.env_link_count, f.attached_near_env, f.env_masks.data()) &&
+             exact_.link_pairs_free(poses, f.pairs.data(), f.pair_count);
     }
     ++counters_->exact_full;
     return exact_.is_free(q);

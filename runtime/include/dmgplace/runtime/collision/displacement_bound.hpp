@@ -1,0 +1,53 @@
+#pragma once
+// How far a ball rigidly attached to a link can move while the joints move at constant rates
+// (q(t) = q + t u): the speed bounds behind the fast layer's free-distance certificates.
+//
+// Every point x moves at |x'| <= sum_j |u_j| r_j(t), r_j its distance to joint j's axis. Three
+// bounds on the displacement D(t), each valid alone:
+// - static: r_j(t) <= reach_j (the farthest the ball gets from the axis, whatever the other
+//   joints), so D <= t sum |u_j| reach_j (`reach_speed`);
+// - Gronwall: r_j(t) <= r_j(0) + D(t), so with V0 = sum |u_j| r_j(0) (`local_speed`) and
+//   W = sum |u_j| over revolute joints (`turn_rate`), D <= G(t) = V0 / W (exp(W t) - 1);
+// - Taylor: x's velocity at 0 is the vector J u, at most a = |v(c)| + |omega| R (`first_order`),
+//   and it drifts by at most sum_j |u_j| (W_j t r_j(0) + G(t)), W_j the turn rate of joint j's
+//   frame (the joints above it, and it): D <= a t + S t^2 / 2 + V0 / W (exp(W t) - 1 - W t) with
+//   S = sum |u_j| W_j r_j(0) (`second_order`). Joint motions that cancel make a << V0, so near
+//   obstacles, where certificates are short, this one lasts longest.
+// Distances are measured in a frame the listed joints do not move (the base, or for a link pair
+// the last joint both links share); a pair's bound is the sum of its two balls' (`add`).
+#include <Eigen/Core>
+
+namespace dmgplace::runtime {
+
+struct DisplacementBound {
+  double reach_speed = 0, local_speed = 0, turn_rate = 0, first_order = 0, second_order = 0;
+
+  // A bound for D_a + D_b (two balls moving independently).
+  void add(const DisplacementBound& other);
+  // The longest t with D(t) < clearance guaranteed (infinite when nothing moves).
+  double time_to_move(double clearance) const;
+  // The smallest of the three bounds on D(t) (for tests and plots).
+  double displacement(double t) const;
+
+ private:
+  double taylor_time(double clearance) const;
+};
+
+// Builds a ball's bound from the joints that move it, given top of the chain first, each as seen
+// at q in the measuring frame: its unit axis, a point on it, its rate u_j and the ball's reach.
+class BallMotion {
+ public:
+  BallMotion(const Eigen::Vector3d& center, double radius) : center_(center), radius_(radius) {}
+  void add_revolute(const Eigen::Vector3d& axis, const Eigen::Vector3d& origin, double rate, double reach);
+  void add_prismatic(const Eigen::Vector3d& axis, double rate, double reach);
+  DisplacementBound bound() const;
+
+ private:
+  Eigen::Vector3d center_;
+  double radius_;
+  Eigen::Vector3d linear_ = Eigen::Vector3d::Zero(), angular_ = Eigen::Vector3d::Zero();
+  double frame_turn_ = 0;  // turn rate of the last joint's frame: the joints above it, and it
+  DisplacementBound b_;
+};
+
+}  // namespace dmgplace::runtime
