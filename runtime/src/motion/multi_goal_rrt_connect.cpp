@@ -244,7 +244,9 @@ ob::PlannerStatus MultiGoalRRTConnect::solve(const ob::PlannerTerminationConditi
       from_start = forward ? a : b;
       from_goal = forward ? b : a;
     }
+    const double connected = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     FoundPath f = make_path(from_start, from_goal, goal_id);
+    f.time_connected = connected;
     {
       // Writers hold the mutex: goal_count() reads the map from other threads.
       std::lock_guard<std::mutex> lock(mutex_);

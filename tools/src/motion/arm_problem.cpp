@@ -97,13 +97,16 @@ PlanOutcome plan_ours(const ArmProblem& p, double time_limit, double resolution,
   planner.setup();
   std::vector<double> goal(p.goal.data(), p.goal.data() + p.goal.size());
   if (!planner.add_goal(0, goal)) {
-    out.seconds = since(t0);
+    out.seconds = out.first_path_seconds = since(t0);
     return out;
   }
+  const double setup = since(t0);
   planner.solve(ob::timedPlannerTerminationCondition(time_limit));
   out.seconds = since(t0);
+  out.first_path_seconds = out.seconds;
   auto paths = planner.take_paths();
   if (paths.empty()) return out;
+  out.first_path_seconds = setup + paths[0].time_connected;
   out.solved = true;
   out.path = paths[0].path;
   out.length = path_length(out.path);
@@ -130,6 +133,7 @@ PlanOutcome plan_stock(const ArmProblem& p, double time_limit, double resolution
   planner.setup();
   const auto status = planner.solve(ob::timedPlannerTerminationCondition(time_limit));
   out.seconds = since(t0);
+  out.first_path_seconds = out.seconds;
   if (status != ob::PlannerStatus::EXACT_SOLUTION) return out;
   auto* path = pdef->getSolutionPath()->as<og::PathGeometric>();
   for (std::size_t i = 0; i < path->getStateCount(); ++i) {

@@ -41,7 +41,8 @@ ArmProblem load_arm_problem(const std::filesystem::path& robot_h5, const std::fi
 struct PlanOutcome {
   bool solved = false;
   bool valid = false;        // every segment re-checked exactly at the resolution
-  double seconds = 0;
+  double seconds = 0;         // to the returned path
+  double first_path_seconds = 0;  // to the first path, before shortcutting (stock: = seconds, it does not shorten)
   double length = 0;         // joint-space path length
   runtime::JointPath path;
 };
