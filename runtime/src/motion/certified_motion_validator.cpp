@@ -53,19 +53,26 @@ bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State*
     return false;
   }
   // Unchecked index ranges [lo, hi] (state 0 is valid by contract), bisected breadth first as
-  // OMPL's discrete validator does, minus what each checked state certifies around itself.
-  thread_local std::vector<std::pair<int, int>> queue;
-  queue.assign(1, {1, steps - 1 - k});
+  // OMPL's discrete validator does, minus what each checked state certifies around itself. Each
+  // range keeps the certificate of the check that made it, an estimate e of the next one's: a range
+  // a little wider than one certificate (2e + 1 < size <= 4e + 2) is tiled from its left end
+  // (two checks) rather than split in the middle (which leaves a one-state range on each side).
+  struct Range {
+    int lo, hi, estimate;
+  };
+  thread_local std::vector<Range> queue;
+  queue.assign(1, {1, steps - 1 - k, k});
   for (std::size_t head = 0; head < queue.size(); ++head) {
-    const auto [lo, hi] = queue[head];
+    const auto [lo, hi, e] = queue[head];
     if (lo > hi) continue;
-    const int mid = (lo + hi) / 2;
-    if (!check(mid, std::max(mid - lo, hi - mid), k)) {
+    const int size = hi - lo + 1;
+    const int at = size > 2 * e + 1 && size <= 4 * e + 2 ? lo + e : (lo + hi) / 2;
+    if (!check(at, std::max(at - lo, hi - at), k)) {
       ++invalid_;
       return false;
     }
-    queue.emplace_back(lo, mid - k - 1);
-    queue.emplace_back(mid + k + 1, hi);
+    queue.push_back({lo, at - k - 1, k});
+    queue.push_back({at + k + 1, hi, k});
   }
   ++valid_;
   return true;
