@@ -259,6 +259,15 @@ TEST_P(FastLayer, CertifiedFreeDistanceIsFreeForFclAlongTheWholeStretch) {
   RecordProperty("certified", certified);
 }
 
+// The two layers share one set of link poses per query, so they must pose the same robot.
+TEST(TwoLayer, RefusesLayersOnDifferentKinematics) {
+  ShelfWorld w;
+  Kinematics other(w.arm.model, "dmgarm_link0", "dmgarm_tcp");
+  SphereFieldChecker fast(w.kin, w.arm.spheres, w.sdf, 0.3);
+  EXPECT_THROW(TwoLayerChecker(fast, ExactChecker(other, w.scene)), Error);
+  EXPECT_NO_THROW(TwoLayerChecker(fast, ExactChecker(w.kin, w.scene)));
+}
+
 // Sharper than FCL for the scene: with exact primitives the fast layer's environment answer is
 // exact for its spheres, so along a certificate every sphere must stay clear of the scene (what
 // the speed bounds, static, Gronwall and Taylor, promise, with no slack from the spheres' excess
