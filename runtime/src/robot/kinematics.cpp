@@ -114,13 +114,33 @@ void Kinematics::link_poses(const Eigen::VectorXd& q, std::vector<Eigen::Isometr
   if (poses.size() != model_.links.size()) poses.assign(model_.links.size(), Eigen::Isometry3d::Identity());
   for (int r : roots_) poses[std::size_t(r)].setIdentity();
   // Express the tree in the base frame: first the root-to-base transform, then invert it.
+  // child = parent * origin * motion, the motion folded into the origin's rotation (revolute) or
+  // translation (prismatic) in place: no 4x4 temporary per joint.
   for (int j : order_) {
     const auto& jt = model_.joints[std::size_t(j)];
     const Eigen::Isometry3d& parent = poses[std::size_t(jt.parent)];
-    const Eigen::Isometry3d m = joint_motion(j, joint_value(j, q));
     Eigen::Isometry3d& child = poses[std::size_t(jt.child)];
-    child.linear().noalias() = parent.linear() * m.linear();
-    child.translation().noalias() = parent.linear() * m.translation();
+    const auto& terms = terms_[std::size_t(j)];
+    const auto P = parent.linear();
+    switch (jt.type) {
+      case JointType::Revolute:
+      case JointType::Continuous: {
+        double s, c;
+        fast_sincos(joint_value(j, q), s, c);
+        const Eigen::Matrix3d R = jt.origin.linear() + s * terms.OK + (1 - c) * terms.OKK;
+        child.linear().noalias() = P * R;
+        child.translation().noalias() = P * jt.origin.translation();
+        break;
+      }
+      case JointType::Prismatic:
+        child.linear().noalias() = P * jt.origin.linear();
+        child.translation().noalias() = P * (jt.origin.translation() + joint_value(j, q) * terms.Oa);
+        break;
+      case JointType::Fixed:
+        child.linear().noalias() = P * jt.origin.linear();
+        child.translation().noalias() = P * jt.origin.translation();
+        break;
+    }
     child.translation() += parent.translation();
   }
   if (base_is_root_) return;
