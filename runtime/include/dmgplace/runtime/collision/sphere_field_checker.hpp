@@ -79,9 +79,9 @@ class SphereFieldChecker {
   SphereFieldChecker with_attached(AttachedSpheres object) const;
 
   SphereCheck check(const Eigen::VectorXd& q) const;
-  // check() plus a certified free distance along `direction` (joint space; any length): every
-  // body's clearance divided by how fast the motion can move it (sum over the joints above it of
-  // |direction_j| times its farthest possible reach from joint j's axis, whatever the other joints).
+  // check() plus a certified free distance along `direction` (joint space; any length): how long
+  // every body's clearance to the scene, and every pair's gap, lasts under a bound on how far the
+  // motion can move them (displacement_bound.hpp: static reach, Gronwall, Taylor).
   // `enough`: a certificate this long is all the caller needs (refining stops there); 0 asks for
   // none (then free_distance is 0, and the check costs what check() does).
   SphereCheck check_along(const Eigen::VectorXd& q, const Eigen::VectorXd& direction,
