@@ -60,6 +60,7 @@ void MultiGoalRRTConnect::clear() {
   pending_add_.clear();
   pending_remove_.clear();
   found_.clear();
+  blocked_direct_.clear();
 }
 
 namespace {
@@ -161,19 +162,21 @@ void MultiGoalRRTConnect::take_pending() {
     t->add(q, nullptr);
     goal_trees_[id] = std::move(t);
     untried_direct_.push_back(id);
+    blocked_direct_.erase(id);  // (an id may come back with another configuration)
   }
   pending_add_.clear();
   for (int id : pending_remove_) goal_trees_.erase(id);
   pending_remove_.clear();
 }
 
-void MultiGoalRRTConnect::shortcut(JointPath& path) {
+void MultiGoalRRTConnect::shortcut(JointPath& path, bool ends_blocked) {
   // Greedy and deterministic: from each waypoint, jump to the farthest later one it sees. Blocked
-  // jumps fail after a few checks (bisection order), and no pair is ever tried twice.
+  // jumps fail after a few checks (bisection order), and no pair is ever tried twice (nor the
+  // straight start-goal line, when that was tried before the trees grew).
   int budget = 100;
   for (std::size_t i = 0; i + 2 < path.size() && budget > 0; ++i)
     for (std::size_t j = path.size() - 1; j >= i + 2 && budget > 0; --j, --budget)
-      if (motion_valid(path[i], path[j])) {
+      if (!(ends_blocked && i == 0 && j == path.size() - 1) && motion_valid(path[i], path[j])) {
         path.erase(path.begin() + std::ptrdiff_t(i) + 1, path.begin() + std::ptrdiff_t(j));
         break;
       }
@@ -186,7 +189,7 @@ FoundPath MultiGoalRRTConnect::make_path(Node* a, Node* b, int goal_id) {
   std::reverse(f.path.begin(), f.path.end());
   for (Node* n = b; n; n = n->parent)
     if (distance(n->q, f.path.back()) > 1e-12) f.path.push_back(n->q);
-  shortcut(f.path);
+  shortcut(f.path, blocked_direct_.count(goal_id) > 0 && f.path.front() == start_tree_->nodes.front()->q);
   for (std::size_t i = 1; i < f.path.size(); ++i) f.length += distance(f.path[i - 1], f.path[i]);
   return f;
 }
@@ -225,7 +228,10 @@ ob::PlannerStatus MultiGoalRRTConnect::solve(const ob::PlannerTerminationConditi
       if (g == goal_trees_.end()) continue;
       from_start = start_tree_->nodes.front().get();
       from_goal = g->second->nodes.front().get();
-      if (!motion_valid(from_start->q, from_goal->q)) continue;
+      if (!motion_valid(from_start->q, from_goal->q)) {
+        blocked_direct_.insert(goal_id);
+        continue;
+      }
     } else {
       sample(q_rand);
       // Pick one goal tree per iteration, round robin, so every goal gets attention.

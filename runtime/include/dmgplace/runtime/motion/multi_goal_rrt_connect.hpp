@@ -12,6 +12,7 @@
 #include <memory>
 #include <mutex>
 #include <random>
+#include <set>
 #include <vector>
 
 namespace dmgplace::runtime {
@@ -66,7 +67,8 @@ class MultiGoalRRTConnect : public ompl::base::Planner {
   FoundPath make_path(Node* from_start, Node* from_goal, int goal_id);
   // Validator, callback, problem definition; false when the validator dropped the path.
   bool report(FoundPath f, std::chrono::steady_clock::time_point t0);
-  void shortcut(JointPath& path);
+  // `ends_blocked`: the straight line from the first to the last waypoint is known to collide.
+  void shortcut(JointPath& path, bool ends_blocked);
   bool motion_valid(const std::vector<double>& a, const std::vector<double>& b) const;
   bool state_valid(const std::vector<double>& q) const;
   void sample(std::vector<double>& q);
@@ -75,6 +77,7 @@ class MultiGoalRRTConnect : public ompl::base::Planner {
   std::unique_ptr<Tree> start_tree_;
   std::map<int, std::unique_ptr<Tree>> goal_trees_;
   std::vector<int> untried_direct_;  // new goals whose straight line from the start is not tried yet
+  std::set<int> blocked_direct_;     // goals whose straight line from the start collides
   mutable std::mutex mutex_;
   std::vector<std::pair<int, std::vector<double>>> pending_add_;
   std::vector<int> pending_remove_;
