@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <ompl/base/DiscreteMotionValidator.h>
 #include <ompl/base/ProblemDefinition.h>
 #include <ompl/base/ScopedState.h>
 #include <ompl/base/SpaceInformation.h>
@@ -120,6 +121,33 @@ TEST(MultiGoalRRTConnect, SingleThreadRunsAreDeterministicUnderASeed) {
   ASSERT_FALSE(a.empty());
   EXPECT_EQ(a, b);
   EXPECT_NE(a, c);
+}
+
+// The straight start-goal line is tried once, when the goal arrives: the wall blocks it, so
+// shortcutting the found path does not try it again.
+TEST(MultiGoalRRTConnect, BlockedStartGoalLineIsTriedOnce) {
+  Problem p = make(3);
+  struct Counting : ob::DiscreteMotionValidator {
+    using ob::DiscreteMotionValidator::DiscreteMotionValidator;
+    bool checkMotion(const ob::State* a, const ob::State* b) const override {
+      const auto *u = a->as<ob::RealVectorStateSpace::StateType>(), *v = b->as<ob::RealVectorStateSpace::StateType>();
+      direct += u->values[0] == 1 && u->values[1] == 1 && v->values[0] == 8 && v->values[1] == 8;
+      ++all;
+      return ob::DiscreteMotionValidator::checkMotion(a, b);
+    }
+    mutable int direct = 0, all = 0;
+  };
+  auto counting = std::make_shared<Counting>(p.si);
+  p.si->setMotionValidator(counting);
+  p.planner->set_anytime(false);
+  p.planner->add_goal(1, {8, 8});
+  p.planner->solve(ob::timedPlannerTerminationCondition(5.0));
+  auto f = p.planner->take_paths();
+  ASSERT_EQ(f.size(), 1u);
+  expect_valid_path(f[0], 8, 8);
+  EXPECT_GE(f[0].path.size(), 3u) << "the wall is in the way";
+  EXPECT_GT(counting->all, 10);
+  EXPECT_EQ(counting->direct, 1);
 }
 
 TEST(MultiGoalRRTConnect, ValidatorCanRejectAPathAndSingleQueryModeFillsTheProblemDefinition) {
