@@ -189,7 +189,7 @@ FoundPath MultiGoalRRTConnect::make_path(Node* a, Node* b, int goal_id) {
   std::reverse(f.path.begin(), f.path.end());
   for (Node* n = b; n; n = n->parent)
     if (distance(n->q, f.path.back()) > 1e-12) f.path.push_back(n->q);
-  shortcut(f.path, blocked_direct_.count(goal_id) > 0 && f.path.front() == start_tree_->nodes.front()->q);
+  shortcut(f.path, blocked_direct_.count(goal_id) > 0);  // (a path always runs root to root)
   for (std::size_t i = 1; i < f.path.size(); ++i) f.length += distance(f.path[i - 1], f.path[i]);
   return f;
 }

@@ -32,9 +32,8 @@ TEST(ArmProblem, PandaMbmProblemsSolveWithPathsValidAtTheResolution) {
     EXPECT_TRUE(ours.valid) << set;
     EXPECT_LT((Eigen::Map<const Eigen::VectorXd>(ours.path.front().data(), 7) - p.start).norm(), 1e-12);
     EXPECT_LT((Eigen::Map<const Eigen::VectorXd>(ours.path.back().data(), 7) - p.goal).norm(), 1e-12);
-    // The first path comes before shortcutting, which only adds time.
+    // The time to the first path (before shortcutting) is recorded; bench-mbm compares it.
     EXPECT_GT(ours.first_path_seconds, 0.0) << set;
-    EXPECT_LE(ours.first_path_seconds, ours.seconds) << set;
     auto stock = tools::plan_stock(p, 20.0, 0.01, 1);
     EXPECT_TRUE(stock.solved && stock.valid) << set;
     EXPECT_EQ(stock.first_path_seconds, stock.seconds) << set << ": the stock planner does not shorten";
