@@ -35,9 +35,9 @@ std::vector<std::string> validate_artifact(const std::filesystem::path& path) {
     return {e.what()};
   }
   std::vector<std::string> more;
-  if (schema == kObjectSchema) more = validate_kind(path, load_object, check_object);
-  else if (schema == kEnvironmentSchema) more = validate_kind(path, load_environment, check_environment);
-  else if (schema == kRobotSchema) more = validate_kind(path, load_robot, check_robot);
+  if (schema == kObjectSchema) more = validate_kind(path, read_object_unchecked, check_object);
+  else if (schema == kEnvironmentSchema) more = validate_kind(path, read_environment_unchecked, check_environment);
+  else if (schema == kRobotSchema) more = validate_kind(path, read_robot_unchecked, check_robot);
   else more = {path.string() + ": schema: unknown artifact kind '" + schema + "'"};
   // A checksum failure also makes loading fail: report each message once.
   for (auto& m : more)

@@ -121,10 +121,17 @@ void save_environment(EnvironmentArtifact a, const std::filesystem::path& path) 
 }
 
 EnvironmentArtifact load_environment(const std::filesystem::path& path) {
+  EnvironmentArtifact a = read_environment_unchecked(path);
+  detail::require_sound(path.string(), check_environment(a));
+  return a;
+}
+
+EnvironmentArtifact read_environment_unchecked(const std::filesystem::path& path) {
   H5Reader r(path);
   r.require_schema(kEnvironmentSchema, kEnvironmentSchemaVersion);
   EnvironmentArtifact a;
   a.header = r.header();
+  a.header.source_file = r.file();
   auto v = r.read_f64("volume", {6});
   a.volume = Eigen::AlignedBox3d(Eigen::Vector3d(v.data[0], v.data[1], v.data[2]),
                                  Eigen::Vector3d(v.data[3], v.data[4], v.data[5]));

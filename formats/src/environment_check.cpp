@@ -11,6 +11,7 @@ namespace {
 
 // Slack for heights and region borders that come from float sums of the scene's poses.
 constexpr double kSlack = 1e-3;
+constexpr double kMaxCoordinate = kMaxGeometryExtent;
 
 void check_grid(const FieldGrid& g, const Eigen::AlignedBox3d& volume, bool non_negative, const std::string& where,
                 std::vector<std::string>& p) {
@@ -56,9 +57,10 @@ void check_region(const PlacementRegion& r, const EnvironmentArtifact& a, const 
   if (r.height < v.min().z() - kSlack || r.height > v.max().z() + kSlack)
     p.push_back(where + ": height " + detail::fmt(r.height) + " outside the volume");
   std::size_t outside = 0, unsupported = 0, bad_free = 0;
-  // A supported cell's centre lies on the surface: the distance field there is at most a region
-  // cell (surface samples and scan noise) plus a grid cell (nearest sample) away from zero.
-  const double support_tol = a.sdf.empty() ? 0 : 2 * r.resolution + a.sdf.resolution;
+  // A supported cell's centre lies on the surface: the interpolated distance there is at most a
+  // region cell (surface samples, scan noise, a centre past a surface's edge) plus a grid cell
+  // (interpolation near edges) away from zero. A region raised by more is in mid-air.
+  const double support_tol = a.sdf.empty() ? 0 : r.resolution + a.sdf.resolution;
   for (int j = 0; j < r.depth; ++j)
     for (int i = 0; i < r.width; ++i) {
       const std::size_t c = std::size_t(i) + std::size_t(r.width) * std::size_t(j);
@@ -71,7 +73,7 @@ void check_region(const PlacementRegion& r, const EnvironmentArtifact& a, const 
       if (!std::isfinite(r.free_height[c]) || r.free_height[c] < 0) ++bad_free;
       if (!a.sdf.empty()) {
         const Eigen::Vector2d m = r.cell_center(i, j);
-        if (std::abs(nearest_sample(a.sdf, Eigen::Vector3d(m.x(), m.y(), r.height))) > support_tol) ++unsupported;
+        if (std::abs(interpolated_sample(a.sdf, Eigen::Vector3d(m.x(), m.y(), r.height))) > support_tol) ++unsupported;
       }
     }
   if (outside) p.push_back(where + ": " + std::to_string(outside) + " cells outside the volume");
@@ -90,17 +92,42 @@ float nearest_sample(const FieldGrid& g, const Eigen::Vector3d& p) {
   return g.values[std::size_t(idx[0]) + std::size_t(g.dims[0]) * (std::size_t(idx[1]) + std::size_t(g.dims[1]) * std::size_t(idx[2]))];
 }
 
+float interpolated_sample(const FieldGrid& g, const Eigen::Vector3d& p) {
+  int idx[3];
+  double t[3];
+  for (int a = 0; a < 3; ++a) {
+    const double u = (p[a] - g.origin[a]) / g.resolution;
+    const double c = std::clamp(std::isnan(u) ? 0.0 : u, 0.0, double(g.dims[std::size_t(a)] - 1));
+    idx[a] = std::min(int(c), g.dims[std::size_t(a)] - 2);
+    t[a] = c - idx[a];
+  }
+  const auto at = [&](int i, int j, int k) {
+    return double(g.values[std::size_t(idx[0] + i) +
+                           std::size_t(g.dims[0]) * (std::size_t(idx[1] + j) + std::size_t(g.dims[1]) * std::size_t(idx[2] + k))]);
+  };
+  double v = 0;
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i)
+        v += (i ? t[0] : 1 - t[0]) * (j ? t[1] : 1 - t[1]) * (k ? t[2] : 1 - t[2]) * at(i, j, k);
+  return float(v);
+}
+
 std::vector<std::string> check_environment(const EnvironmentArtifact& a) {
   std::vector<std::string> p;
   const bool volume_ok = a.volume.min().allFinite() && a.volume.max().allFinite() &&
                          !(a.volume.min().array() >= a.volume.max().array()).any();
   if (!a.volume.min().allFinite() || !a.volume.max().allFinite()) p.push_back("volume: not finite");
   else if (!volume_ok) p.push_back("volume: min must be below max on every axis");
+  else if (a.volume.min().cwiseAbs().maxCoeff() > kMaxCoordinate || a.volume.max().cwiseAbs().maxCoeff() > kMaxCoordinate)
+    p.push_back("volume: beyond " + detail::fmt(kMaxCoordinate) + " m from the origin");
   std::vector<OwnedShape> shapes;
   for (std::size_t i = 0; i < a.scene.objects.size(); ++i)
     for (const auto& s : a.scene.objects[i].shapes) shapes.push_back({int(i), s});
   detail::append(p, check_shapes(shapes, int(a.scene.objects.size()), "scene/shapes"));
   if (!a.scene.points.allFinite()) p.push_back("scene/points: non-finite point");
+  else if (a.scene.points.size() > 0 && a.scene.points.cwiseAbs().maxCoeff() > kMaxCoordinate)
+    p.push_back("scene/points: a point beyond " + detail::fmt(kMaxCoordinate) + " m from the origin");
   if (shapes.empty() && a.scene.points.rows() == 0) p.push_back("scene: no obstacles and no scan points");
   if (!volume_ok) return p;  // the checks below are relative to the volume
   check_grid(a.sdf, a.volume, !a.sdf_signed, "fields/sdf", p);

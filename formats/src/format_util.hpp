@@ -1,11 +1,14 @@
 #pragma once
 // Small helpers for the artifact kinds (private to dmgplace_formats).
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "dmgplace/formats/error.hpp"
 #include "dmgplace/formats/geometry_types.hpp"
 #include "dmgplace/formats/h5_reader.hpp"
 #include "dmgplace/formats/h5_writer.hpp"
@@ -45,5 +48,30 @@ inline std::string fmt(double v) {
 inline std::string fmt(const Eigen::Vector3d& v) { return "[" + fmt(v.x()) + ", " + fmt(v.y()) + ", " + fmt(v.z()) + "]"; }
 
 inline void append(std::vector<std::string>& a, const std::vector<std::string>& b) { a.insert(a.end(), b.begin(), b.end()); }
+
+// A finite proper rotation (a stored zero quaternion gives a zero matrix, not a rotation).
+inline bool is_rotation(const Eigen::Matrix3d& r) {
+  return r.allFinite() && (r.transpose() * r - Eigen::Matrix3d::Identity()).norm() <= 1e-6 && r.determinant() > 0;
+}
+
+// The loaders' semantic gate: an artifact with any problem is refused, naming the file and the
+// first few problems (`dmgplace validate FILE` lists them all).
+inline void require_sound(const std::string& file, const std::vector<std::string>& problems) {
+  if (problems.empty()) return;
+  constexpr std::size_t kShown = 3;
+  std::string m = problems.front();
+  for (std::size_t i = 1; i < std::min(problems.size(), kShown); ++i) m += "; " + problems[i];
+  if (problems.size() > kShown) m += "; and " + std::to_string(problems.size() - kShown) + " more";
+  throw Error(file, "", m + " (refused: `dmgplace validate` lists every problem)");
+}
+
+// A stored count or index as an int, refusing NaN, fractions and values outside [lo, hi] before
+// any cast (a cast of an out-of-range double is undefined behaviour).
+inline int checked_int(double v, double lo, double hi, const std::string& file, const std::string& element) {
+  if (!(v >= lo && v <= hi) || v != std::floor(v))
+    throw Error(file, element, "value " + std::to_string(v) + " is not an integer in [" + std::to_string(long(lo)) + ", " +
+                                   std::to_string(long(hi)) + "]");
+  return int(v);
+}
 
 }  // namespace dmgplace::formats::detail

@@ -1,5 +1,7 @@
 #include "dmgplace/formats/h5_writer.hpp"
 
+#include "dmgplace/formats/atomic_file.hpp"
+
 #include <fcntl.h>
 #include <signal.h>
 #include <unistd.h>
@@ -50,13 +52,6 @@ void remove_stale_temps(const fs::path& target) {
     }
     if (pid > 0 && ::kill(pid_t(pid), 0) != 0 && errno == ESRCH) fs::remove(e.path(), ec);
   }
-}
-
-void fsync_dir(const fs::path& dir) {
-  int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
-  if (fd < 0) return;  // some file systems do not allow it; the rename is still atomic
-  ::fsync(fd);
-  ::close(fd);
 }
 
 // The whole file image into `p` (the writer's empty temporary file), then fsync. Every failing call is
@@ -233,7 +228,7 @@ void H5Writer::commit() {
     std::error_code ec;
     fs::rename(temp_, target_, ec);
     if (ec) throw Error(file, "", "cannot rename temporary file into place: " + ec.message());
-    fsync_dir(target_.parent_path().empty() ? fs::path(".") : target_.parent_path());
+    sync_directory(target_.parent_path());
     committed_ = true;
   } catch (...) {
     discard();

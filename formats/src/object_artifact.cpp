@@ -92,7 +92,7 @@ Dmg read_dmg(const H5Reader& r) {
   d.angle_step_deg = s.data[0];
   d.seed_resolution = s.data[1];
   d.normal_threshold = s.data[2];
-  d.patch_count = int(s.data[3]);
+  d.patch_count = detail::checked_int(s.data[3], 0, 1 << 30, r.file(), "dmg/settings patch count");
   auto g = r.read_f64("dmg/gripper", {long(kGripperReals)}).data;
   d.gripper = {g[0], g[1], g[2], g[3], g[4], {g[5], g[6], g[7]}, {g[8], g[9], g[10]}, g[11]};
   auto facets = r.read_f64("dmg/facets", {-1, 6});
@@ -143,10 +143,17 @@ void save_object(ObjectArtifact a, const std::filesystem::path& path) {
 }
 
 ObjectArtifact load_object(const std::filesystem::path& path) {
+  ObjectArtifact a = read_object_unchecked(path);
+  detail::require_sound(path.string(), check_object(a));
+  return a;
+}
+
+ObjectArtifact read_object_unchecked(const std::filesystem::path& path) {
   H5Reader r(path);
   r.require_schema(kObjectSchema, kObjectSchemaVersion);
   ObjectArtifact a;
   a.header = r.header();
+  a.header.source_file = r.file();
   a.mesh = detail::read_mesh(r, "mesh");
   auto vm = r.read_f64("mass/volume_mass", {2});
   a.mass.volume = vm.data[0];

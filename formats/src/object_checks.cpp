@@ -10,6 +10,8 @@
 namespace dmgplace::formats {
 namespace {
 
+constexpr double kMinAngleStepDeg = 0.1;  // 3600 finger angles: far finer than any gripper needs
+
 bool unit(const Eigen::Vector3d& v) { return v.allFinite() && std::abs(v.norm() - 1) < 1e-6; }
 
 // Smallest signed distance from q to the polygon's edges (positive inside), polygon CCW about n.
@@ -31,6 +33,7 @@ void check_placement(const ObjectArtifact& a, double scale, std::vector<std::str
     const auto& f = pl.faces[i];
     const std::string w = "placement face " + std::to_string(i) + ": ";
     if (!unit(f.normal)) { p.push_back(w + "normal is not unit length"); continue; }
+    if (!std::isfinite(f.margin) || !std::isfinite(f.height)) { p.push_back(w + "margin or height not finite"); continue; }
     if (f.polygon.size() < 3) { p.push_back(w + "polygon has fewer than 3 points"); continue; }
     const double tol = 1e-6 + 1e-6 * scale;
     double support = -std::numeric_limits<double>::infinity();
@@ -39,7 +42,7 @@ void check_placement(const ObjectArtifact& a, double scale, std::vector<std::str
     if (std::abs(support - f.height) > tol) p.push_back(w + "height does not match the mesh's extent along the normal");
     for (const auto& q : f.polygon)
       if (!q.allFinite() || std::abs(f.normal.dot(q) - support) > tol) { p.push_back(w + "polygon point off the face plane"); break; }
-    if (std::abs(f.rotation.norm() - 1) > 1e-6 || (f.rotation * f.normal - Eigen::Vector3d(0, 0, -1)).norm() > 1e-6)
+    if (!(std::abs(f.rotation.norm() - 1) <= 1e-6) || !((f.rotation * f.normal - Eigen::Vector3d(0, 0, -1)).norm() <= 1e-6))
       p.push_back(w + "rotation does not turn the normal to -z");
     const double inside = inside_distance(f.polygon, f.normal, a.mass.com);
     if (inside < 0) p.push_back(w + "COM projection outside the polygon");
@@ -50,11 +53,22 @@ void check_placement(const ObjectArtifact& a, double scale, std::vector<std::str
 
 void check_dmg(const ObjectArtifact& a, double scale, std::vector<std::string>& p) {
   const Dmg& d = a.dmg;
+  if (!(d.angle_step_deg >= kMinAngleStepDeg && d.angle_step_deg <= 360)) {
+    // Every consumer sizes per-node arrays by 360 / step: refuse before anything divides by it.
+    p.push_back("dmg/settings: angle step " + std::to_string(d.angle_step_deg) + " outside [" + std::to_string(kMinAngleStepDeg) +
+                ", 360] degrees");
+    return;
+  }
   const int k = d.angle_count();
-  if (!(d.angle_step_deg > 0) || std::abs(k * d.angle_step_deg - 360) > 1e-9)
-    p.push_back("dmg/settings: angle step does not divide 360 degrees");
+  if (std::abs(k * d.angle_step_deg - 360) > 1e-9) p.push_back("dmg/settings: angle step does not divide 360 degrees");
+  if (!(d.seed_resolution > 0) || !std::isfinite(d.seed_resolution) || !(d.normal_threshold >= 0) || !std::isfinite(d.normal_threshold))
+    p.push_back("dmg/settings: seed resolution must be positive and normal threshold non-negative, both finite");
+  if (d.patch_count < 0) p.push_back("dmg/settings: negative patch count");
   const auto& g = d.gripper;
-  if (!(g.max_opening > 0 && g.finger_length > 0 && g.finger_width > 0 && g.finger_thickness > 0 &&
+  const bool finite = std::isfinite(g.max_opening) && std::isfinite(g.finger_length) && std::isfinite(g.finger_width) &&
+                      std::isfinite(g.finger_thickness) && std::isfinite(g.tip_offset) && g.palm_size.allFinite() &&
+                      std::isfinite(g.contact_tolerance);
+  if (!(finite && g.max_opening > 0 && g.finger_length > 0 && g.finger_width > 0 && g.finger_thickness > 0 &&
         g.palm_size.minCoeff() > 0 && g.palm_center.allFinite() && g.contact_tolerance >= 0))
     p.push_back("dmg/gripper: sizes must be positive and finite");
   const int facets = int(d.facet_normals.size());
@@ -62,6 +76,7 @@ void check_dmg(const ObjectArtifact& a, double scale, std::vector<std::string>& 
     if (!unit(d.facet_normals[f]) || !unit(d.facet_zero_axes[f]) || std::abs(d.facet_normals[f].dot(d.facet_zero_axes[f])) > 1e-6)
       p.push_back("dmg facet " + std::to_string(f) + ": normal / zero axis not an orthonormal pair");
   const double tol = 1e-7 + 1e-4 * scale;
+  const detail::SurfaceIndex surface(a.mesh, tol);
   for (std::size_t i = 0; i < d.nodes.size(); ++i) {
     const auto& n = d.nodes[i];
     const std::string w = "dmg node " + std::to_string(i) + ": ";
@@ -74,21 +89,23 @@ void check_dmg(const ObjectArtifact& a, double scale, std::vector<std::string>& 
       p.push_back(w + "normal, zero axis or opposite normal not unit / orthogonal");
       continue;
     }
-    if (!n.position.allFinite() || !detail::near_surface(a.mesh, n.position, tol))
-      p.push_back(w + "contact point not on the mesh surface");
-    if (!n.opposite_point.allFinite() || !detail::near_surface(a.mesh, n.opposite_point, tol))
+    if (!surface.near(n.position, tol)) p.push_back(w + "contact point not on the mesh surface");
+    if (!surface.near(n.opposite_point, tol))
       p.push_back(w + "opposite contact not on the mesh surface");
     if ((n.position - n.opposite_point).norm() > g.max_opening + tol) p.push_back(w + "grasp wider than the maximum opening");
   }
   std::set<std::pair<int, int>> edges;
   const int nodes = int(d.nodes.size());
+  std::size_t bad = 0;
   for (auto [x, y] : d.edges) {
     if (x < 0 || y < 0 || x >= nodes || y >= nodes || x == y) {
-      p.push_back("dmg/edges: index out of range or self loop (" + std::to_string(x) + ", " + std::to_string(y) + ")");
+      if (bad++ == 0)
+        p.push_back("dmg/edges: index out of range or self loop (" + std::to_string(x) + ", " + std::to_string(y) + ")");
       continue;
     }
     edges.insert({x, y});
   }
+  if (bad > 1) p.push_back("dmg/edges: " + std::to_string(bad) + " edges out of range or self loops in all");
   for (auto [x, y] : edges)
     if (!edges.contains({y, x})) {
       p.push_back("dmg/edges: edge " + std::to_string(x) + " -> " + std::to_string(y) + " has no reverse");

@@ -104,10 +104,17 @@ void save_robot(RobotArtifact a, const std::filesystem::path& path) {
 }
 
 RobotArtifact load_robot(const std::filesystem::path& path) {
+  RobotArtifact a = read_robot_unchecked(path);
+  detail::require_sound(path.string(), check_robot(a));
+  return a;
+}
+
+RobotArtifact read_robot_unchecked(const std::filesystem::path& path) {
   H5Reader r(path);
   r.require_schema(kRobotSchema, kRobotSchemaVersion);
   RobotArtifact a;
   a.header = r.header();
+  a.header.source_file = r.file();
   RobotModel& m = a.model;
   m.name = r.attribute("", "robot_name").value_or("");
   m.arm_base = r.attribute("", "arm_base").value_or("");
@@ -132,7 +139,7 @@ RobotArtifact load_robot(const std::filesystem::path& path) {
     j.child = ints(i, 2);
     j.mimic = ints(i, 3);
     const double* v = &reals.data[std::size_t(i) * kJointReals];
-    j.origin = pose_from_array(v);
+    j.origin = pose_from_array(v, r.file(), "joints/values row " + std::to_string(i) + " origin");
     j.axis = Eigen::Vector3d(v[7], v[8], v[9]);
     j.lower = v[10]; j.upper = v[11]; j.velocity = v[12]; j.mimic_multiplier = v[13]; j.mimic_offset = v[14];
     m.joints.push_back(j);
@@ -162,13 +169,28 @@ std::vector<std::string> check_robot(const RobotArtifact& a) {
     }
     if (parent_joint[std::size_t(j.child)] >= 0) p.push_back(el + ": link '" + m.links[std::size_t(j.child)].name + "' has two parent joints");
     parent_joint[std::size_t(j.child)] = int(i);
-    if (!j.origin.matrix().allFinite()) p.push_back(el + ": non-finite origin");
-    if (j.type != JointType::Fixed && std::abs(j.axis.norm() - 1) > 1e-6) p.push_back(el + ": axis is not unit length");
+    if (!j.origin.matrix().allFinite() || !detail::is_rotation(j.origin.linear())) p.push_back(el + ": origin not a finite rigid pose");
+    if (j.type != JointType::Fixed && !(std::abs(j.axis.norm() - 1) <= 1e-6)) p.push_back(el + ": axis is not a finite unit vector");
     if (j.type == JointType::Revolute || j.type == JointType::Prismatic) {
       if (!std::isfinite(j.lower) || !std::isfinite(j.upper) || j.lower > j.upper)
         p.push_back(el + ": joint limits invalid (lower > upper or not finite)");
     }
-    if (j.mimic >= int(m.joints.size()) || j.mimic == int(i)) p.push_back(el + ": mimic joint index invalid");
+    if (!std::isfinite(j.velocity) || j.velocity < 0) p.push_back(el + ": velocity limit must be finite and >= 0");
+    if (j.mimic < -1 || j.mimic >= int(m.joints.size()) || j.mimic == int(i)) p.push_back(el + ": mimic joint index invalid");
+    if (j.mimic >= 0 && (!std::isfinite(j.mimic_multiplier) || !std::isfinite(j.mimic_offset)))
+      p.push_back(el + ": mimic multiplier and offset must be finite");
+  }
+  // A mimic chain must end at an independent joint: a loop would make forward kinematics recurse.
+  for (std::size_t i = 0; i < m.joints.size(); ++i) {
+    int cur = int(i), steps = 0;
+    while (cur >= 0 && cur < int(m.joints.size()) && m.joints[std::size_t(cur)].mimic >= 0 && steps <= int(m.joints.size())) {
+      cur = m.joints[std::size_t(cur)].mimic;
+      ++steps;
+    }
+    if (steps > int(m.joints.size())) {
+      p.push_back("joints[" + std::to_string(i) + "] '" + m.joints[i].name + "': mimic loop");
+      break;
+    }
   }
   int roots = 0;
   for (int l = 0; l < nl; ++l) roots += parent_joint[std::size_t(l)] < 0;

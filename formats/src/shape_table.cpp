@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "dmgplace/formats/error.hpp"
+#include "format_util.hpp"
 
 namespace dmgplace::formats {
 
@@ -13,10 +14,13 @@ void pose_to_array(const Eigen::Isometry3d& pose, double* out) {
   out[3] = q.x(); out[4] = q.y(); out[5] = q.z(); out[6] = q.w();
 }
 
-Eigen::Isometry3d pose_from_array(const double* in) {
+Eigen::Isometry3d pose_from_array(const double* in, const std::string& file, const std::string& element) {
   Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
   Eigen::Quaterniond q(in[6], in[3], in[4], in[5]);
-  if (q.norm() > 0) q.normalize();
+  // Writers store unit quaternions. A zero one would silently read as the identity (every term of
+  // the rotation matrix is a product of two components) and a NaN one as garbage: refuse both.
+  if (!(std::abs(q.norm() - 1) <= 1e-6)) throw Error(file, element, "pose quaternion is not of unit length (zero or corrupt)");
+  q.normalize();
   p.linear() = q.toRotationMatrix();
   p.translation() = Eigen::Vector3d(in[0], in[1], in[2]);
   return p;
@@ -70,7 +74,7 @@ std::vector<OwnedShape> read_shapes(const H5Reader& r, const std::string& g) {
     o.owner = owner.data[i];
     o.shape.type = ShapeType(type.data[i]);
     o.shape.size = Eigen::Vector3d(size(i, 0), size(i, 1), size(i, 2));
-    o.shape.origin = pose_from_array(&pose.data[7 * i]);
+    o.shape.origin = pose_from_array(&pose.data[7 * i], r.file(), el + " pose");
     const std::int64_t v0 = ranges(i, 0), vn = ranges(i, 1), t0 = ranges(i, 2), tn = ranges(i, 3);
     if (v0 < 0 || vn < 0 || t0 < 0 || tn < 0 || std::size_t(v0 + vn) > verts.rows() ||
         std::size_t(t0 + tn) > tris.rows())
@@ -96,6 +100,9 @@ std::vector<std::string> check_shapes(const std::vector<OwnedShape>& shapes, int
     const std::string el = where + "[" + std::to_string(i) + "]";
     if (shapes[i].owner < 0 || shapes[i].owner >= owner_count) p.push_back(el + ": owner index out of range");
     if (!s.size.allFinite() || !s.origin.matrix().allFinite()) p.push_back(el + ": non-finite size or pose");
+    else if (!detail::is_rotation(s.origin.linear())) p.push_back(el + ": pose rotation is not a rotation (zero quaternion?)");
+    else if (s.size.cwiseAbs().maxCoeff() > kMaxGeometryExtent || s.origin.translation().cwiseAbs().maxCoeff() > kMaxGeometryExtent)
+      p.push_back(el + ": size or position beyond " + std::to_string(int(kMaxGeometryExtent)) + " m");
     switch (s.type) {
       case ShapeType::Box:
         if ((s.size.array() <= 0).any()) p.push_back(el + ": box extents must be positive");
@@ -109,6 +116,8 @@ std::vector<std::string> check_shapes(const std::vector<OwnedShape>& shapes, int
       case ShapeType::Mesh:
         if (s.mesh.empty()) p.push_back(el + ": mesh shape without triangles");
         if (!s.mesh.vertices.allFinite()) p.push_back(el + ": non-finite mesh vertex");
+        else if (s.mesh.vertices.size() > 0 && s.mesh.vertices.cwiseAbs().maxCoeff() > kMaxGeometryExtent)
+          p.push_back(el + ": mesh vertex beyond " + std::to_string(int(kMaxGeometryExtent)) + " m");
         break;
     }
   }

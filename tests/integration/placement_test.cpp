@@ -1,9 +1,7 @@
 // The placement planner end to end on the built-in data: the cabinet, dmgarm and the bottle,
 // baked through the CLI once for the suite, then driven through the C++ API.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdio>
 #include <memory>
 #include <random>
 
@@ -11,6 +9,7 @@
 #include "dmgplace/formats/object_artifact.hpp"
 #include "dmgplace/formats/robot_artifact.hpp"
 #include "dmgplace/runtime/placement/placement_planner.hpp"
+#include "run_cli.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -19,13 +18,8 @@ using namespace dmgplace::runtime;
 
 namespace {
 
-int run_cli(const std::string& args) {
-  const std::string cmd = test::cli_path() + " " + args + " > /dev/null 2>&1";
-  const int status = std::system(cmd.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+// `dmgplace ARGS...`'s exit code; its output is not needed.
+int cli(const std::vector<test::Arg>& args) { return test::run_cli(args, false).exit_code; }
 
 // Top-down grasp near the bottle's top: placing it upright deep on the lower shelf would put the
 // hand and wrist into the shelf above, so only an in-hand regrasp can place it there.
@@ -43,15 +37,15 @@ class Placement : public ::testing::Test {
     dir_ = new test::TempDir();
     const fs::path data = test::source_dir() / "datasets";
     const fs::path d = dir_->path();
-    ASSERT_EQ(run_cli("make-objects --out " + q(d)), 0);
-    ASSERT_EQ(run_cli("bake-robot " + q(data / "robots/dmgarm/dmgarm.urdf") + " --srdf " + q(data / "robots/dmgarm/dmgarm.srdf") +
-                      " --arm dmgarm_link0:dmgarm_tcp --out " + q(d / "arm.h5")),
+    ASSERT_EQ(cli({"make-objects", "--out", d}), 0);
+    ASSERT_EQ(cli({"bake-robot", data / "robots/dmgarm/dmgarm.urdf", "--srdf", data / "robots/dmgarm/dmgarm.srdf", "--arm",
+                   "dmgarm_link0:dmgarm_tcp", "--out", d / "arm.h5"}),
               0);
-    ASSERT_EQ(run_cli("bake-object " + q(d / "bottle.stl") + " --mass 0.15 --out " + q(d / "bottle.h5")), 0);
+    ASSERT_EQ(cli({"bake-object", d / "bottle.stl", "--mass", "0.15", "--out", d / "bottle.h5"}), 0);
     std::string volume = test::read_text(data / "scenes/cabinet.volume");
     volume.erase(volume.find_last_not_of(" \n\r") + 1);
-    ASSERT_EQ(run_cli("bake-env " + q(data / "scenes/cabinet.yaml") + " --volume " + volume +
-                      " --margin 0.9 --sdf-resolution 0.02 --band 0.25 --out " + q(d / "cabinet.h5")),
+    ASSERT_EQ(cli({"bake-env", data / "scenes/cabinet.yaml", "--volume", volume, "--margin", "0.9", "--sdf-resolution", "0.02",
+                   "--band", "0.25", "--out", d / "cabinet.h5"}),
               0);
     world_ = new PlacementWorld(formats::load_robot(d / "arm.h5"), formats::load_object(d / "bottle.h5"),
                                 formats::load_environment(d / "cabinet.h5"));
@@ -216,15 +210,10 @@ TEST_F(Placement, PlaceWithNoTimeEndsWithNoSolutionAndAReason) {
   test::write_text(d / "zero.yaml", "robot: arm.h5\nobject: bottle.h5\nenvironment: cabinet.h5\n"
                                     "start: [0, -0.785, 0, -2.356, 0, 1.571, 0.785]\n"
                                     "initial_grasp: {pose: [0, 0, 0.06, 0, 0.7071068, 0, 0.7071068]}\n");
-  const std::string cmd = test::cli_path() + " place " + q(d / "zero.yaml") + " --time-limit 0 --out " + q(d / "zero") + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  ASSERT_NE(p, nullptr);
-  std::string out;
-  char buf[4096];
-  while (std::size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-  const int status = pclose(p);
-  ASSERT_TRUE(WIFEXITED(status)) << out;
-  EXPECT_EQ(WEXITSTATUS(status), 3) << out;
+  const test::ProcessResult place = test::run_cli({"place", d / "zero.yaml", "--time-limit", "0", "--out", d / "zero"});
+  const std::string& out = place.output;  // stdout and stderr together
+  ASSERT_EQ(place.signal, 0) << out;
+  EXPECT_EQ(place.exit_code, 3) << out;
   EXPECT_NE(out.find("no solution: no placement found in"), std::string::npos) << out;
   EXPECT_EQ(out.find("error"), std::string::npos) << out;
   const std::string result = test::read_text(d / "zero/result.json");

@@ -1,7 +1,6 @@
 // `dmgplace view` end to end: place on the built-in cabinet, write the page, open it in Debian's
 // headless chromium and check from the dumped DOM that the scene rendered without script errors.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -10,6 +9,7 @@
 #include <regex>
 
 #include "dmgplace/tools/viewer/write_viewer.hpp"
+#include "run_cli.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -17,15 +17,12 @@ using namespace dmgplace;
 
 namespace {
 
-using Shell = test::ShellResult;
-Shell run(const std::string& cmd) { return test::run_shell(cmd); }
-
-std::string q(const fs::path& p) { return test::quoted(p); }
-int cli(const std::string& args) { return run(test::cli_path() + " " + args + " > /dev/null 2>&1").code; }
+// `dmgplace ARGS...`'s exit code; its output is not needed.
+int cli(const std::vector<test::Arg>& args) { return test::run_cli(args, false).exit_code; }
 
 std::string chromium() {
   for (const char* c : {"chromium", "chromium-browser"})
-    if (run(std::string("command -v ") + c + " > /dev/null 2>&1").code == 0) return c;
+    if (const auto found = tools::find_executable(c)) return found->string();
   return {};
 }
 
@@ -47,19 +44,19 @@ class Viewer : public ::testing::Test {
     dir_ = new test::TempDir();
     const fs::path data = test::source_dir() / "datasets", d = dir_->path(), art = d / "artifacts";
     fs::create_directories(art);
-    ASSERT_EQ(cli("make-objects --out " + q(d)), 0);
-    ASSERT_EQ(cli("bake-robot " + q(data / "robots/dmgarm/dmgarm.urdf") + " --srdf " + q(data / "robots/dmgarm/dmgarm.srdf") +
-                  " --arm dmgarm_link0:dmgarm_tcp --out " + q(art / "dmgarm.h5")),
+    ASSERT_EQ(cli({"make-objects", "--out", d}), 0);
+    ASSERT_EQ(cli({"bake-robot", data / "robots/dmgarm/dmgarm.urdf", "--srdf", data / "robots/dmgarm/dmgarm.srdf", "--arm",
+                   "dmgarm_link0:dmgarm_tcp", "--out", art / "dmgarm.h5"}),
               0);
-    ASSERT_EQ(cli("bake-object " + q(d / "bottle.stl") + " --mass 0.15 --out " + q(art / "bottle.h5")), 0);
+    ASSERT_EQ(cli({"bake-object", d / "bottle.stl", "--mass", "0.15", "--out", art / "bottle.h5"}), 0);
     std::string volume = test::read_text(data / "scenes/cabinet.volume");
     volume.erase(volume.find_last_not_of(" \n\r") + 1);
-    ASSERT_EQ(cli("bake-env " + q(data / "scenes/cabinet.yaml") + " --volume " + volume + " --out " + q(art / "cabinet.h5")), 0);
+    ASSERT_EQ(cli({"bake-env", data / "scenes/cabinet.yaml", "--volume", volume, "--out", art / "cabinet.h5"}), 0);
     // Exit 3 means "no solution": the page must still show the scene, so both are fine here.
-    const int placed = cli("place " + q(data / "queries/cabinet_bottle_side.yaml") + " --artifacts " + q(art) +
-                           " --time-limit 3 --out " + q(d / "place"));
+    const int placed = cli({"place", data / "queries/cabinet_bottle_side.yaml", "--artifacts", art, "--time-limit", "3", "--out",
+                            d / "place"});
     ASSERT_TRUE(placed == 0 || placed == 3) << "place exited with " << placed;
-    ASSERT_EQ(cli("view " + q(d / "place") + " --html " + q(d / "scene.html")), 0);
+    ASSERT_EQ(cli({"view", d / "place", "--html", d / "scene.html"}), 0);
   }
   static void TearDownTestSuite() { delete dir_; }
   static test::TempDir* dir_;
@@ -79,23 +76,35 @@ TEST_F(Viewer, PageRendersInHeadlessChromium) {
   if (!result["solved"].get<bool>()) std::printf("  %s\n", result.value("reason", std::string()).c_str());
 
   // SwiftShader: software WebGL, so no GPU is needed; virtual time lets the page run its frames.
-  const std::string flags = " --headless --no-sandbox --disable-gpu --use-angle=swiftshader --enable-unsafe-swiftshader"
-                            " --window-size=1024,768 --virtual-time-budget=5000 --user-data-dir=" + q(d / "profile");
-  const Shell dom = run(browser + flags + " --enable-logging=stderr --v=0 --dump-dom " + q("file://" + page.string()) +
-                      " 2> " + q(d / "chromium.log"));
-  ASSERT_EQ(dom.code, 0) << test::read_text(d / "chromium.log");
-  const std::string log = test::read_text(d / "chromium.log");
+  const std::vector<std::string> flags = {browser, "--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
+                                          "--enable-unsafe-swiftshader", "--window-size=1024,768", "--virtual-time-budget=5000",
+                                          "--user-data-dir=" + (d / "profile").string()};
+  const std::string url = "file://" + page.string();
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> argv = flags;
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    return argv;
+  };
+  test::ProcessOptions capture_log;
+  capture_log.stderr_to = test::StderrTo::capture;  // chromium's log, checked for script errors
+  const test::ProcessResult dom = tools::run_process(with({"--enable-logging=stderr", "--v=0", "--dump-dom", url}), capture_log);
+  const std::string& log = dom.error_output;
+  ASSERT_EQ(dom.exit_code, 0) << log;
   EXPECT_EQ(log.find("Uncaught"), std::string::npos) << log;
-  EXPECT_EQ(status_attr(dom.out, "errors"), "0") << dom.out.substr(std::min(dom.out.size(), dom.out.find("<div id=\"errors\"")), 2000);
-  EXPECT_EQ(status_attr(dom.out, "ready"), "true");
-  EXPECT_EQ(status_attr(dom.out, "steps"), std::to_string(waypoints));
-  EXPECT_NE(dom.out.find("steps: " + std::to_string(waypoints)), std::string::npos);
-  EXPECT_GE(std::atoi(status_attr(dom.out, "rendered").c_str()), 1);
+  EXPECT_EQ(status_attr(dom.output, "errors"), "0")
+      << dom.output.substr(std::min(dom.output.size(), dom.output.find("<div id=\"errors\"")), 2000);
+  EXPECT_EQ(status_attr(dom.output, "ready"), "true");
+  EXPECT_EQ(status_attr(dom.output, "steps"), std::to_string(waypoints));
+  EXPECT_NE(dom.output.find("steps: " + std::to_string(waypoints)), std::string::npos);
+  EXPECT_GE(std::atoi(status_attr(dom.output, "rendered").c_str()), 1);
   // The robot, the cabinet and the object fill a good part of the 1024x768 canvas.
-  EXPECT_GT(std::atof(status_attr(dom.out, "nonbackground").c_str()), 0.05);
+  EXPECT_GT(std::atof(status_attr(dom.output, "nonbackground").c_str()), 0.05);
 
   const fs::path shot = d / "shot.png";
-  ASSERT_EQ(run(browser + flags + " --screenshot=" + q(shot) + " " + q("file://" + page.string()) + " > /dev/null 2>&1").code, 0);
+  test::ProcessOptions quiet;
+  quiet.stderr_to = test::StderrTo::discard;
+  const test::ProcessResult shoot = tools::run_process(with({"--screenshot=" + shot.string(), url}), quiet);
+  ASSERT_EQ(shoot.exit_code, 0);
   const std::string png = test::read_text(shot);
   ASSERT_GT(png.size(), 20000u) << "a near-empty screenshot";
   EXPECT_EQ(png.substr(1, 3), "PNG");

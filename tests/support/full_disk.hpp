@@ -118,9 +118,14 @@ ChildRun with_file_size_limit(rlim_t bytes, F&& f) {
   return collect_child(pid, fds);
 }
 
-// The dmgplace command (args already shell-quoted) in a child limited to `bytes` per file;
-// stdout and stderr together.
-inline ChildRun cli_with_file_size_limit(rlim_t bytes, const std::string& args) {
+// `dmgplace ARGS...` in a child limited to `bytes` per file, started with an argument vector (no
+// shell); stdout and stderr together.
+inline ChildRun cli_with_file_size_limit(rlim_t bytes, const std::vector<std::string>& args) {
+  std::vector<std::string> argv{cli_path()};
+  argv.insert(argv.end(), args.begin(), args.end());
+  std::vector<char*> c_argv;
+  for (auto& a : argv) c_argv.push_back(a.data());
+  c_argv.push_back(nullptr);
   int fds[2];
   if (::pipe(fds) != 0) return {};
   const pid_t pid = ::fork();
@@ -130,8 +135,7 @@ inline ChildRun cli_with_file_size_limit(rlim_t bytes, const std::string& args) 
     ::dup2(fds[1], STDERR_FILENO);
     ::close(fds[1]);
     limit_file_size(bytes);
-    const std::string cmd = "exec " + cli_path() + " " + args;
-    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::execv(c_argv[0], c_argv.data());
     ::_exit(127);
   }
   return collect_child(pid, fds);

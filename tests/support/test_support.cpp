@@ -1,7 +1,3 @@
-#include <sys/wait.h>
-
-#include <cstdio>
-
 #include "test_support.hpp"
 
 #include <unistd.h>
@@ -47,20 +43,5 @@ std::string read_text(const fs::path& p) {
   ss << in.rdbuf();
   return ss.str();
 }
-
-ShellResult run_shell(const std::string& command) {
-  ShellResult r;
-  FILE* p = popen(command.c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  while (std::size_t n = fread(buf, 1, sizeof buf, p)) r.out.append(buf, n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-ShellResult run_cli(const std::string& args) { return run_shell(cli_path() + " " + args + " 2>&1"); }
-
-std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 
 }  // namespace dmgplace::test

@@ -30,17 +30,7 @@ std::filesystem::path source_dir();
 std::string cli_path();
 void write_text(const std::filesystem::path& p, const std::string& text);
 std::string read_text(const std::filesystem::path& p);
-
-struct ShellResult {
-  int code = -1;    // exit status, -1 when it did not exit normally
-  std::string out;  // what it printed on stdout
-};
-// Runs a shell command line and captures its standard output.
-ShellResult run_shell(const std::string& command);
-// Runs `dmgplace ARGS` with stdout and stderr captured together.
-ShellResult run_cli(const std::string& args);
-// A path quoted for the shell.
-std::string quoted(const std::filesystem::path& p);
+// Running dmgplace or another program (argument vectors, no shell): run_cli.hpp.
 
 // An axis-aligned box primitive of full extents `size` centred at `at`.
 inline Shape box_shape(const Eigen::Vector3d& size, const Eigen::Vector3d& at) {

@@ -13,7 +13,7 @@
 namespace dmgplace::cli {
 
 int run_place(const PlaceArgs& a) {
-  tools::PlacementQueryFile q = tools::read_placement_query(a.query, a.artifacts);
+  tools::PlacementQueryFile q = tools::read_placement_query(a.query, a.artifacts, a.allow_outside);
   if (a.time_limit) q.time_limit = *a.time_limit;
   if (a.seed) q.query.seed = *a.seed;
   if (a.threads) q.query.options.threads = *a.threads;

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "dmgplace/formats/atomic_file.hpp"
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/tools/motion/arm_problem.hpp"
 
@@ -32,9 +33,7 @@ int run_plan(const PlanArgs& a) {
             << c.exact_full.load() << " a full FCL check, " << c.proven_collisions.load()
             << " proved colliding by the spheres' inner balls)\n";
   if (!a.out.empty()) {
-    std::ofstream f(a.out);
-    f << j.dump(2) << "\n";
-    if (!f) throw Error(a.out, "", "cannot write");
+    formats::write_file_atomically(a.out, j.dump(2) + "\n");
     std::cout << "wrote " << a.out << "\n";
   }
   return ours.solved && ours.valid ? 0 : 3;

@@ -88,6 +88,7 @@ struct PlaceArgs {
   std::optional<int> threads;
   std::string variant;  // empty: the query's
   bool json = false;
+  bool allow_outside = false;  // artifact paths may leave the artifact folder
 };
 int run_place(const PlaceArgs& a);
 

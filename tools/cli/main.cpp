@@ -56,15 +56,15 @@ int main(int argc, char** argv) {
   std::string com_text;
   auto* c_obj = app.add_subcommand("bake-object", "Analyse a rigid object mesh once into OBJECT.h5");
   c_obj->add_option("mesh", bake_object.mesh, "Mesh file (STL, OBJ, PLY, DAE)")->required();
-  c_obj->add_option("--scale", bake_object.scale, "Unit scale (0.001 for millimetre files)")->check(CLI::PositiveNumber);
+  c_obj->add_option("--scale", bake_object.scale, "Unit scale (0.001 for millimetre files)")->check(CLI::Range(1e-6, 1e6));
   c_obj->add_option("--com", com_text, "Centre of mass x,y,z in the mesh frame (metres), overrides the computed one");
-  c_obj->add_option("--mass", bake_object.mass, "Mass in kg (default: volume x 1000 kg/m^3)")->check(CLI::PositiveNumber);
+  c_obj->add_option("--mass", bake_object.mass, "Mass in kg (default: volume x 1000 kg/m^3)")->check(CLI::Range(1e-6, 1e5));
   c_obj->add_option("--gripper", bake_object.gripper, "Gripper YAML (default: the built-in dmgarm hand)");
-  c_obj->add_option("--seed-resolution", bake_object.seed_resolution, "DMG patch size (m)")->check(CLI::PositiveNumber);
-  c_obj->add_option("--angle-step", bake_object.angle_step, "DMG finger angle step (deg, divides 360)")->check(CLI::PositiveNumber);
-  c_obj->add_option("--normal-threshold", bake_object.normal_threshold, "DMG facets: |n_i - n_j|^2 below this")->check(CLI::PositiveNumber);
-  c_obj->add_option("--face-merge-angle", bake_object.face_merge_angle, "Placement faces: merge hull facets closer than this (rad)")->check(CLI::NonNegativeNumber);
-  c_obj->add_option("--stability-margin", bake_object.stability_margin, "Placement faces: COM margin (m)")->check(CLI::NonNegativeNumber);
+  c_obj->add_option("--seed-resolution", bake_object.seed_resolution, "DMG patch size (m)")->check(CLI::Range(1e-4, 1.0));
+  c_obj->add_option("--angle-step", bake_object.angle_step, "DMG finger angle step (deg, divides 360)")->check(CLI::Range(0.1, 180.0));
+  c_obj->add_option("--normal-threshold", bake_object.normal_threshold, "DMG facets: |n_i - n_j|^2 below this")->check(CLI::Range(1e-6, 4.0));
+  c_obj->add_option("--face-merge-angle", bake_object.face_merge_angle, "Placement faces: merge hull facets closer than this (rad)")->check(CLI::Range(0.0, 1.5));
+  c_obj->add_option("--stability-margin", bake_object.stability_margin, "Placement faces: COM margin (m)")->check(CLI::Range(0.0, 1.0));
   c_obj->add_option("--out", bake_object.out, "Output artifact")->required();
 
   PlaceArgs place;
@@ -72,9 +72,10 @@ int main(int argc, char** argv) {
   c_place->add_option("query", place.query, "Query YAML (artifacts, start, initial grasp, volume, objective)")->required();
   c_place->add_option("--artifacts", place.artifacts, "Folder the query's relative artifact paths are in (default: the query's folder)");
   c_place->add_option("--out", place.out, "Output folder for result.json, trace.csv, path.csv");
-  c_place->add_option("--time-limit", place.time_limit, "Seconds (overrides the query's)")->check(CLI::NonNegativeNumber);
+  c_place->add_option("--time-limit", place.time_limit, "Seconds (overrides the query's)")->check(CLI::Range(0.0, 1e6));
   c_place->add_option("--seed", place.seed, "Random seed (overrides the query's)");
-  c_place->add_option("--threads", place.threads, "Motion planner threads; 0: synchronous, deterministic")->check(CLI::NonNegativeNumber);
+  c_place->add_option("--threads", place.threads, "Motion planner threads; 0: synchronous, deterministic")->check(CLI::Range(0, 256));
+  c_place->add_flag("--allow-outside", place.allow_outside, "Let the query's artifact paths leave the artifact folder");
   c_place->add_option("--variant", place.variant, "full, random-grasp or no-regrasp (overrides the query's)");
   c_place->add_flag("--json", place.json, "Also print result.json to stdout");
 
@@ -83,9 +84,9 @@ int main(int argc, char** argv) {
   c_exp->add_option("spec", experiment.spec, "Experiment SPEC.yaml")->required();
   c_exp->add_option("--out", experiment.out, "Output folder (runs/, summary.csv)")->required();
   c_exp->add_option("--artifacts", experiment.artifacts, "Folder of the queries' artifacts (overrides the spec's)");
-  c_exp->add_option("--runs", experiment.runs, "Seeds per problem and variant (overrides the spec's)")->check(CLI::PositiveNumber);
-  c_exp->add_option("--jobs", experiment.jobs, "Runs at a time")->check(CLI::PositiveNumber);
-  c_exp->add_option("--time-limit", experiment.time_limit, "Seconds per run (overrides the spec's)")->check(CLI::NonNegativeNumber);
+  c_exp->add_option("--runs", experiment.runs, "Seeds per problem and variant (overrides the spec's)")->check(CLI::Range(1, 100000));
+  c_exp->add_option("--jobs", experiment.jobs, "Runs at a time")->check(CLI::Range(1, 256));
+  c_exp->add_option("--time-limit", experiment.time_limit, "Seconds per run (overrides the spec's)")->check(CLI::Range(0.0, 1e6));
   c_exp->add_flag("--quick", experiment.quick, "The spec's quick preset: a few seeds, seconds per run");
 
   PlotArgs plot;
@@ -103,7 +104,7 @@ int main(int argc, char** argv) {
   auto* c_grasps = app.add_subcommand("grasps", "Grasps reachable in-hand from an initial grasp (DMG + Dijkstra)");
   c_grasps->add_option("object", grasps.object, "Object artifact (OBJECT.h5)")->required();
   c_grasps->add_option("--initial", initial_text, "Initial TCP pose in the object frame: x,y,z,qx,qy,qz,qw")->required();
-  c_grasps->add_option("--opening", grasps.opening, "Initial finger opening (m)")->check(CLI::NonNegativeNumber);
+  c_grasps->add_option("--opening", grasps.opening, "Initial finger opening (m)")->check(CLI::Range(0.0, 1.0));
   c_grasps->add_flag("--json", grasps.json, "Print JSON");
 
   BakeEnvArgs bake_env;
@@ -113,13 +114,13 @@ int main(int argc, char** argv) {
   c_env->add_option("--volume", volume_text, "Target volume xmin,ymin,zmin,xmax,ymax,zmax (metres)")->required();
   c_env->add_option("--frame", frame_text, "Pose of the scene file in the world (robot base) frame: x,y,z,roll,pitch,yaw; a scan's camera pose, a scene's offset");
   c_env->add_option("--package-path", bake_env.package_paths, "Where package:// resources are found");
-  c_env->add_option("--resolution", bake_env.resolution, "Distance grid and region cell size (m)")->check(CLI::PositiveNumber);
-  c_env->add_option("--band", bake_env.band, "Distance field clamp (m)")->check(CLI::PositiveNumber);
-  c_env->add_option("--margin", bake_env.margin, "The distance grid covers the volume grown by this (m); make it reach the arm for fast checks")->check(CLI::NonNegativeNumber);
-  c_env->add_option("--sdf-resolution", bake_env.sdf_resolution, "Distance grid cell (m); default: --resolution")->check(CLI::NonNegativeNumber);
-  c_env->add_option("--clearance-band", bake_env.clearance_band, "Clearance field clamp (m)")->check(CLI::PositiveNumber);
-  c_env->add_option("--region-split", bake_env.region_split, "Split regions longer than this (m)")->check(CLI::PositiveNumber);
-  c_env->add_option("--min-free-height", bake_env.min_free_height, "Least free space above a region cell (m)")->check(CLI::NonNegativeNumber);
+  c_env->add_option("--resolution", bake_env.resolution, "Distance grid and region cell size (m)")->check(CLI::Range(1e-4, 1.0));
+  c_env->add_option("--band", bake_env.band, "Distance field clamp (m)")->check(CLI::Range(1e-3, 100.0));
+  c_env->add_option("--margin", bake_env.margin, "The distance grid covers the volume grown by this (m); make it reach the arm for fast checks")->check(CLI::Range(0.0, 10.0));
+  c_env->add_option("--sdf-resolution", bake_env.sdf_resolution, "Distance grid cell (m); default: --resolution")->check(CLI::Range(0.0, 1.0));
+  c_env->add_option("--clearance-band", bake_env.clearance_band, "Clearance field clamp (m)")->check(CLI::Range(1e-3, 100.0));
+  c_env->add_option("--region-split", bake_env.region_split, "Split regions longer than this (m)")->check(CLI::Range(1e-3, 1000.0));
+  c_env->add_option("--min-free-height", bake_env.min_free_height, "Least free space above a region cell (m)")->check(CLI::Range(0.0, 100.0));
   c_env->add_option("--out", bake_env.out, "Output artifact")->required();
 
   BakeRobotArgs bake_robot;
@@ -129,14 +130,14 @@ int main(int argc, char** argv) {
   c_robot->add_option("--package-path", bake_robot.package_paths, "Where package:// resources are found");
   c_robot->add_option("--arm", bake_robot.arm, "Planning chain BASE_LINK:TIP_LINK")->required();
   c_robot->add_option("--sphere-max-radius", bake_robot.sphere_max_radius,
-                      "Split a link's spheres until none is larger (m)")->check(CLI::PositiveNumber);
+                      "Split a link's spheres until none is larger (m)")->check(CLI::Range(1e-3, 10.0));
   c_robot->add_option("--sphere-spacing", bake_robot.sphere_spacing,
-                      "Sample spacing that the sphere cover is checked on (m)")->check(CLI::PositiveNumber);
+                      "Sample spacing that the sphere cover is checked on (m)")->check(CLI::Range(1e-4, 1.0));
   c_robot->add_option("--sphere-max-excess", bake_robot.sphere_max_excess,
-                      "Split spheres that exceed half their cluster's median extent by more (m)")->check(CLI::PositiveNumber);
-  c_robot->add_option("--sphere-count", bake_robot.sphere_count, "Most spheres per link")->check(CLI::PositiveNumber);
+                      "Split spheres that exceed half their cluster's median extent by more (m)")->check(CLI::Range(1e-4, 1.0));
+  c_robot->add_option("--sphere-count", bake_robot.sphere_count, "Most spheres per link")->check(CLI::Range(1, 10000));
   c_robot->add_option("--self-table-step", bake_robot.self_table_step,
-                      "Joint step (rad) of the exact self-distance tables; 0 bakes none")->check(CLI::NonNegativeNumber);
+                      "Joint step (rad) of the exact self-distance tables; 0 bakes none")->check(CLI::Range(0.0, 1.0));
   std::string tcp_text;
   c_robot->add_option("--tcp", tcp_text, "Tool centre point on the tip link x,y,z,qx,qy,qz,qw; becomes the chain's tip (<tip>_tcp)");
   c_robot->add_option("--out", bake_robot.out, "Output artifact")->required();
@@ -146,9 +147,9 @@ int main(int argc, char** argv) {
   c_plan->add_option("scene", plan.scene, "PlanningScene YAML")->required();
   c_plan->add_option("request", plan.request, "MotionPlanRequest YAML with a joint-space goal")->required();
   c_plan->add_option("--robot", plan.robot, "Robot artifact from bake-robot")->required();
-  c_plan->add_option("--time-limit", plan.time_limit, "Seconds")->check(CLI::PositiveNumber);
-  c_plan->add_option("--resolution", plan.resolution, "Motion check step in radians")->check(CLI::PositiveNumber);
-  c_plan->add_option("--sdf-resolution", plan.sdf_resolution, "Workspace distance grid cell (m)")->check(CLI::PositiveNumber);
+  c_plan->add_option("--time-limit", plan.time_limit, "Seconds")->check(CLI::Range(1e-3, 1e6));
+  c_plan->add_option("--resolution", plan.resolution, "Motion check step in radians")->check(CLI::Range(1e-4, 1.0));
+  c_plan->add_option("--sdf-resolution", plan.sdf_resolution, "Workspace distance grid cell (m)")->check(CLI::Range(1e-3, 1.0));
   c_plan->add_option("--seed", plan.seed, "Random seed");
   c_plan->add_option("--out", plan.out, "Write the path as JSON");
 
@@ -156,12 +157,12 @@ int main(int argc, char** argv) {
   auto* c_bench = app.add_subcommand("bench-mbm", "Run MotionBenchMaker problem folders with ours and stock OMPL RRTConnect+FCL");
   c_bench->add_option("dirs", bench_mbm.dirs, "Problem folders (sceneNNNN.yaml + requestNNNN.yaml)")->required();
   c_bench->add_option("--robot", bench_mbm.robot, "Robot artifact from bake-robot")->required();
-  c_bench->add_option("--runs", bench_mbm.runs, "Runs per problem and planner")->check(CLI::PositiveNumber);
-  c_bench->add_option("--limit", bench_mbm.limit, "Use only the first N problems of each folder");
-  c_bench->add_option("--time-limit", bench_mbm.time_limit, "Seconds per run")->check(CLI::PositiveNumber);
+  c_bench->add_option("--runs", bench_mbm.runs, "Runs per problem and planner")->check(CLI::Range(1, 10000));
+  c_bench->add_option("--limit", bench_mbm.limit, "Use only the first N problems of each folder")->check(CLI::Range(0, 1000000));
+  c_bench->add_option("--time-limit", bench_mbm.time_limit, "Seconds per run")->check(CLI::Range(1e-3, 1e6));
   c_bench->add_option("--sdf-resolution", bench_mbm.sdf_resolution, "Workspace distance grid cell (m) for ours")
-      ->check(CLI::PositiveNumber);
-  c_bench->add_option("--resolution", bench_mbm.resolution, "Motion check step in radians")->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1e-3, 1.0));
+  c_bench->add_option("--resolution", bench_mbm.resolution, "Motion check step in radians")->check(CLI::Range(1e-4, 1.0));
   c_bench->add_option("--csv", bench_mbm.csv, "Write every run as CSV");
   c_bench->add_option("--planners", bench_mbm.planners, "Which planners to run (the ratio needs both)")
       ->check(CLI::IsMember({"ours", "stock", "both"}));

@@ -1,5 +1,7 @@
 #include "dmgplace/runtime/motion/multi_grasp_planner.hpp"
 
+#include "dmgplace/runtime/system/available_cpus.hpp"
+
 #include <ompl/base/ProblemDefinition.h>
 #include <ompl/base/ScopedState.h>
 
@@ -12,7 +14,7 @@ namespace dmgplace::runtime {
 MultiGraspPlanner::MultiGraspPlanner(SpaceFactory factory, std::vector<double> start, int threads, std::uint64_t seed,
                                      double slice_seconds)
     : factory_(std::move(factory)), start_(std::move(start)),
-      threads_(threads > 0 ? threads : std::max(1, int(std::thread::hardware_concurrency()))), seed_(seed),
+      threads_(threads > 0 ? threads : available_cpus()), seed_(seed),
       slice_(slice_seconds) {}
 
 MultiGraspPlanner::~MultiGraspPlanner() { stop(); }

@@ -1,5 +1,6 @@
 #include "dmgplace/runtime/placement/placement_planner.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -8,6 +9,7 @@
 #include <thread>
 
 #include "dmgplace/formats/error.hpp"
+#include "dmgplace/formats/triangle_distance.hpp"
 #include "dmgplace/runtime/motion/arm_space.hpp"
 #include "dmgplace/runtime/motion/multi_grasp_planner.hpp"
 #include "dmgplace/runtime/placement/goal_validator.hpp"
@@ -16,12 +18,27 @@
 
 namespace dmgplace::runtime {
 namespace {
+// Unsigned distance from p to the mesh surface (brute force: once per query).
+double surface_distance(const TriMesh& m, const Eigen::Vector3d& p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (Eigen::Index t = 0; t < m.triangles.rows(); ++t) {
+    const Eigen::Vector3d a = m.vertices.row(m.triangles(t, 0)).transpose(), b = m.vertices.row(m.triangles(t, 1)).transpose(),
+                          c = m.vertices.row(m.triangles(t, 2)).transpose();
+    best = std::min(best, (closest_point_on_triangle(p, a, b, c) - p).norm());
+  }
+  return best;
+}
+}  // namespace
+namespace {
 using Clock = std::chrono::steady_clock;
 constexpr int kAnyActions = std::numeric_limits<int>::max();
 }  // namespace
 
 PlacementPlanner::Stop stop_after_seconds(double seconds) {
-  const auto end = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+  // Clamped before the cast: 1e12 s in nanoseconds overflows, wrapping the deadline into the past.
+  constexpr double kYear = 365.0 * 24 * 3600;
+  const double s = std::isnan(seconds) ? 0.0 : std::clamp(seconds, 0.0, kYear);
+  const auto end = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
   return [end] { return Clock::now() >= end; };
 }
 
@@ -33,16 +50,23 @@ PlacementPlanner::Stop stop_after_iterations(long iterations) {
 PlacementPlanner::PlacementPlanner(const PlacementWorld& world, PlacementQuery query) : world_(&world), query_(std::move(query)) {
   const Kinematics& kin = world.kin();
   if (query_.q0.size() != kin.dof())
-    throw Error("query", "q0", "has " + std::to_string(query_.q0.size()) + " values, the arm has " + std::to_string(kin.dof()) + " joints");
-  if (!query_.q0.allFinite()) throw Error("query", "q0", "not finite (NaN or infinity)");
-  if (!kin.within_limits(query_.q0, 1e-6)) throw Error("query", "q0", "outside the joint limits");
-  if (!query_.g0.matrix().allFinite()) throw Error("query", "initial_grasp", "not finite");
+    throw Error(query_.source, "q0", "has " + std::to_string(query_.q0.size()) + " values, the arm has " + std::to_string(kin.dof()) + " joints");
+  if (!query_.q0.allFinite()) throw Error(query_.source, "q0", "not finite (NaN or infinity)");
+  if (!kin.within_limits(query_.q0, 1e-6)) throw Error(query_.source, "q0", "outside the joint limits");
+  if (!query_.g0.matrix().allFinite()) throw Error(query_.source, "initial_grasp", "not finite");
+  {
+    // The TCP sits between the pads, so a held object's surface is within half the opening of it.
+    const auto& gripper = world.object().dmg.gripper;
+    const double reach = 0.5 * gripper.max_opening + gripper.contact_tolerance + 0.005;
+    const double d = surface_distance(world.object().mesh, query_.g0.translation());
+    if (!(d <= reach))
+      throw Error(query_.source, "initial_grasp",
+                  "the TCP is " + std::to_string(d) + " m from the object's surface; a parallel-jaw grasp holds it within " +
+                      std::to_string(reach) + " m (half the gripper's maximum opening plus the contact tolerance)");
+  }
   if (query_.volume && (query_.volume->isEmpty() || !query_.volume->min().allFinite() || !query_.volume->max().allFinite()))
-    throw Error("query", "volume", "empty or not finite (need xmin <= xmax, ...)");
-  const PlacementOptions& o = query_.options;
-  if (!(o.motion_resolution > 0) || !(o.lift >= 0) || o.goal_iterations < 1 || o.max_depth < 1 || !(o.local_step > 0) ||
-      !(o.retreat_distance >= 0) || o.threads < 0 || o.slice_iterations < 1 || !(o.p_accept >= 0 && o.p_accept <= 1))
-    throw Error("query", "options", "out of range (positive resolution, steps and iteration counts; p_accept in [0, 1])");
+    throw Error(query_.source, "volume", "empty or not finite (need xmin <= xmax, ...)");
+  check_placement_options(query_.options, query_.source);
 }
 
 PlacementPlanner::~PlacementPlanner() = default;

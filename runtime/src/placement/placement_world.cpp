@@ -1,6 +1,8 @@
 #include "dmgplace/runtime/placement/placement_world.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <string>
 
 #include "dmgplace/formats/error.hpp"
 
@@ -38,11 +40,22 @@ bool in_chain(const Kinematics& kin, const std::string& joint) {
 PlacementWorld::PlacementWorld(formats::RobotArtifact robot, formats::ObjectArtifact object,
                                formats::EnvironmentArtifact env, double finger_opening)
     : robot_(std::move(robot)), object_(std::move(object)) {
+  // Artifacts built in memory have no file name: say which kind instead.
+  const auto name = [](const formats::ArtifactHeader& h, const char* kind) {
+    return h.source_file.empty() ? std::string("<") + kind + " artifact>" : h.source_file;
+  };
   if (env.sdf.empty())
-    throw Error("environment", "/fields/sdf", "the artifact has no distance field; bake it with `dmgplace bake-env`");
+    throw Error(name(env.header, "environment"), "/fields/sdf", "the artifact has no distance field; bake it with `dmgplace bake-env`");
   if (env.clearance.empty())
-    throw Error("environment", "/fields/clearance", "the artifact has no clearance field; bake it with `dmgplace bake-env`");
-  if (object_.mesh.empty()) throw Error("object", "/mesh", "empty mesh");
+    throw Error(name(env.header, "environment"), "/fields/clearance",
+                "the artifact has no clearance field; bake it with `dmgplace bake-env`");
+  if (object_.mesh.empty()) throw Error(name(object_.header, "object"), "/mesh", "empty mesh");
+  if (env.scene.objects.empty() && env.scene.points.rows() == 0)
+    throw Error(name(env.header, "environment"), "/scene", "no obstacles and no scan points: nothing to place on");
+  if (finger_opening > object_.dmg.gripper.max_opening + 1e-9 || !(std::isfinite(finger_opening)))
+    throw Error(name(object_.header, "object"), "/dmg/gripper",
+                "the initial grasp's opening " + std::to_string(finger_opening) + " m exceeds the gripper's maximum " +
+                    std::to_string(object_.dmg.gripper.max_opening) + " m");
   scene_ = env.scene;
   env_ = make_environment_model(std::move(env));
   kin_ = std::make_unique<Kinematics>(robot_.model, robot_.model.arm_base, robot_.model.arm_tip);

@@ -5,6 +5,8 @@
 #include "dmgplace/formats/h5_writer.hpp"
 #include "dmgplace/formats/object_artifact.hpp"
 #include "dmgplace/formats/robot_artifact.hpp"
+#include "artifact_mutation.hpp"
+#include "dmgplace/formats/h5_reader.hpp"
 #include "test_support.hpp"
 
 using namespace dmgplace;
@@ -271,4 +273,140 @@ TEST(ValidateArtifact, WrongVersionUnknownKindAndCorruptionAreReported) {
   p = validate_artifact(dir / "o.h5");
   ASSERT_FALSE(p.empty());
   EXPECT_NE(p[0].find("o.h5"), std::string::npos);
+}
+
+// ---- The loaders' semantic gate (issue 19): what `validate` rejects, no loader accepts. ----
+namespace {
+
+bool verify_checksums_ok(const std::filesystem::path& p) { return H5Reader(p).verify_all_checksums().empty(); }
+
+// Saves `a` (save_* does not check), then expects load to refuse it naming the file and `what`,
+// the unchecked reader to read it, and validate to report it.
+template <class Artifact, class Save, class Load, class Read>
+void expect_refused(const Artifact& a, Save save, Load load, Read read, const std::string& what) {
+  test::TempDir dir;
+  const auto path = dir / "crafted.h5";
+  save(a, path);
+  try {
+    load(path);
+    ADD_FAILURE() << "loaded an artifact with: " << what;
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find(path.string()), std::string::npos) << m;
+    EXPECT_NE(m.find(what), std::string::npos) << m;
+  }
+  EXPECT_NO_THROW(read(path));
+  const auto problems = validate_artifact(path);
+  ASSERT_FALSE(problems.empty()) << what;
+  bool named = false;
+  for (const auto& p : problems) named |= p.find(what) != std::string::npos;
+  EXPECT_TRUE(named) << problems.front();
+}
+
+void expect_object_refused(const ObjectArtifact& a, const std::string& what) {
+  expect_refused(a, save_object, load_object, read_object_unchecked, what);
+}
+void expect_robot_refused(const RobotArtifact& a, const std::string& what) {
+  expect_refused(a, save_robot, load_robot, read_robot_unchecked, what);
+}
+void expect_env_refused(const EnvironmentArtifact& a, const std::string& what) {
+  expect_refused(a, save_environment, load_environment, read_environment_unchecked, what);
+}
+
+// The cube resting on its z = 0 face.
+PlacementFace cube_bottom() {
+  PlacementFace f;
+  f.normal = Eigen::Vector3d(0, 0, -1);
+  f.polygon = {{0, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}};
+  f.rotation = Eigen::Quaterniond::Identity();
+  f.margin = 0.5;
+  f.height = 0;
+  return f;
+}
+
+}  // namespace
+
+TEST(LoadGate, SoundArtifactsLoad) {
+  auto o = sample_object();
+  o.placement.faces = {cube_bottom()};
+  ASSERT_TRUE(check_object(o).empty()) << check_object(o).front();
+  test::TempDir dir;
+  save_object(o, dir / "o.h5");
+  EXPECT_EQ(load_object(dir / "o.h5").header.source_file, (dir / "o.h5").string());
+}
+
+TEST(LoadGate, ObjectsThatValidateRejectsAreNotLoaded) {
+  auto nan_margin = sample_object();
+  nan_margin.placement.faces = {cube_bottom()};
+  nan_margin.placement.faces[0].margin = std::nan("");
+  expect_object_refused(nan_margin, "margin or height not finite");
+  auto nan_height = sample_object();
+  nan_height.placement.faces = {cube_bottom()};
+  nan_height.placement.faces[0].height = std::nan("");
+  expect_object_refused(nan_height, "margin or height not finite");
+  auto nan_rotation = sample_object();
+  nan_rotation.placement.faces = {cube_bottom()};
+  nan_rotation.placement.faces[0].rotation.coeffs().setConstant(std::nan(""));
+  expect_object_refused(nan_rotation, "rotation does not turn the normal");
+  auto zero_step = sample_object();
+  zero_step.dmg.angle_step_deg = 0;  // SIGFPE in the runtime before the gate
+  expect_object_refused(zero_step, "angle step");
+  auto tiny_step = sample_object();
+  tiny_step.dmg.angle_step_deg = 360.0 / 36000000;  // 36 million angles per node: gigabytes
+  expect_object_refused(tiny_step, "angle step");
+  auto edge = sample_object();
+  edge.dmg.edges = {{0, 7}, {7, 0}};  // no such nodes: SIGSEGV in the runtime before the gate
+  expect_object_refused(edge, "dmg/edges");
+  auto gripper = sample_object();
+  gripper.dmg.gripper.tip_offset = std::nan("");
+  expect_object_refused(gripper, "dmg/gripper");
+  auto mass = sample_object();
+  mass.mass.mass = -1;
+  expect_object_refused(mass, "mass/mass");
+}
+
+TEST(LoadGate, RobotsThatValidateRejectsAreNotLoaded) {
+  auto loop = sample_robot();
+  loop.model.joints[0].mimic = 1;  // j1 <- j2 <- j1: FK recursed forever before the gate
+  loop.model.joints[0].mimic_multiplier = 1;
+  expect_robot_refused(loop, "mimic loop");
+  auto axis = sample_robot();
+  axis.model.joints[0].axis = Eigen::Vector3d(std::nan(""), 0, 1);
+  expect_robot_refused(axis, "axis is not a finite unit vector");
+  auto velocity = sample_robot();
+  velocity.model.joints[0].velocity = std::nan("");
+  expect_robot_refused(velocity, "velocity limit");
+  auto multiplier = sample_robot();
+  multiplier.model.joints[1].mimic_multiplier = std::nan("");
+  expect_robot_refused(multiplier, "mimic multiplier");
+  auto far = sample_robot();
+  far.model.links[1].collision[0].size.x() = 1e9;  // a 1e9 m box: bake-robot ran out of memory on it
+  expect_robot_refused(far, "beyond");
+}
+
+TEST(LoadGate, EnvironmentsThatValidateRejectsAreNotLoaded) {
+  auto far = sample_env();
+  far.volume.max().x() = 1e300;
+  expect_env_refused(far, "volume");
+  auto huge = sample_env();
+  huge.scene.objects[0].shapes[0].size.x() = 1e300;
+  expect_env_refused(huge, "beyond");
+}
+
+// The zero quaternion cannot be made through the value types (they hold matrices): write it into
+// the file, checksum recomputed, as a buggy writer would.
+TEST(LoadGate, ZeroCollisionQuaternionIsRefused) {
+  test::TempDir dir;
+  save_robot(sample_robot(), dir / "r.h5");
+  test::mutate_dataset(dir / "r.h5", dir / "q.h5", "links/collision/pose", 3, 0);  // shape 0: x y z qx qy qz qw
+  for (std::size_t k = 4; k < 7; ++k) test::mutate_dataset(dir / "q.h5", dir / "q.h5.tmp", "links/collision/pose", k, 0),
+                                       std::filesystem::rename(dir / "q.h5.tmp", dir / "q.h5");
+  ASSERT_TRUE(verify_checksums_ok(dir / "q.h5"));
+  try {
+    load_robot(dir / "q.h5");
+    ADD_FAILURE() << "loaded a zero collision quaternion";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("quaternion is not of unit length"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find((dir / "q.h5").string()), std::string::npos) << e.what();
+  }
 }

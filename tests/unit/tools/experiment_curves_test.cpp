@@ -98,7 +98,13 @@ TEST(ExperimentSpecFile, MistakesNameTheFileAndTheElement) {
   e = spec_error("name: x\nproblems: []\n");
   EXPECT_NE(e.find("problems"), std::string::npos) << e;
   e = spec_error("runs: 0\nproblems:\n  - {name: a, query: q.yaml}\n");
-  EXPECT_NE(e.find("must be >= 1"), std::string::npos) << e;
+  EXPECT_NE(e.find("must be in [1, 100000]"), std::string::npos) << e;
+  e = spec_error("time_limit: 1e12\nproblems:\n  - {name: a, query: q.yaml}\n");
+  EXPECT_NE(e.find("time_limit: must be a number of seconds in [0, 1e6]"), std::string::npos) << e;
+  e = spec_error("problem:\n  - {name: a, query: q.yaml}\n");  // a typo is not ignored
+  EXPECT_NE(e.find("problem (line 1): unknown key"), std::string::npos) << e;
+  e = spec_error("problems:\n  - {name: a, query: q.yaml, variant: full}\n");
+  EXPECT_NE(e.find("problems[0].variant"), std::string::npos) << e;
   e = spec_error("problems:\n  - {name: a, query: q.yaml}\n  - {name: a, query: q.yaml}\n");
   EXPECT_NE(e.find("appears twice"), std::string::npos) << e;
   e = spec_error("problems:\n  - {name: 'a b', query: q.yaml}\n");

@@ -5,6 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <string>
 
 #include "dmgplace/runtime/robot/kinematics.hpp"
@@ -67,8 +68,32 @@ TEST(PlacementQueryFile, BrokenQueriesNameTheFileAndTheProblem) {
       {"zero quaternion", kArtifacts + kStart + "initial_grasp: {pose: [0, 0, 0, 0, 0, 0, 0]}\n", "initial_grasp.pose",
        "zero quaternion"},
       {"unknown variant", kArtifacts + kStart + kGrasp + "variant: best\n", "variant", "unknown variant 'best'"},
-      {"negative time limit", kArtifacts + kStart + kGrasp + "time_limit: -1\n", "time_limit", "finite number >= 0"},
-      {"NaN time limit", kArtifacts + kStart + kGrasp + "time_limit: .nan\n", "time_limit", "finite number >= 0"},
+      {"negative time limit", kArtifacts + kStart + kGrasp + "time_limit: -1\n", "time_limit", "outside its range [0, "},
+      {"NaN time limit", kArtifacts + kStart + kGrasp + "time_limit: .nan\n", "time_limit", "not a finite number"},
+      // Issue 19: limits that overflowed or hung, keys that were ignored.
+      {"time limit past a nanosecond count", kArtifacts + kStart + kGrasp + "time_limit: 1e12\n", "time_limit",
+       "outside its range"},
+      {"IK restarts without end", kArtifacts + kStart + kGrasp + "options: {ik_restarts: 2000000000}\n", "options.ik_restarts",
+       "outside its range [0, 1000]"},
+      {"a hundred thousand threads", kArtifacts + kStart + kGrasp + "options: {threads: 100000}\n", "options.threads",
+       "outside its range [0, 256]"},
+      {"fractional count", kArtifacts + kStart + kGrasp + "options: {goal_iterations: 2.5}\n", "options.goal_iterations",
+       "expected an integer"},
+      {"unknown top-level key", kArtifacts + kStart + kGrasp + "tme_limit: 3\n", "tme_limit (line 6)", "unknown key"},
+      {"typo in a term", kArtifacts + kStart + kGrasp + "objective: [{term: clearance, wieght: 2}]\n", "objective[0].wieght",
+       "unknown key"},
+      {"duplicate key", kArtifacts + kStart + kGrasp + "seed: 1\nseed: 2\n", "line 7", "duplicate key 'seed'"},
+      {"duplicate nested key", kArtifacts + kStart + "initial_grasp: {pose: [0, 0, 0, 0, 0, 0, 1], opening: 0.05, opening: 0.06}\n",
+       "line 5", "duplicate key 'opening'"},
+      {"negative opening", kArtifacts + kStart + "initial_grasp: {pose: [0, 0, 0.06, 0, 0, 0, 1], opening: -0.02}\n",
+       "initial_grasp.opening", "outside its range"},
+      {"unknown grasp key", kArtifacts + kStart + "initial_grasp: {pose: [0, 0, 0.06, 0, 0, 0, 1], width: 0.02}\n",
+       "initial_grasp.width", "unknown key"},
+      {"vector of another term", kArtifacts + kStart + kGrasp + "objective: [{term: clearance, direction: [1, 0, 0]}]\n",
+       "objective[0].direction", "does not belong to term 'clearance'"},
+      {"zero depth direction", kArtifacts + kStart + kGrasp + "objective: [{term: depth, direction: [0, 0, 0]}]\n",
+       "objective[0].direction", "non-zero"},
+      {"volume in another galaxy", kArtifacts + kStart + kGrasp + "volume: [0, 0, 0, 1e300, 1, 1]\n", "volume", "beyond"},
       {"inverted volume", kArtifacts + kStart + kGrasp + "volume: [1, 1, 1, 0, 0, 0]\n", "volume", "min exceeds max"},
       {"NaN option", kArtifacts + kStart + kGrasp + "options: {ucb_c: .nan}\n", "options.ucb_c", "not a finite number"},
       {"unknown option", kArtifacts + kStart + kGrasp + "options: {speed: 2}\n", "options.speed", "unknown option"},
@@ -101,6 +126,59 @@ TEST(PlacementQueryFile, StartsThatDoNotFitTheArmAreRejected) {
   write_text(path, kArtifacts + "start: [0, 0, 10, 0, 0, 0, 0]\n" + kGrasp);
   EXPECT_THAT(error_of([&] { resolve_start(read_placement_query(path), kin); }),
               AllOf(HasSubstr(path.string()), HasSubstr("outside the arm's joint limits")));
+}
+
+// Issue 19: an artifact path may not lead out of the artifact folder (`..`, absolute, symlink).
+TEST(PlacementQueryFile, ArtifactPathsStayInTheArtifactFolder) {
+  TempDir dir;
+  std::filesystem::create_directories(dir / "artifacts");
+  const auto path = dir / "artifacts" / "q.yaml";
+  const std::string rest = "object: bottle.h5\nenvironment: cabinet.h5\n" + kStart + kGrasp;
+  write_text(path, "robot: ../../../../../../etc/passwd\n" + rest);
+  EXPECT_THAT(error_of([&] { read_placement_query(path); }),
+              AllOf(HasSubstr(path.string()), HasSubstr("robot"), HasSubstr("outside the artifact folder"), HasSubstr("--allow-outside")));
+  write_text(path, "robot: /etc/passwd\n" + rest);
+  EXPECT_THAT(error_of([&] { read_placement_query(path); }), HasSubstr("outside the artifact folder"));
+  std::filesystem::create_symlink("/etc", dir / "artifacts" / "link");
+  write_text(path, "robot: link/passwd\n" + rest);
+  EXPECT_THAT(error_of([&] { read_placement_query(path); }), HasSubstr("outside the artifact folder"));
+  // Inside is fine, also through `..` that comes back in; --allow-outside lets the others through.
+  write_text(path, "robot: sub/../arm.h5\n" + rest);
+  EXPECT_EQ(read_placement_query(path).robot, dir / "artifacts" / "sub/../arm.h5");
+  write_text(path, "robot: /etc/passwd\n" + rest);
+  EXPECT_EQ(read_placement_query(path, {}, true).robot, "/etc/passwd");
+  // With --artifacts, that folder is the root, not the query's.
+  write_text(path, "robot: ../artifacts/arm.h5\n" + rest);
+  EXPECT_THAT(error_of([&] { read_placement_query(path, dir / "other"); }), HasSubstr("outside the artifact folder"));
+}
+
+// Every option of the runtime's table is readable by name and refused outside its range.
+TEST(PlacementQueryFile, EveryOptionHasItsRangeEnforced) {
+  TempDir dir;
+  const auto path = dir / "q.yaml";
+  for (const auto& spec : runtime::placement_option_specs()) {
+    SCOPED_TRACE(spec.name);
+    if (std::holds_alternative<bool runtime::PlacementOptions::*>(spec.member)) {
+      write_text(path, kArtifacts + kStart + kGrasp + "options: {" + spec.name + ": maybe}\n");
+      EXPECT_THAT(error_of([&] { read_placement_query(path); }), HasSubstr("expected true or false"));
+      continue;
+    }
+    const bool integer = std::holds_alternative<int runtime::PlacementOptions::*>(spec.member);
+    const auto num = [&](double v) {
+      char b[40];
+      std::snprintf(b, sizeof b, integer ? "%.0f" : "%.17g", v);
+      return std::string(b);
+    };
+    const double above = spec.hi + (integer ? 1 : std::max(1e-3, spec.hi * 0.01));
+    write_text(path, kArtifacts + kStart + kGrasp + "options: {" + spec.name + ": " + num(above) + "}\n");
+    EXPECT_THAT(error_of([&] { read_placement_query(path); }),
+                AllOf(HasSubstr(path.string()), HasSubstr(std::string("options.") + spec.name), HasSubstr("outside its range")));
+    // The range's ends are accepted.
+    for (double v : {spec.lo, spec.hi}) {
+      write_text(path, kArtifacts + kStart + kGrasp + "options: {" + spec.name + ": " + num(v) + "}\n");
+      EXPECT_NO_THROW(read_placement_query(path)) << v;
+    }
+  }
 }
 
 }  // namespace

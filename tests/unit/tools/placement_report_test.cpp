@@ -43,7 +43,7 @@ TEST(PlacementReport, FailedWriteOnAFullTmpfsRemovesItsTemporaryFile) {
   const std::string before = test::read_text(out / "result.json");
   disk.fill();
   EXPECT_THAT(test::error_of([&] { write_placement_result(out, PlacementQueryFile{}, no_solution("second"), kin); }),
-              AllOf(HasSubstr((out / "result.json").string()), HasSubstr("write failed (disk full")));
+              AllOf(HasSubstr((out / "trace.csv").string()), HasSubstr("write failed (disk full")));
   EXPECT_THAT(names_in(out), UnorderedElementsAre("result.json", "trace.csv", "path.csv"));
   EXPECT_EQ(test::read_text(out / "result.json"), before);
 }
@@ -52,11 +52,25 @@ TEST(PlacementReport, FailedWriteOverTheFileSizeLimitRemovesItsTemporaryFile) {
   test::TempDir dir;
   const auto kin = dmgarm();
   const fs::path out = dir / "out";
-  // Every file is larger than 64 bytes: the first, result.json, already fails.
+  // Every file is larger than 64 bytes: the first, trace.csv, already fails.
   const auto r = test::with_file_size_limit(64, [&] { write_placement_result(out, PlacementQueryFile{}, no_solution("x"), kin); });
   EXPECT_EQ(r.code, 0) << r.message;
-  EXPECT_THAT(r.message, AllOf(HasSubstr((out / "result.json").string()), HasSubstr("write failed (disk full")));
+  EXPECT_THAT(r.message, AllOf(HasSubstr((out / "trace.csv").string()), HasSubstr("write failed (disk full")));
   EXPECT_TRUE(fs::is_empty(out)) << "left: " << ::testing::PrintToString(names_in(out));
+}
+
+// Issue 19: result.json marks a run complete (experiment resumes past runs that have it), so it
+// is written last: when path.csv cannot be written, there is no result.json.
+TEST(PlacementReport, ResultJsonIsWrittenLast) {
+  test::TempDir dir;
+  const auto kin = dmgarm();
+  const fs::path out = dir / "out";
+  fs::create_directories(out / "path.csv" / "blocker");  // a non-empty folder: the rename onto it fails
+  EXPECT_THAT(test::error_of([&] { write_placement_result(out, PlacementQueryFile{}, no_solution("x"), kin); }),
+              HasSubstr((out / "path.csv").string()));
+  EXPECT_TRUE(fs::exists(out / "trace.csv"));
+  EXPECT_FALSE(fs::exists(out / "result.json"));
+  EXPECT_THAT(names_in(out), UnorderedElementsAre("trace.csv", "path.csv"));  // no temporary file left
 }
 
 }  // namespace

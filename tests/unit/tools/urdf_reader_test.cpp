@@ -291,5 +291,53 @@ TEST(ArmChain, ChecksLinksAndDescent) {
   EXPECT_EQ(m.arm_base, "shoulder");  // a rejected chain leaves the old one
 }
 
+
+// Issue 19: urdfdom drops a <collision> it cannot parse and goes on; we refuse the file instead,
+// naming the link, the collision element and the problem. `robot()` with one element replaced.
+TEST(UrdfReader, EveryCollisionElementIsReadOrRejected) {
+  Fixture fx;
+  const std::string good = robot("package://my_pkg/meshes/cube.obj");
+  ASSERT_EQ(fx.read(good).links.at(0).collision.size(), 1u);
+  const auto with = [&](const std::string& from, const std::string& to) {
+    std::string text = good;
+    const auto at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return text.replace(at, from.size(), to);
+  };
+  struct Case {
+    std::string from, to, element, reason;
+  };
+  const Case cases[] = {
+      {R"(xyz="0 0 0.05")", R"(xyz="0 nan 0.05")", "link 'base' collision 0", "'nan' is not a finite number"},
+      {R"(rpy="0 0 0")", R"(rpy="0 0")", "link 'base' collision 0", "expected 3 numbers"},
+      {R"(<box size="0.4 0.3 0.1"/>)", R"(<box size="0.4 nan 0.1"/>)", "box size", "not a finite number"},
+      {R"(<box size="0.4 0.3 0.1"/>)", R"(<box size="1e9 0.3 0.1"/>)", "box size", "at most 1000 m"},
+      {R"(<box size="0.4 0.3 0.1"/>)", R"(<box size="0.4 -0.3 0.1"/>)", "box size", "positive"},
+      {R"(<cylinder radius="0.05" length="0.6"/>)", R"(<cylinder radius="0.05"/>)", "cylinder length", "expected 1 numbers"},
+      {R"(<sphere radius="0.02"/>)", R"(<capsule radius="0.02" length="1"/>)", "link 'sensor' collision 0", "unknown geometry"},
+      {R"(<link name="finger_a"/>)", R"(<link name="finger_a"><inertial><mass value="-1"/></inertial></link>)",
+       "link 'finger_a' inertial mass", "positive"},
+      {R"(<link name="finger_a"/>)", R"(<link name="finger_a"><inertial><mass value="nan"/></inertial></link>)",
+       "link 'finger_a' inertial mass", "not a finite number"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.to);
+    const std::string e = error_of([&] { fx.read(with(c.from, c.to)); });
+    EXPECT_THAT(e, HasSubstr("arm.urdf"));
+    EXPECT_THAT(e, HasSubstr(c.element));
+    EXPECT_THAT(e, HasSubstr(c.reason));
+  }
+}
+
+TEST(UrdfReader, PackagePathsMayNotLeaveTheirPackage) {
+  Fixture fx;
+  write_text(fx.dir / "secret.obj", kCubeObj);
+  const std::string e = error_of([&] { fx.read(robot("package://my_pkg/../../secret.obj")); });
+  EXPECT_THAT(e, HasSubstr("link 'wrist'"));
+  EXPECT_THAT(e, HasSubstr("may not leave its package"));
+  // `..` that stays inside the package is fine.
+  EXPECT_NO_THROW(fx.read(robot("package://my_pkg/meshes/../meshes/cube.obj")));
+}
+
 }  // namespace
 }  // namespace dmgplace::tools

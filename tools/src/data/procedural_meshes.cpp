@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "dmgplace/formats/atomic_file.hpp"
 #include "dmgplace/formats/error.hpp"
 
 namespace dmgplace::tools {
@@ -79,13 +80,7 @@ void check_indices(const TriMesh& mesh, const std::filesystem::path& path) {
   }
 }
 
-void write_file(const std::filesystem::path& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw Error(path.string(), "", "cannot open for writing");
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  out.close();
-  if (!out) throw Error(path.string(), "", "write failed");
-}
+void write_file(const std::filesystem::path& path, const std::string& bytes) { formats::write_file_atomically(path, bytes); }
 
 // STL is little-endian whatever the host is.
 void put_u32(std::string& s, std::uint32_t v) {

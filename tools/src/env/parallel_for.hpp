@@ -1,5 +1,5 @@
 #pragma once
-// Runs fn(i) for i in [0, n) on `threads` std::threads (<= 0: all cores), handing out indices
+// Runs fn(i) for i in [0, n) on `threads` std::threads (<= 0: every CPU the process may use), handing out indices
 // one at a time so uneven work balances; the first exception is rethrown.
 #include <algorithm>
 #include <atomic>
@@ -8,11 +8,13 @@
 #include <thread>
 #include <vector>
 
+#include "dmgplace/runtime/system/available_cpus.hpp"
+
 namespace dmgplace::tools::detail {
 
 template <class Fn>
 void parallel_for(std::size_t n, int threads, Fn&& fn) {
-  std::size_t t = threads > 0 ? std::size_t(threads) : std::max(1u, std::thread::hardware_concurrency());
+  std::size_t t = threads > 0 ? std::size_t(threads) : std::size_t(runtime::available_cpus());
   t = std::min(t, n);
   if (t <= 1) {
     for (std::size_t i = 0; i < n; ++i) fn(i);

@@ -1,13 +1,15 @@
 #include "dmgplace/tools/experiment/experiment_plots.hpp"
 
 #include <cmath>
-#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <sstream>
 
+#include "dmgplace/formats/atomic_file.hpp"
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/tools/experiment/svg_chart.hpp"
+#include "dmgplace/tools/system/file_names.hpp"
+#include "dmgplace/tools/system/process.hpp"
 
 namespace dmgplace::tools {
 namespace {
@@ -18,13 +20,19 @@ std::string color_of(const std::string& variant) {
   return "#7f7f7f";
 }
 
-void write_file(const std::filesystem::path& p, const std::string& text) {
-  std::ofstream f(p);
-  f << text;
-  if (!f) throw Error(p.string(), "", "cannot write");
-}
+void write_file(const std::filesystem::path& p, const std::string& text) { formats::write_file_atomically(p, text); }
 
-bool have_rsvg() { return std::system("command -v rsvg-convert > /dev/null 2>&1") == 0; }
+// SVG to PNG with rsvg-convert. The paths go as arguments, never through a shell (the folder may
+// hold any character), and absolute, so none starting with '-' is taken for an option.
+void svg_to_png(const std::filesystem::path& rsvg, const std::filesystem::path& svg, const std::filesystem::path& png) {
+  ProcessOptions o;
+  o.stderr_to = StderrTo::merge;  // its messages go into our error
+  const ProcessResult r =
+      run_process({rsvg.string(), "-o", std::filesystem::absolute(png).string(), std::filesystem::absolute(svg).string()}, o);
+  if (r.exit_code == 0) return;
+  const std::string how = r.signal ? "killed by signal " + std::to_string(r.signal) : "exit code " + std::to_string(r.exit_code);
+  throw Error(png.string(), "", "rsvg-convert failed (" + how + ")" + (r.output.empty() ? "" : ": " + r.output));
+}
 }  // namespace
 
 std::vector<Curve> experiment_curves(const std::vector<RunRecord>& runs, int samples) {
@@ -66,6 +74,8 @@ std::vector<Curve> experiment_curves(const std::vector<RunRecord>& runs, int sam
 std::vector<std::filesystem::path> plot_experiment(const std::filesystem::path& dir) {
   const auto runs = read_runs(dir);
   if (runs.empty()) throw Error(dir.string(), "runs/", "no finished runs to plot");
+  // A problem's folder name names its charts: checked before anything is written.
+  for (const auto& r : runs) check_file_name_component(r.problem, (dir / "runs").string(), "problem folder");
   const auto curves = experiment_curves(runs);
   const auto plots = dir / "plots";
   std::filesystem::create_directories(plots);
@@ -82,7 +92,7 @@ std::vector<std::filesystem::path> plot_experiment(const std::filesystem::path& 
   }
   write_file(plots / "curves.csv", csv.str());
   written.push_back(plots / "curves.csv");
-  const bool png = have_rsvg();
+  const auto rsvg = find_executable("rsvg-convert");  // no PNG without it
   for (const auto& [problem, cs] : by_problem) {
     std::vector<ChartSeries> objective, solved;
     for (const Curve* c : cs) {
@@ -103,10 +113,9 @@ std::vector<std::filesystem::path> plot_experiment(const std::filesystem::path& 
       const auto svg_path = plots / (name + ".svg");
       write_file(svg_path, svg);
       written.push_back(svg_path);
-      if (png) {
+      if (rsvg) {
         const auto png_path = plots / (name + ".png");
-        const std::string cmd = "rsvg-convert -o '" + png_path.string() + "' '" + svg_path.string() + "'";
-        if (std::system(cmd.c_str()) != 0) throw Error(png_path.string(), "", "rsvg-convert failed");
+        svg_to_png(*rsvg, svg_path, png_path);
         written.push_back(png_path);
       }
     }

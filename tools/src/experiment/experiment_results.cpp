@@ -7,6 +7,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "dmgplace/formats/atomic_file.hpp"
 #include "dmgplace/formats/error.hpp"
 
 namespace dmgplace::tools {
@@ -81,13 +82,7 @@ void write_summary(const std::filesystem::path& csv, const std::vector<RunRecord
     for (double t : times) o << ',' << (t <= r.time_limit + 1e-9 ? num(r.best_at(t)) : std::string());
     o << '\n';
   }
-  const auto tmp = csv.parent_path() / ("." + csv.filename().string() + ".tmp");
-  {
-    std::ofstream f(tmp);
-    f << o.str();
-    if (!f) throw Error(csv.string(), "", "cannot write");
-  }
-  std::filesystem::rename(tmp, csv);
+  formats::write_file_atomically(csv, o.str());
 }
 
 }  // namespace dmgplace::tools

@@ -7,6 +7,7 @@
 
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/tools/io/yaml_file.hpp"
+#include "dmgplace/tools/system/file_names.hpp"
 
 namespace dmgplace::tools {
 
@@ -21,6 +22,7 @@ ExperimentSpec read_experiment_spec(const std::filesystem::path& path) {
     const std::filesystem::path x = p;
     return x.is_absolute() ? x : dir / x;
   };
+  require_known_keys(root, {"name", "artifacts", "time_limit", "runs", "quick", "report_times", "problems"}, file, "");
   try {
     s.name = root["name"] ? root["name"].as<std::string>() : path.stem().string();
     if (root["artifacts"]) s.artifacts = rel(root["artifacts"].as<std::string>());
@@ -29,11 +31,14 @@ ExperimentSpec read_experiment_spec(const std::filesystem::path& path) {
     if (const YAML::Node q = root["quick"]) {
       if (q["time_limit"]) s.quick_time_limit = q["time_limit"].as<double>();
       if (q["runs"]) s.quick_runs = q["runs"].as<int>();
+      require_known_keys(q, {"time_limit", "runs"}, file, "quick");
     }
     if (root["report_times"]) s.report_times = root["report_times"].as<std::vector<double>>();
     for (double t : {s.time_limit, s.quick_time_limit})
-      if (!(t >= 0) || !std::isfinite(t)) throw Error(file, "time_limit", "must be a finite number >= 0");
-    if (s.runs < 1 || s.quick_runs < 1) throw Error(file, "runs", "must be >= 1");
+      if (!(t >= 0 && t <= 1e6)) throw Error(file, "time_limit", "must be a number of seconds in [0, 1e6]");
+    if (s.runs < 1 || s.quick_runs < 1 || s.runs > 100000 || s.quick_runs > 100000) throw Error(file, "runs", "must be in [1, 100000]");
+    for (double t : s.report_times)
+      if (!(t >= 0 && t <= 1e6)) throw Error(file, "report_times", "each must be a number of seconds in [0, 1e6]");
     const YAML::Node problems = root["problems"];
     if (!problems || !problems.IsSequence() || problems.size() == 0) throw Error(file, "problems", "missing or empty");
     std::set<std::string> names;
@@ -41,10 +46,10 @@ ExperimentSpec read_experiment_spec(const std::filesystem::path& path) {
       const YAML::Node p = problems[i];
       const std::string where = "problems[" + std::to_string(i) + "]";
       if (!p["name"] || !p["query"]) throw Error(file, where, "needs name and query");
+      require_known_keys(p, {"name", "query", "variants"}, file, where);
       ExperimentProblem e;
       e.name = p["name"].as<std::string>();
-      if (e.name.empty() || e.name.find_first_of("/\\ ") != std::string::npos)
-        throw Error(file, where + ".name", "must be a non-empty word (it names a folder)");
+      check_file_name_component(e.name, file, where + ".name");  // it names the runs' folder
       if (!names.insert(e.name).second) throw Error(file, where + ".name", "'" + e.name + "' appears twice");
       e.query = rel(p["query"].as<std::string>());
       const auto variants = p["variants"] ? p["variants"].as<std::vector<std::string>>() : std::vector<std::string>{"full"};

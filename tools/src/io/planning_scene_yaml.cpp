@@ -145,7 +145,12 @@ Shape mesh(const YAML::Node& n, const Ctx& c, const fs::path& base_dir, const st
     const Ctx rc = c / "resource";
     if (!n["resource"].IsScalar() || n["resource"].Scalar().empty()) rc.fail("expected a file name");
     std::vector<fs::path> tried;
-    const fs::path found = resolve_resource(n["resource"].Scalar(), base_dir, packages, &tried);
+    fs::path found;
+    try {
+      found = resolve_resource(n["resource"].Scalar(), base_dir, packages, &tried);
+    } catch (const Error& e) {
+      rc.fail(e.what());
+    }
     if (found.empty())
       rc.fail("mesh '" + n["resource"].Scalar() + "' not found (looked for " + describe_candidates(tried) + ")");
     try {

@@ -2,6 +2,8 @@
 
 #include <system_error>
 
+#include "dmgplace/formats/error.hpp"
+
 namespace dmgplace::tools {
 namespace fs = std::filesystem;
 
@@ -28,7 +30,10 @@ fs::path resolve_resource(const std::string& uri, const fs::path& base_dir, cons
     const auto slash = body.find('/');
     if (slash == std::string::npos || slash == 0 || slash + 1 == body.size()) return {};
     const std::string name = body.substr(0, slash);
-    const fs::path rest = fs::path(body.substr(slash + 1)).relative_path();
+    const fs::path rest = fs::path(body.substr(slash + 1)).relative_path().lexically_normal();
+    // A package resource stays inside its package: package://pkg/../../etc/passwd is refused.
+    if (rest.empty() || *rest.begin() == "..")
+      throw Error(uri, "", "a package:// path may not leave its package folder");
     for (const auto& pp : package_paths) {
       if (try_candidate(pp / name / rest, tried)) return pp / name / rest;
       if (try_candidate(pp / rest, tried)) return pp / rest;

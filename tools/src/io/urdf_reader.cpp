@@ -80,7 +80,12 @@ Shape convert_geometry(const urdf::Geometry& g, const std::string& file, const s
     case urdf::Geometry::MESH: {
       const auto& m = static_cast<const urdf::Mesh&>(g);
       std::vector<fs::path> tried;
-      const fs::path found = resolve_resource(m.filename, base_dir, options.package_paths, &tried);
+      fs::path found;
+      try {
+        found = resolve_resource(m.filename, base_dir, options.package_paths, &tried);
+      } catch (const Error& e) {
+        throw Error(file, where, e.what());
+      }
       if (found.empty())
         throw Error(file, where, "mesh '" + m.filename + "' not found (looked for " + describe_candidates(tried) + ")");
       MeshReadOptions ro;
@@ -170,13 +175,79 @@ Joint convert_joint(const urdf::Joint& j, const RobotModel& model, const std::st
 // urdfdom links a joint's parent and child with shared_ptrs before it checks the tree, so a joint
 // cycle (a link that is its own ancestor) leaked its links, and when urdfdom still found one root the
 // cycle's links were dropped silently (found by fuzzing). Also rejects a link with two parent joints.
-void check_link_tree(const std::string& text, const std::string& file) {
+// "x y z" -> exactly `count` finite numbers, or an error naming the element and its line.
+std::vector<double> parse_numbers(const char* text, std::size_t count, const std::string& file, const std::string& where) {
+  std::vector<double> v;
+  std::istringstream in(text ? text : "");
+  std::string item;
+  while (in >> item) {
+    char* end = nullptr;
+    const double x = std::strtod(item.c_str(), &end);
+    if (end != item.c_str() + item.size() || !std::isfinite(x))
+      throw Error(file, where, "'" + item + "' is not a finite number");
+    v.push_back(x);
+  }
+  if (v.size() != count)
+    throw Error(file, where, "expected " + std::to_string(count) + " numbers, got '" + std::string(text ? text : "") + "'");
+  return v;
+}
+
+// urdfdom drops a <collision> whose origin or geometry it cannot parse (a NaN, a typo) and goes
+// on, so a link silently lost its collision shapes. Every collision element is checked here, and
+// its count per link is compared with what urdfdom kept. Also checks <inertial><mass>.
+void check_link_elements(const tinyxml2::XMLElement& link, const std::string& file,
+                         std::map<std::string, std::size_t>& collision_counts) {
+  const char* name_attr = link.Attribute("name");
+  const std::string name = name_attr ? name_attr : "";
+  std::size_t index = 0;
+  for (auto* c = link.FirstChildElement("collision"); c; c = c->NextSiblingElement("collision"), ++index) {
+    const std::string where = quoted("link", name) + " collision " + std::to_string(index) + " (line " + std::to_string(c->GetLineNum()) + ")";
+    if (const auto* o = c->FirstChildElement("origin")) {
+      if (o->Attribute("xyz")) {
+        for (double x : parse_numbers(o->Attribute("xyz"), 3, file, where + " origin xyz"))
+          if (std::abs(x) > kMaxGeometryExtent)
+            throw Error(file, where + " origin xyz", "beyond " + std::to_string(int(kMaxGeometryExtent)) + " m");
+      }
+      if (o->Attribute("rpy")) parse_numbers(o->Attribute("rpy"), 3, file, where + " origin rpy");
+    }
+    const auto* g = c->FirstChildElement("geometry");
+    const auto* shape = g ? g->FirstChildElement() : nullptr;
+    if (!shape) throw Error(file, where, "no <geometry> with a shape");
+    const std::string kind = shape->Name();
+    const auto sizes = [&](const char* attr, std::size_t n) {
+      const auto v = parse_numbers(shape->Attribute(attr), n, file, where + " " + kind + " " + attr);
+      for (double x : v)
+        if (!(x > 0) || x > kMaxGeometryExtent)
+          throw Error(file, where + " " + kind + " " + attr,
+                      "must be positive and at most " + std::to_string(int(kMaxGeometryExtent)) + " m");
+    };
+    if (kind == "box") sizes("size", 3);
+    else if (kind == "cylinder") sizes("radius", 1), sizes("length", 1);
+    else if (kind == "sphere") sizes("radius", 1);
+    else if (kind == "mesh") {
+      if (!shape->Attribute("filename")) throw Error(file, where + " mesh", "no filename");
+      if (shape->Attribute("scale")) sizes("scale", 3);
+    } else {
+      throw Error(file, where, "unknown geometry <" + kind + "> (box, cylinder, sphere, mesh)");
+    }
+  }
+  collision_counts[name] = index;
+  if (const auto* inertial = link.FirstChildElement("inertial"))
+    if (const auto* mass = inertial->FirstChildElement("mass")) {
+      const double m = parse_numbers(mass->Attribute("value"), 1, file, quoted("link", name) + " inertial mass")[0];
+      if (!(m > 0)) throw Error(file, quoted("link", name) + " inertial mass", "must be positive");
+    }
+}
+
+void check_link_tree(const std::string& text, const std::string& file, std::map<std::string, std::size_t>& collision_counts) {
   tinyxml2::XMLDocument doc;
   // urdfdom's own XML parser is more lenient: what tinyxml2 rejects is not checked here, so refuse it.
   if (doc.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS)
     throw Error(file, "", std::string("not valid XML: ") + (doc.ErrorStr() ? doc.ErrorStr() : "?"));
   const tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
   if (!robot) return;
+  for (auto* l = robot->FirstChildElement("link"); l; l = l->NextSiblingElement("link"))
+    check_link_elements(*l, file, collision_counts);
   std::map<std::string, std::string> parent_of;  // child link -> parent link
   for (auto* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
     const auto* p = j->FirstChildElement("parent");
@@ -211,7 +282,8 @@ RobotModel read_urdf(const fs::path& urdf, const UrdfOptions& options) {
   if (!fs::is_regular_file(urdf, ec)) throw Error(file, "", "file not found");
   const std::string text = read_text(urdf);
 
-  check_link_tree(text, file);
+  std::map<std::string, std::size_t> collision_counts;
+  check_link_tree(text, file, collision_counts);
 
   urdf::ModelInterfaceSharedPtr parsed;
   {
@@ -245,7 +317,14 @@ RobotModel read_urdf(const fs::path& urdf, const UrdfOptions& options) {
   for (const auto& [name, link] : parsed->links_)  // check_link_tree makes this a safety net
     if (!seen.count(link.get()))
       throw Error(file, quoted("link", name), "not connected to the root link '" + root->name + "' (joint cycle?)");
-  for (const auto& l : order) model.links.push_back(convert_link(*l, file, base_dir, options));
+  for (const auto& l : order) {
+    const auto expected = collision_counts.find(l->name);
+    if (expected != collision_counts.end() && expected->second != l->collision_array.size())
+      throw Error(file, quoted("link", l->name),
+                  "has " + std::to_string(expected->second) + " <collision> elements but only " +
+                      std::to_string(l->collision_array.size()) + " could be read (a malformed origin or geometry)");
+    model.links.push_back(convert_link(*l, file, base_dir, options));
+  }
   for (const auto& l : order)
     if (l->parent_joint) model.joints.push_back(convert_joint(*l->parent_joint, model, file));
 

@@ -5,9 +5,11 @@
 #include <CGAL/convex_hull_3.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <queue>
 
 #include "dmgplace/formats/error.hpp"
 
@@ -20,7 +22,7 @@ using Hull = CGAL::Surface_mesh<K::Point_3>;
 Eigen::Vector3d eig(const K::Point_3& p) { return {p.x(), p.y(), p.z()}; }
 
 struct HullFacet {
-  Eigen::Vector3d normal;
+  Eigen::Vector3d normal, centroid;
   double area = 0;
   std::vector<int> vertices, neighbours;
 };
@@ -36,9 +38,17 @@ std::vector<HullFacet> hull_facets(const Hull& hull) {
       pts.push_back(eig(hull.point(v)));
       h.neighbours.push_back(int(hull.face(hull.opposite(he)).idx()));
     }
+    // Start the cycle at its lexicographically smallest point: the sums below then do not depend
+    // on which halfedge CGAL calls the face's first.
+    const auto first = std::min_element(pts.begin(), pts.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+      return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+    }) - pts.begin();
+    std::rotate(pts.begin(), pts.begin() + first, pts.end());
     Eigen::Vector3d n = Eigen::Vector3d::Zero();  // Newell: robust for any polygon
     for (std::size_t i = 0; i < pts.size(); ++i) n += pts[i].cross(pts[(i + 1) % pts.size()]);
     h.area = 0.5 * n.norm();
+    h.centroid = Eigen::Vector3d::Zero();
+    for (const auto& p : pts) h.centroid += p / double(pts.size());
     h.normal = n.normalized();
   }
   return out;
@@ -76,6 +86,17 @@ double inside_distance(const std::vector<Eigen::Vector3d>& poly, const Eigen::Ve
   return d;
 }
 
+// The rotation taking unit n to -z. Eigen's FromTwoVectors solves the antiparallel case (a face
+// pointing up, n = +z) with an SVD whose choice among the equally good axes changed with memory
+// alignment: the same mesh baked to different face frames. Here that case is a half turn about
+// the x axis made perpendicular to n, the same every time.
+Eigen::Quaterniond rotation_to_down(const Eigen::Vector3d& n) {
+  const Eigen::Vector3d down(0, 0, -1);
+  if (n.dot(down) > -1 + 1e-6) return Eigen::Quaterniond::FromTwoVectors(n, down).normalized();
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
+  return Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, (x - x.dot(n) * n).normalized()));
+}
+
 }  // namespace
 
 formats::PlacementFaces compute_placement_faces(const TriMesh& mesh, const Eigen::Vector3d& com,
@@ -90,32 +111,75 @@ formats::PlacementFaces compute_placement_faces(const TriMesh& mesh, const Eigen
   if (hull.number_of_faces() < 4) throw Error(file, "placement", "the mesh is flat: no 3-D convex hull");
   const auto facets = hull_facets(hull);
 
-  // Region growing, largest facets first, against the seed facet's normal: a finely tessellated
-  // curve does not chain into one face as it would with pairwise merging, and the region grows
-  // symmetrically about its seed.
-  std::vector<int> order(facets.size()), region(facets.size(), -1);
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return facets[a].area > facets[b].area; });
-  std::vector<std::vector<int>> regions;
+  // Region growing against the seed facet's normal (a finely tessellated curve does not chain
+  // into one face as it would with pairwise merging, and a region grows symmetrically about its
+  // seed). Greedy: the seed whose region would have the largest area goes first, so a fan-
+  // triangulated disk becomes one face and a polygonal cylinder's sides are cut into the widest
+  // strips. Ties (a symmetric mesh has many) are broken by a key of the geometry alone, rounded
+  // so that last-bit noise cannot reorder it: CGAL numbers the hull's facets in an order that
+  // follows heap addresses (it changed with the length of the input's path), and the same mesh
+  // must always give the same faces.
+  double max_area = 0;
+  for (const auto& f : facets) max_area = std::max(max_area, f.area);
+  const auto quantise = [](double v, double unit) { return std::llround(v / unit); };
+  const double area_unit = max_area * 1e-9 + 1e-300;
+  std::vector<std::array<long long, 6>> keys(facets.size());
+  for (std::size_t f = 0; f < facets.size(); ++f) {
+    const Eigen::Vector3d& n = facets[f].normal;
+    const Eigen::Vector3d& c = facets[f].centroid;
+    keys[f] = {quantise(n.x(), 1e-9), quantise(n.y(), 1e-9), quantise(n.z(), 1e-9),
+               quantise(c.x(), 1e-9), quantise(c.y(), 1e-9), quantise(c.z(), 1e-9)};
+  }
   const double cos_merge = std::cos(o.merge_angle);
-  for (int seed : order) {
-    if (region[seed] >= 0) continue;
-    const int r = int(regions.size());
-    regions.push_back({seed});
-    region[seed] = r;
-    for (std::size_t q = 0; q < regions[r].size(); ++q)
-      for (int nb : facets[regions[r][q]].neighbours) {
-        if (region[nb] >= 0 || facets[nb].normal.dot(facets[seed].normal) < cos_merge) continue;
-        region[nb] = r;
-        regions[r].push_back(nb);
+  std::vector<int> region(facets.size(), -1), mark(facets.size(), -1);
+  // The unclaimed facets a region seeded at `seed` would take, and their area.
+  const auto grow = [&](int seed, std::vector<int>& members) {
+    members.assign(1, seed);
+    mark[seed] = seed;
+    double area = facets[seed].area;
+    for (std::size_t k = 0; k < members.size(); ++k)
+      for (int nb : facets[members[k]].neighbours) {
+        if (region[nb] >= 0 || mark[nb] == seed || facets[nb].normal.dot(facets[seed].normal) < cos_merge) continue;
+        mark[nb] = seed;
+        members.push_back(nb);
+        area += facets[nb].area;
       }
+    for (int m : members) mark[m] = -1;
+    return quantise(area, area_unit);
+  };
+  // Lazy greedy: claimed neighbours only shrink a region, so a stored area is an upper bound; a
+  // popped seed whose recomputed area still equals its bound is the best one left.
+  struct Entry {
+    long long area;
+    int facet;
+  };
+  const auto after = [&](const Entry& a, const Entry& b) {  // priority_queue puts the "largest" first
+    return a.area != b.area ? a.area < b.area : keys[b.facet] < keys[a.facet] || (keys[b.facet] == keys[a.facet] && b.facet < a.facet);
+  };
+  std::priority_queue<Entry, std::vector<Entry>, decltype(after)> queue(after);
+  std::vector<int> members;
+  for (int f = 0; f < int(facets.size()); ++f) queue.push({grow(f, members), f});
+  std::vector<std::vector<int>> regions;
+  while (!queue.empty()) {
+    const Entry top = queue.top();
+    queue.pop();
+    if (region[top.facet] >= 0) continue;
+    const long long area = grow(top.facet, members);
+    if (area != top.area) {
+      queue.push({area, top.facet});
+      continue;
+    }
+    for (int m : members) region[m] = int(regions.size());
+    regions.push_back(members);
   }
 
   // One candidate face per region; the required margin shrinks for thin objects.
   struct Candidate { Eigen::Vector3d n; double support, width; std::vector<int> verts; };
   std::vector<Candidate> cands;
   double min_width = std::numeric_limits<double>::infinity();
-  for (const auto& reg : regions) {
+  for (auto& reg : regions) {
+    // Sum in the canonical order too: a floating-point sum depends on its order.
+    std::sort(reg.begin(), reg.end(), [&](int a, int b) { return keys[a] < keys[b] || (keys[a] == keys[b] && a < b); });
     Candidate c;
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     for (int f : reg) {
@@ -123,6 +187,10 @@ formats::PlacementFaces compute_placement_faces(const TriMesh& mesh, const Eigen
       c.verts.insert(c.verts.end(), facets[f].vertices.begin(), facets[f].vertices.end());
     }
     if (sum.norm() == 0) continue;
+    // CGAL may triangulate a coplanar hull face differently from run to run, so the sum varies in
+    // its last bits (0 or -2.4e-16): snap it to a 2^-40 grid first, far below any geometric effect.
+    const double length = sum.norm();
+    for (int k = 0; k < 3; ++k) sum[k] = std::ldexp(std::round(std::ldexp(sum[k] / length, 40)), -40) + 0.0;  // + 0.0: no -0
     c.n = sum.normalized();
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v) {
@@ -152,7 +220,7 @@ formats::PlacementFaces compute_placement_faces(const TriMesh& mesh, const Eigen
     for (int i : ring) face.polygon.push_back(flat[i].x() * u + flat[i].y() * w + c.support * c.n);
     face.margin = inside_distance(face.polygon, c.n, com);
     if (face.margin < out.required_margin) continue;
-    face.rotation = Eigen::Quaterniond::FromTwoVectors(c.n, Eigen::Vector3d(0, 0, -1)).normalized();
+    face.rotation = rotation_to_down(c.n);
     face.height = c.support;
     out.faces.push_back(std::move(face));
   }

@@ -2,15 +2,18 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 
 #include "dmgplace/formats/error.hpp"
+#include "dmgplace/formats/geometry_types.hpp"
 #include "dmgplace/tools/io/yaml_file.hpp"
 
 namespace dmgplace::tools {
 namespace {
 using runtime::ObjectiveTerm;
+constexpr double kMaxTimeLimit = 1e6;  // s (11.6 days); also keeps the deadline's nanosecond count from overflowing
 using runtime::PlacementOptions;
 
 std::vector<double> numbers(const YAML::Node& n, std::size_t count, const std::string& file, const std::string& what) {
@@ -34,35 +37,53 @@ Eigen::Vector3d vec3(const YAML::Node& n, const std::string& file, const std::st
   return {v[0], v[1], v[2]};
 }
 
+// A YAML integer in [lo, hi], or an error naming the option and its range.
+long long integer(const YAML::Node& n, long long lo, long long hi, const std::string& file, const std::string& what) {
+  long long v = 0;
+  try {
+    v = n.as<long long>();
+  } catch (const YAML::Exception&) {
+    throw Error(file, what + (yaml_line(n).empty() ? "" : " (" + yaml_line(n) + ")"), "expected an integer");
+  }
+  if (v < lo || v > hi)
+    throw Error(file, what,
+                runtime::number_text(v) + " is outside its range [" + runtime::number_text(lo) + ", " + runtime::number_text(hi) + "]");
+  return v;
+}
+
+double ranged(const YAML::Node& n, double lo, double hi, const std::string& file, const std::string& what) {
+  const double v = real(n, file, what);
+  if (v < lo || v > hi)
+    throw Error(file, what,
+                runtime::number_text(v) + " is outside its range [" + runtime::number_text(lo) + ", " + runtime::number_text(hi) + "]");
+  return v;
+}
+
+// Options by name from the runtime's table: a value outside its range is refused at parse time
+// (a 2e9 IK restart count ignores any time limit; 100000 threads exhaust the process).
 void read_options(const YAML::Node& n, PlacementOptions& o, const std::string& file) {
   if (!n.IsMap()) throw Error(file, "options", "expected a map of option: value");
-  const std::map<std::string, std::function<void(const YAML::Node&)>> setters = {
-      {"max_depth", [&](const YAML::Node& v) { o.max_depth = v.as<int>(); }},
-      {"ucb_c", [&](const YAML::Node& v) { o.ucb_c = real(v, file, "options.ucb_c"); }},
-      {"goal_iterations", [&](const YAML::Node& v) { o.goal_iterations = v.as<int>(); }},
-      {"p_accept", [&](const YAML::Node& v) { o.p_accept = real(v, file, "options.p_accept"); }},
-      {"grasp_tries", [&](const YAML::Node& v) { o.grasp_tries = v.as<int>(); }},
-      {"lift", [&](const YAML::Node& v) { o.lift = real(v, file, "options.lift"); }},
-      {"ik_restarts", [&](const YAML::Node& v) { o.ik_restarts = v.as<int>(); }},
-      {"motion_resolution", [&](const YAML::Node& v) { o.motion_resolution = real(v, file, "options.motion_resolution"); }},
-      {"threads", [&](const YAML::Node& v) { o.threads = v.as<int>(); }},
-      {"slice_iterations", [&](const YAML::Node& v) { o.slice_iterations = v.as<int>(); }},
-      {"max_open_goals", [&](const YAML::Node& v) { o.max_open_goals = v.as<int>(); }},
-      {"optimize_locally", [&](const YAML::Node& v) { o.optimize_locally = v.as<bool>(); }},
-      {"local_step", [&](const YAML::Node& v) { o.local_step = real(v, file, "options.local_step"); }},
-      {"local_iterations", [&](const YAML::Node& v) { o.local_iterations = v.as<int>(); }},
-      {"check_retreat", [&](const YAML::Node& v) { o.check_retreat = v.as<bool>(); }},
-      {"retreat_distance", [&](const YAML::Node& v) { o.retreat_distance = real(v, file, "options.retreat_distance"); }},
-      {"tie_tolerance", [&](const YAML::Node& v) { o.tie_tolerance = real(v, file, "options.tie_tolerance"); }},
-  };
+  const auto& specs = runtime::placement_option_specs();
   for (const auto& kv : n) {
     const auto key = kv.first.as<std::string>();
-    auto it = setters.find(key);
-    if (it == setters.end()) throw Error(file, "options." + key, "unknown option");
-    try {
-      it->second(kv.second);
-    } catch (const YAML::Exception&) {
-      throw Error(file, "options." + key, "wrong type");
+    const auto it = std::find_if(specs.begin(), specs.end(), [&](const auto& s) { return key == s.name; });
+    const std::string where = "options." + key;
+    if (it == specs.end()) {
+      std::string known;
+      for (const auto& s : specs) known += (known.empty() ? "" : ", ") + std::string(s.name);
+      throw Error(file, where + (yaml_line(kv.first).empty() ? "" : " (" + yaml_line(kv.first) + ")"),
+                  "unknown option (expected one of: " + known + ")");
+    }
+    if (const auto* m = std::get_if<int PlacementOptions::*>(&it->member)) {
+      o.*(*m) = int(integer(kv.second, (long long)it->lo, (long long)it->hi, file, where));
+    } else if (const auto* d = std::get_if<double PlacementOptions::*>(&it->member)) {
+      o.*(*d) = ranged(kv.second, it->lo, it->hi, file, where);
+    } else {
+      try {
+        o.*std::get<bool PlacementOptions::*>(it->member) = kv.second.as<bool>();
+      } catch (const YAML::Exception&) {
+        throw Error(file, where, "expected true or false");
+      }
     }
   }
 }
@@ -70,12 +91,13 @@ void read_options(const YAML::Node& n, PlacementOptions& o, const std::string& f
 ObjectiveTerm read_term(const YAML::Node& n, const std::string& file, std::size_t index) {
   const std::string where = "objective[" + std::to_string(index) + "]";
   if (!n.IsMap() || !n["term"]) throw Error(file, where, "expected {term: clearance|depth|distance|upright, ...}");
+  require_known_keys(n, {"term", "weight", "direction", "target", "axis"}, file, where);
   ObjectiveTerm t;
   const auto name = n["term"].as<std::string>();
   const auto kind = runtime::parse_objective_kind(name);
   if (!kind) throw Error(file, where + ".term", "unknown term '" + name + "' (clearance, depth, distance, upright)");
   t.kind = *kind;
-  if (n["weight"]) t.weight = real(n["weight"], file, where + ".weight");
+  if (n["weight"]) t.weight = ranged(n["weight"], -1e6, 1e6, file, where + ".weight");
   const char* key = t.kind == ObjectiveTerm::Kind::Depth      ? "direction"
                     : t.kind == ObjectiveTerm::Kind::Distance ? "target"
                     : t.kind == ObjectiveTerm::Kind::Upright  ? "axis"
@@ -83,23 +105,53 @@ ObjectiveTerm read_term(const YAML::Node& n, const std::string& file, std::size_
   if (key) {
     if (!n[key]) throw Error(file, where, std::string("term '") + name + "' needs '" + key + "' [x, y, z]");
     t.vector = vec3(n[key], file, where + "." + key);
+    if (t.kind != ObjectiveTerm::Kind::Distance && !(t.vector.norm() > 1e-9))
+      throw Error(file, where + "." + key, "must be a non-zero vector");
+    if (t.vector.cwiseAbs().maxCoeff() > kMaxGeometryExtent)
+      throw Error(file, where + "." + key, "a coordinate beyond " + std::to_string(int(kMaxGeometryExtent)) + " m");
   }
+  for (const char* other : {"direction", "target", "axis"})
+    if (n[other] && (!key || std::string(other) != key))
+      throw Error(file, where + "." + other, "does not belong to term '" + name + "'");
   return t;
 }
 }  // namespace
 
-PlacementQueryFile read_placement_query(const std::filesystem::path& path, const std::filesystem::path& artifact_dir) {
+std::filesystem::path resolve_artifact_path(const std::string& text, const std::filesystem::path& root, bool allow_outside,
+                                            const std::string& file, const std::string& element) {
+  namespace fs = std::filesystem;
+  if (text.empty()) throw Error(file, element, "empty path");
+  const fs::path p = text;
+  const fs::path joined = p.is_absolute() ? p : (root.empty() ? fs::path(".") : root) / p;
+  if (allow_outside) return joined;
+  // Compare real locations: `..` and symbolic links may not lead a query out of its folder.
+  std::error_code ec;
+  const fs::path real_root = fs::weakly_canonical(root.empty() ? fs::path(".") : root, ec);
+  const fs::path real = fs::weakly_canonical(joined, ec);
+  const auto rel = real.lexically_relative(real_root);
+  if (ec || rel.empty() || *rel.begin() == "..")
+    throw Error(file, element,
+                "'" + text + "' resolves to " + real.string() + ", outside the artifact folder " + real_root.string() +
+                    " (pass --allow-outside to permit it)");
+  return joined;
+}
+
+PlacementQueryFile read_placement_query(const std::filesystem::path& path, const std::filesystem::path& artifact_dir,
+                                        bool allow_outside) {
   const std::string file = path.string();
   const YAML::Node root = load_yaml_file(path);
   if (!root.IsMap()) throw Error(file, "", "expected a map (robot, object, environment, start, initial_grasp, ...)");
+  require_known_keys(root, {"robot", "object", "environment", "start", "initial_grasp", "volume", "objective", "time_limit", "seed",
+                            "variant", "options"},
+                     file, "");
   PlacementQueryFile f;
   f.path = path;
+  f.query.source = file;
   const auto dir = artifact_dir.empty() ? path.parent_path() : artifact_dir;
   try {
     for (auto [key, dst] : {std::pair{"robot", &f.robot}, std::pair{"object", &f.object}, std::pair{"environment", &f.environment}}) {
       if (!root[key]) throw Error(file, key, "missing (path of the artifact, relative to the query file)");
-      const std::filesystem::path p = root[key].as<std::string>();
-      *dst = p.is_absolute() ? p : dir / p;
+      *dst = resolve_artifact_path(root[key].as<std::string>(), dir, allow_outside, file, key);
     }
     const YAML::Node start = root["start"];
     if (!start) throw Error(file, "start", "missing (the arm's joint values)");
@@ -116,14 +168,17 @@ PlacementQueryFile read_placement_query(const std::filesystem::path& path, const
     }
     const YAML::Node g = root["initial_grasp"];
     if (!g || !g["pose"]) throw Error(file, "initial_grasp", "missing {pose: [x, y, z, qx, qy, qz, qw]}");
+    require_known_keys(g, {"pose", "opening"}, file, "initial_grasp");
     const auto p = numbers(g["pose"], 7, file, "initial_grasp.pose");
     Eigen::Quaterniond quat(p[6], p[3], p[4], p[5]);
     if (quat.norm() < 1e-6) throw Error(file, "initial_grasp.pose", "zero quaternion");
     f.query.g0 = Eigen::Translation3d(p[0], p[1], p[2]) * quat.normalized();
-    if (g["opening"]) f.query.g0_opening = real(g["opening"], file, "initial_grasp.opening");
+    if (g["opening"]) f.query.g0_opening = ranged(g["opening"], 1e-4, 1, file, "initial_grasp.opening");
     if (root["volume"]) {
       const auto v = numbers(root["volume"], 6, file, "volume");
       if (v[0] > v[3] || v[1] > v[4] || v[2] > v[5]) throw Error(file, "volume", "min exceeds max");
+      for (double x : v)
+        if (std::abs(x) > kMaxGeometryExtent) throw Error(file, "volume", "a coordinate beyond " + std::to_string(int(kMaxGeometryExtent)) + " m");
       f.query.volume = Eigen::AlignedBox3d(Eigen::Vector3d(v[0], v[1], v[2]), Eigen::Vector3d(v[3], v[4], v[5]));
     }
     if (root["objective"]) {
@@ -132,8 +187,7 @@ PlacementQueryFile read_placement_query(const std::filesystem::path& path, const
       f.query.objective.clear();
       for (std::size_t i = 0; i < o.size(); ++i) f.query.objective.push_back(read_term(o[i], file, i));
     }
-    if (root["time_limit"]) f.time_limit = root["time_limit"].as<double>();
-    if (!(f.time_limit >= 0) || !std::isfinite(f.time_limit)) throw Error(file, "time_limit", "must be a finite number >= 0");
+    if (root["time_limit"]) f.time_limit = ranged(root["time_limit"], 0, kMaxTimeLimit, file, "time_limit");
     if (root["seed"]) f.query.seed = root["seed"].as<std::uint64_t>();
     if (root["variant"]) {
       const auto name = root["variant"].as<std::string>();

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "dmgplace/formats/atomic_file.hpp"
 #include "dmgplace/formats/error.hpp"
 
 namespace dmgplace::tools {
@@ -66,27 +67,6 @@ ordered_json solution_json(const PlacementSolution& s) {
   return j;
 }
 
-// Written to a hidden temporary file, renamed over `path` only when complete. On any failure the
-// temporary file is removed: a full disk must not be left fuller by a half-written leftover.
-void write_atomically(const std::filesystem::path& path, const std::string& text) {
-  const auto tmp = path.parent_path() / ("." + path.filename().string() + ".tmp");
-  std::error_code ec;
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    f << text;
-    f.close();  // close() flushes; a write error surfaces here, not in the destructor
-    if (!f) {
-      std::filesystem::remove(tmp, ec);
-      throw Error(path.string(), "", "write failed (disk full or no permission?)");
-    }
-  }
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    const std::string why = ec.message();
-    std::filesystem::remove(tmp, ec);
-    throw Error(path.string(), "", "cannot replace: " + why);
-  }
-}
 }  // namespace
 
 std::string solution_line(const PlacementSolution& s) {
@@ -141,7 +121,6 @@ void write_placement_result(const std::filesystem::path& dir, const PlacementQue
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw Error(dir.string(), "", "cannot create the output folder: " + ec.message());
-  write_atomically(dir / "result.json", result_json(q, r, kin));
   std::ostringstream trace;
   trace << "time,best,iterations,samples,ik_calls,ik_solutions,collision_checks,exact_checks,goals,paths\n";
   for (const auto& p : r.trace) {
@@ -150,7 +129,7 @@ void write_placement_result(const std::filesystem::path& dir, const PlacementQue
           << c.samples << ',' << c.ik_calls << ',' << c.ik_solutions << ',' << c.collision_checks << ',' << c.exact_checks
           << ',' << c.goals << ',' << c.paths << '\n';
   }
-  write_atomically(dir / "trace.csv", trace.str());
+  formats::write_file_atomically(dir / "trace.csv", trace.str());
   std::ostringstream path;
   path << "segment";
   for (const auto& n : kin.joint_names()) path << ',' << n;
@@ -163,7 +142,9 @@ void write_placement_result(const std::filesystem::path& dir, const PlacementQue
         path << '\n';
       }
   }
-  write_atomically(dir / "path.csv", path.str());
+  formats::write_file_atomically(dir / "path.csv", path.str());
+  // Last: result.json marks the run complete (a resumed experiment skips runs that have it).
+  formats::write_file_atomically(dir / "result.json", result_json(q, r, kin));
 }
 
 }  // namespace dmgplace::tools

@@ -29,9 +29,15 @@ formats::RobotArtifact bake_robot(const RobotBakeOptions& o) {
     m.joints.push_back(j);
   }
   set_arm_chain(robot.model, o.arm_base, tip, o.urdf.string());
-  for (std::size_t l = 0; l < robot.model.links.size(); ++l)
-    for (const auto& s : cover_with_spheres(robot.model.links[l].collision, o.spheres))
-      robot.spheres.push_back({int(l), s.center, s.radius});
+  for (std::size_t l = 0; l < robot.model.links.size(); ++l) {
+    std::vector<Sphere> cover;
+    try {
+      cover = cover_with_spheres(robot.model.links[l].collision, o.spheres);
+    } catch (const Error& e) {
+      throw Error(o.urdf.string(), "link '" + robot.model.links[l].name + "'", e.what());
+    }
+    for (const auto& s : cover) robot.spheres.push_back({int(l), s.center, s.radius});
+  }
   const runtime::Kinematics kin(robot.model, robot.model.arm_base, robot.model.arm_tip);
   robot.self_tables = build_self_distance_tables(kin, robot.spheres, o.self_tables);
   return robot;

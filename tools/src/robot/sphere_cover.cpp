@@ -5,6 +5,7 @@
 #include <limits>
 #include <numeric>
 
+#include "dmgplace/formats/error.hpp"
 #include "dmgplace/formats/winding_number.hpp"
 #include "dmgplace/tools/geometry/tessellate.hpp"
 
@@ -23,12 +24,39 @@ void sample_surface(const TriMesh& m, double spacing, std::vector<Eigen::Vector3
   }
 }
 
+constexpr double kMaxSamples = 2e7;  // 480 MB of points
+
+// Counts the samples before making them: a link a kilometre long at 5 mm spacing would need
+// ~10^15 points (the bake ran out of memory at 45 MB/s instead of saying so).
+void check_sample_budget(const std::vector<TriMesh>& meshes, double spacing) {
+  double total = 0;
+  for (const auto& m : meshes) {
+    Eigen::AlignedBox3d box;
+    for (Eigen::Index i = 0; i < m.vertices.rows(); ++i) box.extend(m.vertices.row(i).transpose());
+    for (Eigen::Index t = 0; t < m.triangles.rows(); ++t) {
+      const Eigen::Vector3d a = m.vertices.row(m.triangles(t, 0)).transpose();
+      const Eigen::Vector3d b = m.vertices.row(m.triangles(t, 1)).transpose();
+      const Eigen::Vector3d c = m.vertices.row(m.triangles(t, 2)).transpose();
+      const double n = std::ceil(std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()}) / spacing) + 1;
+      total += n * (n + 1) / 2;
+    }
+    if (!box.isEmpty()) total += (box.sizes() / (2 * spacing)).array().ceil().prod();
+  }
+  if (!(total <= kMaxSamples))
+    throw Error("sphere cover", "",
+                "the link's geometry needs about " + std::to_string(total) + " samples at a spacing of " + std::to_string(spacing) +
+                    " m, more than " + std::to_string(kMaxSamples) + " (is the geometry in millimetres? else raise --sphere-spacing)");
+}
+
 }  // namespace
 
 std::vector<Eigen::Vector3d> sample_solid(const std::vector<Shape>& shapes, double spacing) {
+  if (!(spacing > 0)) throw Error("sphere cover", "", "sample spacing must be positive");
+  std::vector<TriMesh> meshes;
+  for (const auto& s : shapes) meshes.push_back(tessellate(s, 24));
+  check_sample_budget(meshes, spacing);
   std::vector<Eigen::Vector3d> pts;
-  for (const auto& s : shapes) {
-    TriMesh m = tessellate(s, 24);
+  for (const auto& m : meshes) {
     sample_surface(m, spacing, pts);
     Eigen::AlignedBox3d box;
     for (Eigen::Index i = 0; i < m.vertices.rows(); ++i) box.extend(m.vertices.row(i).transpose());

@@ -2,6 +2,7 @@
 
 #include <fstream>
 
+#include "dmgplace/formats/atomic_file.hpp"
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/tools/viewer/arm_motion.hpp"
 #include "dmgplace/tools/viewer/scene_data.hpp"
@@ -9,22 +10,6 @@
 #include "dmgplace/tools/viewer/viewer_page.hpp"
 
 namespace dmgplace::tools::viewer {
-namespace {
-
-void write_atomically(const std::filesystem::path& path, const std::string& text) {
-  const auto tmp = path.parent_path() / ("." + path.filename().string() + ".tmp");
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    f << text;
-    f.flush();
-    if (!f) throw Error(path.string(), "", "cannot write (missing folder, disk full or no permission?)");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw Error(path.string(), "", "cannot replace: " + ec.message());
-}
-
-}  // namespace
 
 ViewerSummary write_viewer(const std::filesystem::path& result_dir, const std::filesystem::path& html,
                            const std::filesystem::path& artifacts) {
@@ -35,7 +20,7 @@ ViewerSummary write_viewer(const std::filesystem::path& result_dir, const std::f
   const ArmMotion motion = sample_arm_motion(r, robot, object.dmg.gripper.max_opening);
   const std::string page = viewer_page("dmgplace: " + std::filesystem::path(r.query_file).stem().string(),
                                        scene_data_json(r, motion, robot, object, env));
-  write_atomically(html, page);
+  formats::write_file_atomically(html, page);
   return {r.solved, int(r.path.size() + r.retreat.size()), motion.frames, page.size()};
 }
 

@@ -17,6 +17,9 @@ struct ArtifactHeader {
   std::string created_utc;     // ISO 8601
   std::string parameters_json; // creation parameters as a JSON object
   std::vector<InputFile> inputs;
+  // Not stored: the file this artifact was read from (empty when built in memory), so errors
+  // found after loading can still name it.
+  std::string source_file;
 };
 
 // The version string of this build, e.g. "0.1.0".

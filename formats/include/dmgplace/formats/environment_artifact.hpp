@@ -64,11 +64,16 @@ struct EnvironmentArtifact {
 };
 
 void save_environment(EnvironmentArtifact artifact, const std::filesystem::path& path);
+// Reads the file and refuses it unless check_environment finds nothing (see load_object).
 EnvironmentArtifact load_environment(const std::filesystem::path& path);
+// Reads without the semantic checks: for `validate` and tests (see read_object_unchecked).
+EnvironmentArtifact read_environment_unchecked(const std::filesystem::path& path);
 std::vector<std::string> check_environment(const EnvironmentArtifact& a);
 Summary summarize_environment(const EnvironmentArtifact& a);
 
 // The grid sample nearest to p (clamped into the grid); the grid must not be empty.
 float nearest_sample(const FieldGrid& g, const Eigen::Vector3d& p);
+// Trilinear interpolation at p (clamped into the grid); the grid must have >= 2 samples an axis.
+float interpolated_sample(const FieldGrid& g, const Eigen::Vector3d& p);
 
 }  // namespace dmgplace::formats

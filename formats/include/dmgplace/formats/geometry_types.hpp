@@ -6,6 +6,11 @@
 
 namespace dmgplace {
 
+// Robots and rooms are metres across: a shape or coordinate beyond a kilometre is a unit error or
+// a crafted file, and the distance fields and sphere covers built from it would not fit in
+// memory. Every reader and artifact check refuses it.
+inline constexpr double kMaxGeometryExtent = 1000;
+
 using RowMatrixX3d = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 using RowMatrixX3i = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
 

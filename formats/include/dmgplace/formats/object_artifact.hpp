@@ -90,7 +90,13 @@ struct ObjectArtifact {
 };
 
 void save_object(ObjectArtifact artifact, const std::filesystem::path& path);
+// Reads the file and refuses it (dmgplace::Error naming the file and its first problems) unless
+// check_object finds nothing: every consumer loads through this gate.
 ObjectArtifact load_object(const std::filesystem::path& path);
+// Reads without the semantic checks (header, schema, checksums and the index ranges the reader
+// itself needs are still enforced): for `validate`, which reports every problem, and for tests.
+ObjectArtifact read_object_unchecked(const std::filesystem::path& path);
+// Every semantic problem, one line each ("element: reason"); empty when sound. O(size of the file).
 std::vector<std::string> check_object(const ObjectArtifact& a);
 Summary summarize_object(const ObjectArtifact& a);
 

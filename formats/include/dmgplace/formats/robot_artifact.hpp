@@ -61,7 +61,10 @@ struct RobotArtifact {
 };
 
 void save_robot(RobotArtifact artifact, const std::filesystem::path& path);
+// Reads the file and refuses it unless check_robot finds nothing (see load_object).
 RobotArtifact load_robot(const std::filesystem::path& path);
+// Reads without the semantic checks: for `validate` and tests (see read_object_unchecked).
+RobotArtifact read_robot_unchecked(const std::filesystem::path& path);
 std::vector<std::string> check_robot(const RobotArtifact& a);
 Summary summarize_robot(const RobotArtifact& a);
 

@@ -23,6 +23,7 @@ std::vector<std::string> check_shapes(const std::vector<OwnedShape>& shapes, int
 
 // Pose <-> [x y z qx qy qz qw].
 void pose_to_array(const Eigen::Isometry3d& pose, double* out7);
-Eigen::Isometry3d pose_from_array(const double* in7);
+// Throws dmgplace::Error naming file and element unless the quaternion has unit length.
+Eigen::Isometry3d pose_from_array(const double* in7, const std::string& file, const std::string& element);
 
 }  // namespace dmgplace::formats

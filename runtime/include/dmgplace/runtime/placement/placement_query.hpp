@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 namespace dmgplace::runtime {
@@ -58,6 +59,21 @@ struct PlacementOptions {
   double tie_tolerance = 1e-4;     // objective values this close count as equal: fewer in-hand actions win
 };
 
+// One line per option: its name in query files, where it lives, its range and what it means. The
+// query reader, the planner's own check and the documentation all read this table, so a range
+// is written once.
+struct PlacementOptionSpec {
+  const char* name;
+  std::variant<int PlacementOptions::*, double PlacementOptions::*, bool PlacementOptions::*> member;
+  double lo = 0, hi = 0;  // inclusive; unused for booleans
+  const char* help = "";
+};
+const std::vector<PlacementOptionSpec>& placement_option_specs();
+// Throws dmgplace::Error naming `source` (the query file, or "query"), the option and its range.
+// Ranges in messages are printed with number_text (shortest form, "1e+06", "0.1").
+std::string number_text(double v);
+void check_placement_options(const PlacementOptions& o, const std::string& source);
+
 struct PlacementQuery {
   Eigen::VectorXd q0;                                   // arm chain joints, the kinematics' order
   Eigen::Isometry3d g0 = Eigen::Isometry3d::Identity();  // initial grasp: TCP pose in the object frame
@@ -67,6 +83,7 @@ struct PlacementQuery {
   PlacementVariant variant = PlacementVariant::Full;
   std::uint64_t seed = 1;
   PlacementOptions options;
+  std::string source = "query";  // where the query came from (its file), named in every error about it
 };
 
 }  // namespace dmgplace::runtime

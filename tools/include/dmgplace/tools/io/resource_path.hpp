@@ -11,6 +11,7 @@ namespace dmgplace::tools {
 //   `base_dir` (itself included) that is named NAME, joined with rest.
 // - "file:///abs" and absolute paths as they are; anything else relative to `base_dir`.
 // Every candidate looked at is appended to `tried` (when given), for the error message.
+// Throws dmgplace::Error when a package:// path leaves its package (`..`).
 std::filesystem::path resolve_resource(const std::string& uri, const std::filesystem::path& base_dir,
                                        const std::vector<std::filesystem::path>& package_paths,
                                        std::vector<std::filesystem::path>* tried = nullptr);

@@ -35,7 +35,14 @@ struct PlacementQueryFile {
 };
 
 // Relative artifact paths are resolved against `artifact_dir`, or the query's folder when empty.
-PlacementQueryFile read_placement_query(const std::filesystem::path& path, const std::filesystem::path& artifact_dir = {});
+// A path that leads outside that folder (`..`, an absolute path, a symbolic link) is refused
+// unless `allow_outside`. Unknown or duplicate keys and out-of-range values are refused with the
+// key, its line and the range.
+PlacementQueryFile read_placement_query(const std::filesystem::path& path, const std::filesystem::path& artifact_dir = {},
+                                        bool allow_outside = false);
+// `text` resolved against `root`; throws (naming file and element) when it escapes root, unless allowed.
+std::filesystem::path resolve_artifact_path(const std::string& text, const std::filesystem::path& root, bool allow_outside,
+                                            const std::string& file, const std::string& element);
 // The start configuration in the arm chain's joint order; errors name the query file.
 Eigen::VectorXd resolve_start(const PlacementQueryFile& f, const runtime::Kinematics& kin);
 
