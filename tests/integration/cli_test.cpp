@@ -39,7 +39,14 @@ TEST(Cli, BakesValidatesAndInspectsTheBuiltInObjects) {
   ASSERT_EQ(j.exit_code, 0) << j.output;
   auto doc = nlohmann::json::parse(j.output);
   EXPECT_EQ(doc["schema"], "dmgplace.object v2");
-  EXPECT_EQ(doc["inputs"].size(), 1u);
+  ASSERT_EQ(doc["inputs"].size(), 1u);
+  EXPECT_EQ(doc["inputs"][0]["sha256"].get<std::string>().size(), 64u);
+  // Typed JSON: counts are numbers, bounds arrays of numbers.
+  EXPECT_TRUE(doc["vertices"].is_number_integer()) << doc["vertices"];
+  EXPECT_EQ(doc["triangles"].get<int>(), 12);
+  ASSERT_TRUE(doc["bounds_min"].is_array());
+  EXPECT_NEAR(doc["bounds_min"][0].get<double>(), -0.065, 1e-6);
+  EXPECT_TRUE(doc["mass_kg"].is_number());
   // The eraser is a box: its volume integral is exact and its COM is its centre.
   auto obj = dmgplace::formats::load_object(dir / "eraser.h5");
   Eigen::Vector3d ext = obj.mesh.vertices.colwise().maxCoeff() - obj.mesh.vertices.colwise().minCoeff();

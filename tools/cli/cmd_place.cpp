@@ -31,7 +31,9 @@ int run_place(const PlaceArgs& a) {
             << q.environment.filename().string() << " in " << load_s << " s; variant " << runtime::to_string(q.query.variant)
             << ", seed " << q.query.seed << ", " << q.time_limit << " s\n";
   runtime::PlacementPlanner planner(world, q.query);
-  const auto deadline = runtime::stop_after_seconds(q.time_limit);
+  const auto timer = runtime::stop_after_seconds(q.time_limit);
+  const auto rounds = a.iterations > 0 ? runtime::stop_after_iterations(a.iterations) : runtime::PlacementPlanner::Stop();
+  const auto deadline = [&] { return (rounds && rounds()) || timer(); };
   // Progress on stderr every few seconds; improvements on stdout as they come.
   auto last = std::chrono::steady_clock::now();
   const auto stop = [&] {

@@ -86,6 +86,7 @@ struct PlaceArgs {
   std::optional<double> time_limit;
   std::optional<std::uint64_t> seed;
   std::optional<int> threads;
+  long iterations = 0;  // > 0: also stop after this many search rounds (reproducible runs)
   std::string variant;  // empty: the query's
   bool json = false;
   bool allow_outside = false;  // artifact paths may leave the artifact folder

@@ -76,6 +76,9 @@ int main(int argc, char** argv) {
   c_place->add_option("--seed", place.seed, "Random seed (overrides the query's)");
   c_place->add_option("--threads", place.threads, "Motion planner threads; 0: synchronous, deterministic")->check(CLI::Range(0, 256));
   c_place->add_flag("--allow-outside", place.allow_outside, "Let the query's artifact paths leave the artifact folder");
+  c_place->add_option("--iterations", place.iterations,
+                      "Also stop after this many search rounds (0: no limit): with --threads 0, the same result on every machine")
+      ->check(CLI::Range(0L, 1000000000L));
   c_place->add_option("--variant", place.variant, "full, random-grasp or no-regrasp (overrides the query's)");
   c_place->add_flag("--json", place.json, "Also print result.json to stdout");
 

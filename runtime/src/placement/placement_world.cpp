@@ -110,6 +110,10 @@ TwoLayerChecker PlacementWorld::grasp_checker(const Eigen::Isometry3d& tcp_in_ob
                          exact_->with_attached(*object_mesh_, kin_->tip_link(), object_in_tip, hand_.links), std::move(counters));
 }
 
+TwoLayerChecker PlacementWorld::arm_checker(std::shared_ptr<CheckCounters> counters) const {
+  return TwoLayerChecker(*fast_, *exact_, std::move(counters));
+}
+
 ExactChecker PlacementWorld::grasp_exact(const Eigen::Isometry3d& tcp_in_object) const {
   return exact_->with_attached(*object_mesh_, kin_->tip_link(), tcp_in_object.inverse(), hand_.fingers);
 }

@@ -15,9 +15,9 @@
 #include <set>
 #include <vector>
 
-namespace dmgplace::runtime {
+#include "dmgplace/runtime/types.hpp"
 
-using JointPath = std::vector<std::vector<double>>;
+namespace dmgplace::runtime {
 
 struct FoundPath {
   int goal_id = -1;

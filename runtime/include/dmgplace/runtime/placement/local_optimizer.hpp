@@ -7,7 +7,7 @@
 #include <random>
 
 #include "dmgplace/runtime/collision/two_layer_checker.hpp"
-#include "dmgplace/runtime/motion/multi_goal_rrt_connect.hpp"
+#include "dmgplace/runtime/types.hpp"
 #include "dmgplace/runtime/placement/objective.hpp"
 #include "dmgplace/runtime/placement/search_space.hpp"
 #include "dmgplace/runtime/robot/ik.hpp"

@@ -46,6 +46,8 @@ class PlacementWorld {
   // Both layers with the object held at `tcp_in_object` (a grasp): shares all geometry. Object and
   // hand are not checked against each other (their relative pose is the grasp's, fixed).
   TwoLayerChecker grasp_checker(const Eigen::Isometry3d& tcp_in_object, std::shared_ptr<CheckCounters> counters) const;
+  // Both layers for the arm alone, empty-handed.
+  TwoLayerChecker arm_checker(std::shared_ptr<CheckCounters> counters) const;
   // Exact, with the object also checked against the hand's non-finger links: the grasp itself.
   ExactChecker grasp_exact(const Eigen::Isometry3d& tcp_in_object) const;
   // The object released at `object_pose` (world), the arm free to move around it.

@@ -3,7 +3,7 @@
 // With the object left at its placement (an obstacle now, fingers allowed to touch it), the TCP
 // withdraws straight back along its approach axis; every segment is checked exactly.
 #include "dmgplace/runtime/collision/exact_checker.hpp"
-#include "dmgplace/runtime/motion/multi_goal_rrt_connect.hpp"
+#include "dmgplace/runtime/types.hpp"
 
 namespace dmgplace::runtime {
 

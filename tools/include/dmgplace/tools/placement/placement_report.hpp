@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <string>
 
-#include "dmgplace/runtime/placement/placement_planner.hpp"
+#include "dmgplace/runtime/placement/placement_result.hpp"
 #include "dmgplace/tools/placement/placement_query_file.hpp"
 
 namespace dmgplace::tools {

@@ -1,0 +1,138 @@
+"""The dmgplace Python module (issue 18): the same answers as the CLI, callbacks, errors, stopping
+and threads. Artifacts are baked once per session with the dmgplace CLI ($DMGPLACE_CLI, default
+build/release/tools/dmgplace)."""
+import _thread
+import json
+import os
+import pathlib
+import subprocess
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import dmgplace
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+CLI = os.environ.get("DMGPLACE_CLI", str(ROOT / "build" / "release" / "tools" / "dmgplace"))
+DATA = ROOT / "datasets"
+QUERY = """robot: arm.h5
+object: eraser.h5
+environment: table.h5
+start: [0, -0.785, 0, -2.356, 0, 1.571, 0.785]
+initial_grasp: {pose: [0, 0, 0.0175, 1, 0, 0, 0]}
+time_limit: 30
+seed: 2
+"""
+
+
+def cli(*args):
+    return subprocess.run([CLI, *map(str, args)], check=True, capture_output=True, text=True)
+
+
+@pytest.fixture(scope="session")
+def artifacts(tmp_path_factory):
+    d = tmp_path_factory.mktemp("artifacts")
+    cli("make-objects", "--out", d)
+    cli("bake-object", d / "eraser.stl", "--out", d / "eraser.h5")
+    cli("bake-robot", DATA / "robots/dmgarm/dmgarm.urdf", "--srdf", DATA / "robots/dmgarm/dmgarm.srdf",
+        "--arm", "dmgarm_link0:dmgarm_tcp", "--out", d / "arm.h5")
+    cli("bake-env", DATA / "scenes/table.yaml", "--volume", "0.3,-0.3,0.4,0.8,0.3,0.7", "--resolution", "0.02",
+        "--margin", "0.9", "--sdf-resolution", "0.04", "--band", "0.25", "--out", d / "table.h5")
+    (d / "q.yaml").write_text(QUERY)
+    return d
+
+
+@pytest.fixture(scope="session")
+def world(artifacts):
+    return dmgplace.World.load(artifacts / "arm.h5", artifacts / "eraser.h5", artifacts / "table.h5")
+
+
+def test_placement_equals_the_cli_for_the_same_query_and_seed(artifacts, world):
+    out = artifacts / "cli_out"
+    cli("place", artifacts / "q.yaml", "--iterations", 60, "--seed", 5, "--out", out)
+    expected = json.loads((out / "result.json").read_text())
+    got = dmgplace.place(world, dmgplace.read_query(artifacts / "q.yaml"), iterations=60, seed=5)
+    assert got["solved"] == expected["solved"]
+    assert got["solved"], got["reason"]
+    assert got["best"]["objective"] == pytest.approx(expected["best"]["objective"], abs=1e-12)
+    assert got["best"]["grasp_state"] == expected["best"]["grasp"]["state"]
+    assert len(got["improvements"]) == len(expected["improvements"])
+
+
+def test_the_callback_fires_for_every_improvement_in_order(artifacts, world):
+    seen = []
+    r = dmgplace.place(world, dmgplace.read_query(artifacts / "q.yaml"), iterations=60, seed=5,
+                       on_solution=lambda s: seen.append(s["objective"]))
+    assert seen == [s["objective"] for s in r["improvements"]]
+    assert seen == sorted(seen) and len(set(seen)) == len(seen)
+    best = r["best"]
+    assert best["pose"].shape == (4, 4) and best["path"].shape[1] == world.dof
+    np.testing.assert_allclose(best["path"][0], [0, -0.785, 0, -2.356, 0, 1.571, 0.785])
+
+
+def test_a_bad_artifact_raises_an_error_naming_the_file(artifacts, tmp_path):
+    bad = tmp_path / "broken.h5"
+    bad.write_bytes(b"not an artifact")
+    with pytest.raises(dmgplace.Error, match=str(bad)):
+        dmgplace.World.load(artifacts / "arm.h5", bad, artifacts / "table.h5")
+    assert dmgplace.validate(bad) and str(bad) in dmgplace.validate(bad)[0]
+    with pytest.raises(dmgplace.Error, match="outside its range"):
+        q = tmp_path / "q.yaml"
+        q.write_text(QUERY + "options: {threads: 100000}\n")
+        dmgplace.read_query(q, artifacts)
+
+
+def test_a_stop_callable_ends_place_promptly(artifacts, world):
+    calls = []
+    t0 = time.monotonic()
+    r = dmgplace.place(world, dmgplace.read_query(artifacts / "q.yaml"), time_limit=60,
+                       stop=lambda: calls.append(1) or len(calls) > 5)
+    assert time.monotonic() - t0 < 5 and len(calls) == 6
+    assert "solved" in r
+
+
+def test_keyboard_interrupt_ends_place(artifacts, world):
+    threading.Timer(0.5, _thread.interrupt_main).start()
+    t0 = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        dmgplace.place(world, dmgplace.read_query(artifacts / "q.yaml"), time_limit=60)
+    assert time.monotonic() - t0 < 5
+
+
+def test_two_threads_on_one_world_get_what_each_gets_alone(artifacts, world):
+    query = dmgplace.read_query(artifacts / "q.yaml")
+    alone = [dmgplace.place(world, query, iterations=40, seed=s) for s in (11, 12)]
+    together = [None, None]
+
+    def run(i, s):
+        together[i] = dmgplace.place(world, query, iterations=40, seed=s)
+
+    threads = [threading.Thread(target=run, args=(i, s)) for i, s in enumerate((11, 12))]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for a, b in zip(alone, together):
+        assert a["solved"] == b["solved"]
+        assert [s["objective"] for s in a["improvements"]] == [s["objective"] for s in b["improvements"]]
+
+
+def test_reachable_grasps_and_arm_motion(world):
+    g = dmgplace.reachable_grasps(world, [0, 0, 0.0175, 1, 0, 0, 0])
+    assert g["initial_state"] >= 0 and g["grasps"][0]["state"] == g["initial_state"]
+    costs = [x["cost"] for x in g["grasps"]]
+    assert costs == sorted(costs)
+    start = np.array([0, -0.785, 0, -2.356, 0, 1.571, 0.785])
+    goal = start + np.array([0.3, 0.1, 0, 0.1, 0, 0, 0])
+    m = dmgplace.plan_motion(world, start, goal, time_limit=5)
+    assert m["solved"], m["reason"]
+    np.testing.assert_allclose(m["path"][0], start)
+    np.testing.assert_allclose(m["path"][-1], goal)
+    assert world.tcp_pose(start).shape == (4, 4)
+
+
+def test_inspect_gives_the_header_as_a_dict(artifacts):
+    info = dmgplace.inspect(artifacts / "eraser.h5")
+    assert info["schema"].startswith("dmgplace.object") and int(info["triangles"]) == 12

@@ -1,0 +1,64 @@
+#pragma once
+// What a placement query returns: every improvement found (pose, grasp g*, in-hand actions from
+// g0, arm path, retreat), a trace of the best objective over time and the search's counters. Plain
+// values: no planning library type, safe to copy across threads.
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+#include "dmgplace/runtime/grasp/reachable_grasps.hpp"
+#include "dmgplace/runtime/types.hpp"
+
+namespace dmgplace::runtime {
+
+struct PlacementCounters {
+  long iterations = 0;        // outer loop rounds
+  long samples = 0;           // poses sampled by MCTS rollouts
+  long stable = 0;            // ... of which stable on their region
+  long object_free = 0;       // ... and with the object free of the scene
+  long with_grasp = 0;        // ... and a grasp whose hand fits there
+  long ik_calls = 0, ik_solutions = 0;
+  long collision_checks = 0;  // arm configurations checked (fast layer; exact where needed)
+  long exact_checks = 0;      // of which needed FCL
+  long object_checks = 0;     // object-alone checks of sampled poses
+  long hand_checks = 0;       // hand-only grasp filter checks
+  long goals = 0;             // valid goals handed to the motion planner
+  long planner_calls = 0;     // planner rounds (synchronous) or polls (threaded)
+  long paths = 0;             // paths the motion planner returned
+  long retreat_failures = 0;  // reached placements dropped because the hand could not withdraw
+};
+
+struct PlacementSolution {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // object resting on the support (world)
+  double objective = 0;
+  int face = -1, region = -1;  // object placement face; region index in the environment artifact
+  int grasp_state = -1;        // grasp-graph state of g*
+  Eigen::Isometry3d grasp = Eigen::Isometry3d::Identity();  // g*: TCP in the object frame
+  double opening = 0;
+  double grasp_cost = 0;                // in-hand path cost from g0
+  std::vector<InHandAction> in_hand;    // g0 -> g*
+  JointPath path;     // q0 ... placement configuration (object held `lift` above its resting pose)
+  JointPath retreat;  // placement configuration ... hand withdrawn (empty when not checked)
+  double time = 0;    // seconds since run() started
+  PlacementCounters counters;
+};
+
+struct TracePoint {
+  double time = 0;
+  double best = 0;  // NaN before the first solution
+  PlacementCounters counters;
+};
+
+struct PlacementResult {
+  std::vector<PlacementSolution> improvements;  // in the order found; the last is the best
+  std::vector<TracePoint> trace;                // one point per improvement and at least every 0.1 s
+  PlacementCounters counters;
+  double seconds = 0;
+  int reachable_grasps = 0;
+  int initial_state = -1;
+  std::string reason;  // why there is no solution (empty when there is one)
+  bool solved() const { return !improvements.empty(); }
+  const PlacementSolution& best() const { return improvements.back(); }
+};
+
+}  // namespace dmgplace::runtime
