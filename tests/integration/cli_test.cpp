@@ -119,6 +119,16 @@ TEST(Cli, ValidateFindsACorruptedArtifact) {
   CliRun v = run({"validate", dir / "b.h5"});
   EXPECT_EQ(v.exit_code, 1) << v.output;
   EXPECT_NE(v.output.find("b.h5"), std::string::npos);
+  // --json: one entry per file, typed, and the same exit status.
+  ASSERT_EQ(run({"bake-object", dir / "eraser.stl", "--out", dir / "e.h5"}).exit_code, 0);
+  CliRun j = run({"validate", "--json", dir / "b.h5", dir / "e.h5"});
+  EXPECT_EQ(j.exit_code, 1) << j.output;
+  const auto doc = nlohmann::json::parse(j.output);
+  ASSERT_EQ(doc["files"].size(), 2u);
+  EXPECT_FALSE(doc["files"][0]["ok"].get<bool>());
+  EXPECT_FALSE(doc["files"][0]["problems"].empty());
+  EXPECT_TRUE(doc["files"][1]["ok"].get<bool>());
+  EXPECT_EQ(doc["bad"].get<int>(), 1);
 }
 
 TEST(Cli, SharedRealDataBakes) {

@@ -26,6 +26,7 @@ int run_plan(const PlanArgs& a) {
   j["exact_pair_checks"] = c.exact_pairs.load();
   j["exact_full_checks"] = c.exact_full.load();
   j["proven_collisions"] = c.proven_collisions.load();
+  j["joint_names"] = problem.kin->joint_names();  // the order of every waypoint's values
   j["waypoints"] = ours.path;
   std::cout << (ours.solved ? (ours.valid ? "solved" : "solved but INVALID") : "no solution") << " in " << ours.seconds * 1e3
             << " ms, " << ours.path.size() << " waypoints, joint-space length " << ours.length << "\n"

@@ -8,7 +8,7 @@
 
 namespace dmgplace::cli {
 
-struct ValidateArgs { std::vector<std::string> files; bool quiet = false; };
+struct ValidateArgs { std::vector<std::string> files; bool quiet = false, json = false; };
 int run_validate(const ValidateArgs& a);
 
 struct InspectArgs { std::string file; bool json = false; };

@@ -41,11 +41,14 @@ int main(int argc, char** argv) {
   CLI::App app{"dmgplace: placement planning with in-hand regrasping (Dexterous Manipulation Graphs)"};
   app.set_version_flag("--version", dmgplace::formats::tool_version());
   app.require_subcommand(1);
+  app.footer("Exit codes: 0 done; 1 bad input or failure (the message names the file, element and reason); "
+             "3 no solution (place, plan); 103-114 a malformed command line (CLI11).");
 
   ValidateArgs validate;
   auto* c_validate = app.add_subcommand("validate", "Check artifacts: schema, checksums, invariants; one line per problem");
   c_validate->add_option("files", validate.files, "Artifact files (.h5)")->required();
   c_validate->add_flag("--quiet,-q", validate.quiet, "Print only problems");
+  c_validate->add_flag("--json", validate.json, "Print JSON: per file ok and its problems; totals");
 
   InspectArgs inspect;
   auto* c_inspect = app.add_subcommand("inspect", "Summarise an artifact (counts, bounds, parameters)");
