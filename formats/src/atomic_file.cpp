@@ -1,6 +1,7 @@
 #include "dmgplace/formats/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -20,13 +21,34 @@ void sync_directory(const fs::path& dir) {
   ::close(fd);
 }
 
+fs::path temporary_name_for(const fs::path& target) {
+  static std::atomic<unsigned> counter{0};
+  return target.parent_path() / ("." + target.filename().string() + ".tmp." + std::to_string(::getpid()) + "." +
+                                 std::to_string(counter++));
+}
+
+void remove_stale_temporaries(const fs::path& target) {
+  const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+  const std::string prefix = "." + target.filename().string() + ".tmp.";
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind(prefix, 0) != 0) continue;
+    long pid = 0;
+    try {
+      pid = std::stol(name.substr(prefix.size()));
+    } catch (...) {
+      continue;
+    }
+    if (pid > 0 && ::kill(pid_t(pid), 0) != 0 && errno == ESRCH) fs::remove(e.path(), ec);
+  }
+}
+
 void write_file_atomically(const fs::path& path, std::string_view bytes) {
   const std::string file = path.string();
   if (path.filename().empty()) throw Error(file, "", "output path names no file");
-  // Unique per process and call: two writers of one target never share a temporary file.
-  static std::atomic<unsigned> counter{0};
-  const fs::path tmp = path.parent_path() / ("." + path.filename().string() + "." + std::to_string(::getpid()) + "." +
-                                             std::to_string(counter++) + ".tmp");
+  remove_stale_temporaries(path);
+  const fs::path tmp = temporary_name_for(path);
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) throw Error(file, "", std::string("cannot create a temporary file beside it: ") + std::strerror(errno));
   const auto fail = [&](const std::string& what, int err, bool close_fd) {

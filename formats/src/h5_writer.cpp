@@ -25,35 +25,6 @@ using detail::check_status;
 using detail::Handle;
 
 namespace {
-std::atomic<int> g_counter{0};
-
-fs::path temp_name_for(const fs::path& target) {
-  // Hidden and suffixed: never mistaken for an artifact by a glob on *.h5.
-  return target.parent_path() / ("." + target.filename().string() + ".tmp." + std::to_string(::getpid()) + "." +
-                                 std::to_string(g_counter++));
-}
-
-// Temporary files of earlier writers of the same target whose process is gone (killed mid-bake):
-// removed so they never pile up. A live writer's file (another process) is left alone.
-void remove_stale_temps(const fs::path& target) {
-  const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-  const std::string prefix = "." + target.filename().string() + ".tmp.";
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(dir, ec)) {
-    const std::string name = e.path().filename().string();
-    if (name.rfind(prefix, 0) != 0) continue;
-    const std::string rest = name.substr(prefix.size());
-    const auto dot = rest.find('.');
-    long pid = 0;
-    try {
-      pid = std::stol(rest.substr(0, dot));
-    } catch (...) {
-      continue;
-    }
-    if (pid > 0 && ::kill(pid_t(pid), 0) != 0 && errno == ESRCH) fs::remove(e.path(), ec);
-  }
-}
-
 // The whole file image into `p` (the writer's empty temporary file), then fsync. Every failing call is
 // reported: write(2), fsync(2) and close(2) are where a full disk shows (ENOSPC, EFBIG, EDQUOT).
 void write_image(const fs::path& p, const std::vector<char>& image, const std::string& file) {
@@ -81,8 +52,8 @@ H5Writer::H5Writer(fs::path target, const ArtifactHeader& header) : target_(std:
   fs::path parent = target_.parent_path().empty() ? fs::path(".") : target_.parent_path();
   std::error_code ec;
   if (!fs::is_directory(parent, ec)) throw Error(target_.string(), "", "output folder does not exist");
-  temp_ = temp_name_for(target_.parent_path().empty() ? fs::path(".") / target_ : target_);
-  remove_stale_temps(target_);
+  temp_ = temporary_name_for(target_.parent_path().empty() ? fs::path(".") / target_ : target_);
+  remove_stale_temporaries(target_);
   Handle fapl = Handle(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
   // The 1.10 format checksums superblock, object headers and B-trees: metadata corruption is caught.
   H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V110, H5F_LIBVER_LATEST);

@@ -114,4 +114,18 @@ int run_view(const ViewArgs& a);
 struct MakeObjectsArgs { std::string out_dir; };
 int run_make_objects(const MakeObjectsArgs& a);
 
+struct BatchArgs {
+  std::string manifest, out, shard = "1/1", phase = "all";
+  int jobs = 1;
+  bool keep_going = true, dry_run = false, json = false;
+  bool slurm = false;
+  std::string partition, time;
+  int array_size = 4;
+};
+int run_batch(const BatchArgs& a);
+struct BatchStatusArgs { std::string dir; bool json = false; };
+int run_batch_status(const BatchStatusArgs& a);
+struct BatchCollectArgs { std::string dir, out; };
+int run_batch_collect(const BatchCollectArgs& a);
+
 }  // namespace dmgplace::cli

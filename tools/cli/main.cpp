@@ -176,6 +176,29 @@ int main(int argc, char** argv) {
                       "FCL mesh BVHs of the stock baseline: obbrss (as MoveIt builds them) or obb (as our exact layer)")
       ->check(CLI::IsMember({"obbrss", "obb"}));
 
+  BatchArgs batch;
+  auto* c_batch = app.add_subcommand("batch", "Bake and query a manifest's grid: content-addressed, resumable, sharded, Slurm");
+  c_batch->add_option("manifest", batch.manifest, "MANIFEST.yaml (robots, objects, environments, query templates)")->required();
+  c_batch->add_option("--out", batch.out, "Batch folder (artifacts/, runs/, state/, batch.json)")->required();
+  c_batch->add_option("--jobs", batch.jobs, "Tasks at a time")->check(CLI::Range(1, 256));
+  c_batch->add_option("--shard", batch.shard, "Run shard I of N (I/N): N shards partition the tasks");
+  c_batch->add_option("--phase", batch.phase, "all, bakes or queries")->check(CLI::IsMember({"all", "bakes", "queries"}));
+  c_batch->add_flag("--keep-going", batch.keep_going, "Record failures and go on (the default)");
+  c_batch->add_flag("--dry-run", batch.dry_run, "List the tasks that would run (with --slurm: write the scripts only)");
+  c_batch->add_flag("--json", batch.json, "One JSON object per finished task on stdout");
+  c_batch->add_flag("--slurm", batch.slurm, "Write and submit two sbatch array jobs (bakes, then queries afterok)");
+  c_batch->add_option("--partition", batch.partition, "Slurm partition");
+  c_batch->add_option("--array-size", batch.array_size, "Slurm array tasks (shards)")->check(CLI::Range(1, 100000));
+  c_batch->add_option("--time", batch.time, "Slurm time limit per array task, HH:MM:SS");
+  BatchStatusArgs batch_status;
+  auto* c_bstatus = app.add_subcommand("batch-status", "Done / failed (with the error) / pending tasks of a batch folder");
+  c_bstatus->add_option("dir", batch_status.dir, "Batch folder")->required();
+  c_bstatus->add_flag("--json", batch_status.json, "Print JSON");
+  BatchCollectArgs batch_collect;
+  auto* c_bcollect = app.add_subcommand("batch-collect", "One dataset file (HDF5) with a row per finished query run");
+  c_bcollect->add_option("dir", batch_collect.dir, "Batch folder")->required();
+  c_bcollect->add_option("--out", batch_collect.out, "DATASET.h5")->required();
+
   MakeObjectsArgs make_objects;
   auto* c_make = app.add_subcommand("make-objects", "Write the built-in procedural object meshes (eraser, bottle)");
   c_make->add_option("--out", make_objects.out_dir, "Output folder")->required();
@@ -211,6 +234,9 @@ int main(int argc, char** argv) {
       return run_bake_robot(bake_robot);
     }
     if (*c_make) return run_make_objects(make_objects);
+    if (*c_batch) return run_batch(batch);
+    if (*c_bstatus) return run_batch_status(batch_status);
+    if (*c_bcollect) return run_batch_collect(batch_collect);
     if (*c_plan) return run_plan(plan);
     if (*c_bench) return run_bench_mbm(bench_mbm);
   } catch (const dmgplace::Error& e) {

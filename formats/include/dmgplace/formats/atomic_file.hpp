@@ -11,6 +11,13 @@ namespace dmgplace::formats {
 
 void write_file_atomically(const std::filesystem::path& path, std::string_view bytes);
 
+// A hidden temporary name beside `target` (".NAME.tmp.<pid>.<n>"): never mistaken for an output by
+// a glob on its extension, unique per process and call.
+std::filesystem::path temporary_name_for(const std::filesystem::path& target);
+// Removes temporary files of earlier writers of `target` whose process is gone (killed mid-write),
+// so they never pile up; a live writer's file is left alone.
+void remove_stale_temporaries(const std::filesystem::path& target);
+
 // fsync of a folder: makes renames and creations inside it durable (also used by H5Writer).
 void sync_directory(const std::filesystem::path& dir);
 
