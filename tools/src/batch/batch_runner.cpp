@@ -171,6 +171,7 @@ BatchTotals run_batch(const BatchPlan& plan, const BatchOptions& o, std::ostream
     throw Error("batch", "options", "jobs >= 1 and a shard I/N with 1 <= I <= N");
   if (o.phase != "all" && o.phase != "bakes" && o.phase != "queries") throw Error("batch", "--phase", "all, bakes or queries");
   write_plan(plan);
+  remove_stale_claims(plan.out);
   return Runner(plan, o, out, progress).run();
 }
 

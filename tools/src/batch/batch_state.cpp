@@ -101,6 +101,23 @@ bool task_done(const fs::path& out, const BatchTask& t) {
   return fs::is_regular_file(t.output, ec) && formats::validate_artifact(t.output).empty();
 }
 
+namespace {
+// A claim left by a process of this host that is gone (killed).
+bool stale(const fs::path& lock) {
+  std::istringstream holder(read_file(lock));
+  std::string host;
+  long pid = 0;
+  holder >> host >> pid;
+  return host == host_name() && pid > 0 && ::kill(pid_t(pid), 0) != 0 && errno == ESRCH;
+}
+}  // namespace
+
+void remove_stale_claims(const fs::path& out) {
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(state_dir(out), ec))
+    if (e.path().extension() == ".lock" && stale(e.path())) fs::remove(e.path(), ec);
+}
+
 std::optional<TaskClaim> TaskClaim::try_claim(const fs::path& out, const std::string& id) {
   fs::create_directories(state_dir(out));
   const fs::path p = state_dir(out) / (id + ".lock");
@@ -116,12 +133,7 @@ std::optional<TaskClaim> TaskClaim::try_claim(const fs::path& out, const std::st
     }
     if (errno != EEXIST) throw Error(p.string(), "", std::string("cannot create a claim: ") + std::strerror(errno));
     // Held: by a live process (wait for it), or left by a killed one on this host (take it over).
-    std::istringstream holder(read_file(p));
-    std::string host;
-    long pid = 0;
-    holder >> host >> pid;
-    const bool dead = host == host_name() && pid > 0 && ::kill(pid_t(pid), 0) != 0 && errno == ESRCH;
-    if (!dead) return std::nullopt;
+    if (!stale(p)) return std::nullopt;
     std::error_code ec;
     fs::remove(p, ec);
   }

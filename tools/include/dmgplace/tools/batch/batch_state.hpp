@@ -30,6 +30,10 @@ std::optional<TaskRecord> read_record(const std::filesystem::path& out, const st
 // The record says done and the output is there (an artifact that validates, a run's result.json).
 bool task_done(const std::filesystem::path& out, const BatchTask& t);
 
+// Removes claims left by killed processes of this host (a run killed between a task's record and
+// the release of its claim), so a finished batch leaves no litter.
+void remove_stale_claims(const std::filesystem::path& out);
+
 // An exclusive claim on a task (OUT/state/<id>.lock); a claim whose process is gone (same host) is
 // taken over. Released by the destructor.
 class TaskClaim {
