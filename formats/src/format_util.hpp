@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <span>
 #include <string>
@@ -52,6 +53,12 @@ inline void append(std::vector<std::string>& a, const std::vector<std::string>& 
 // A finite proper rotation (a stored zero quaternion gives a zero matrix, not a rotation).
 inline bool is_rotation(const Eigen::Matrix3d& r) {
   return r.allFinite() && (r.transpose() * r - Eigen::Matrix3d::Identity()).norm() <= 1e-6 && r.determinant() > 0;
+}
+
+// [first, first + count) inside [0, size), without forming first + count (a crafted INT64_MAX
+// overflowed the sum before the comparison could refuse it).
+inline bool range_within(std::int64_t first, std::int64_t count, std::size_t size) {
+  return first >= 0 && count >= 0 && std::uint64_t(first) <= size && std::uint64_t(count) <= size - std::uint64_t(first);
 }
 
 // The loaders' semantic gate: an artifact with any problem is refused, naming the file and the

@@ -51,7 +51,7 @@ PlacementFaces read_placement(const H5Reader& r) {
     f.margin = faces(i, 7);
     f.height = faces(i, 8);
     const std::int64_t first = ranges(i, 0), count = ranges(i, 1);
-    if (first < 0 || count < 0 || std::size_t(first + count) > points.rows())
+    if (!detail::range_within(first, count, points.rows()))
       throw Error(r.file(), "placement/polygon_ranges", "face " + std::to_string(i) + " range out of bounds");
     for (std::int64_t k = first; k < first + count; ++k) f.polygon.push_back(get3(points, std::size_t(k), 0));
     p.faces.push_back(std::move(f));

@@ -126,6 +126,10 @@ std::vector<std::string> check_object(const ObjectArtifact& a) {
   if (!p.empty() || a.mesh.empty()) return p;
   Eigen::AlignedBox3d box;
   for (Eigen::Index i = 0; i < a.mesh.vertices.rows(); ++i) box.extend(a.mesh.vertices.row(i).transpose());
+  if (box.min().cwiseAbs().maxCoeff() > kMaxGeometryExtent || box.max().cwiseAbs().maxCoeff() > kMaxGeometryExtent) {
+    p.push_back("mesh: a vertex beyond " + std::to_string(int(kMaxGeometryExtent)) + " m");
+    return p;  // the checks below scale their tolerances by the mesh's size
+  }
   const double scale = box.diagonal().norm();
   if (box.exteriorDistance(m.com) > 1e-6 + 1e-3 * scale) p.push_back("mass/com: outside the mesh's bounding box");
   check_placement(a, scale, p);

@@ -19,6 +19,14 @@ class SurfaceIndex {
   // Indices must already be checked; `tol` is the largest query tolerance.
   SurfaceIndex(const TriMesh& m, double tol) : mesh_(m) {
     for (Eigen::Index v = 0; v < m.vertices.rows(); ++v) box_.extend(m.vertices.row(v).transpose());
+    // A non-finite extent or tolerance (a caller that did not bound them) finds no point near the
+    // surface instead of casting NaN to an index (fuzzing found it); the caller's own checks
+    // report the extent.
+    if (!std::isfinite(tol) || !box_.min().allFinite() || !box_.max().allFinite() || !std::isfinite(box_.diagonal().norm())) {
+      box_ = Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-1), Eigen::Vector3d::Constant(1));
+      degenerate_ = true;
+      return;
+    }
     box_.min().array() -= tol;
     box_.max().array() += tol;
     // About two triangles per cell, at most 64 cells a side.
@@ -38,6 +46,7 @@ class SurfaceIndex {
 
   // True when p lies within `tol` (at most the constructor's) of the mesh surface.
   bool near(const Eigen::Vector3d& p, double tol) const {
+    if (degenerate_) return false;
     if (!p.allFinite() || box_.exteriorDistance(p) > 0) return false;
     const auto c = cell_of(p.array());
     for (int t : buckets_[index(c[0], c[1], c[2])]) {
@@ -63,6 +72,7 @@ class SurfaceIndex {
   double cell_ = 1;
   std::array<int, 3> dims_{1, 1, 1};
   std::vector<std::vector<int>> buckets_;
+  bool degenerate_ = false;
 };
 
 }  // namespace dmgplace::formats::detail

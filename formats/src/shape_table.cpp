@@ -76,8 +76,7 @@ std::vector<OwnedShape> read_shapes(const H5Reader& r, const std::string& g) {
     o.shape.size = Eigen::Vector3d(size(i, 0), size(i, 1), size(i, 2));
     o.shape.origin = pose_from_array(&pose.data[7 * i], r.file(), el + " pose");
     const std::int64_t v0 = ranges(i, 0), vn = ranges(i, 1), t0 = ranges(i, 2), tn = ranges(i, 3);
-    if (v0 < 0 || vn < 0 || t0 < 0 || tn < 0 || std::size_t(v0 + vn) > verts.rows() ||
-        std::size_t(t0 + tn) > tris.rows())
+    if (!detail::range_within(v0, vn, verts.rows()) || !detail::range_within(t0, tn, tris.rows()))
       throw Error(r.file(), el, "mesh range outside the mesh tables");
     o.shape.mesh.vertices.resize(vn, 3);
     o.shape.mesh.triangles.resize(tn, 3);

@@ -1,3 +1,4 @@
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "dmgplace/formats/environment_artifact.hpp"
@@ -409,4 +410,24 @@ TEST(LoadGate, ZeroCollisionQuaternionIsRefused) {
     EXPECT_NE(std::string(e.what()).find("quaternion is not of unit length"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find((dir / "q.h5").string()), std::string::npos) << e.what();
   }
+}
+
+// Found by the structure-aware fuzzer under UBSan: a range whose first + count overflowed int64
+// before the bounds check, and a 1e300 vertex whose extent made the surface index cast NaN.
+TEST(LoadGate, OverflowingRangesAndHugeVerticesAreRefused) {
+  test::TempDir dir;
+  auto o = sample_object();
+  o.placement.faces = {cube_bottom()};
+  save_object(o, dir / "o.h5");
+  test::mutate_dataset(dir / "o.h5", dir / "range.h5", "placement/polygon_ranges", 0, 9.3e18);  // clipped to INT64_MAX
+  EXPECT_THAT(test::error_of([&] { load_object(dir / "range.h5"); }),
+              ::testing::AllOf(::testing::HasSubstr("range.h5"), ::testing::HasSubstr("range out of bounds")));
+  test::mutate_dataset(dir / "o.h5", dir / "range2.h5", "placement/polygon_ranges", 1, 9.3e18);
+  EXPECT_THAT(test::error_of([&] { load_object(dir / "range2.h5"); }), ::testing::HasSubstr("range out of bounds"));
+  test::mutate_dataset(dir / "o.h5", dir / "far.h5", "mesh/vertices", 0, 1e300);
+  EXPECT_THAT(test::error_of([&] { load_object(dir / "far.h5"); }), ::testing::HasSubstr("a vertex beyond 1000 m"));
+  auto r = sample_robot();
+  save_robot(r, dir / "r.h5");
+  test::mutate_dataset(dir / "r.h5", dir / "shape.h5", "links/collision/mesh_ranges", 5, 9.3e18);  // shape 1's vertex count
+  EXPECT_THAT(test::error_of([&] { load_robot(dir / "shape.h5"); }), ::testing::HasSubstr("mesh range outside"));
 }
