@@ -28,6 +28,7 @@ int run_bake_env(const BakeEnvArgs& a) {
   }
   env.scene = tools::load_scene(a.scene, opts);
   tools::EnvBakeOptions bake;
+  bake.threads = a.threads;
   bake.resolution = a.resolution;
   bake.band = a.band;
   bake.clearance_band = a.clearance_band;

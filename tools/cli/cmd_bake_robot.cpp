@@ -22,6 +22,7 @@ int run_bake_robot(const BakeRobotArgs& a) {
   o.spheres.max_excess = a.sphere_max_excess;
   o.spheres.max_spheres = a.sphere_count;
   o.self_tables.enabled = a.self_table_step > 0;
+  o.self_tables.threads = a.threads;
   if (o.self_tables.enabled) o.self_tables.step = a.self_table_step;
   if (a.tcp) {
     const auto& t = *a.tcp;

@@ -48,6 +48,7 @@ struct BakeEnvArgs {
   double min_free_height = 0.02; // least free space above a region cell (m)
   double margin = 0.05;          // the distance grid covers V grown by this (m)
   double sdf_resolution = 0;     // distance grid cell (m); <= 0: --resolution
+  int threads = 0;               // 0: every CPU the process may use (its affinity mask)
 };
 int run_bake_env(const BakeEnvArgs& a);
 
@@ -60,6 +61,7 @@ struct BakeRobotArgs {
   double self_table_step = 0.02;    // radians between self-distance table nodes (0: none)
   std::optional<std::array<double, 7>> tcp;  // TCP pose on the tip: x y z qx qy qz qw
   std::vector<std::string> package_paths;
+  int threads = 0;                  // 0: every CPU the process may use (its affinity mask)
 };
 int run_bake_robot(const BakeRobotArgs& a);
 

@@ -127,6 +127,7 @@ int main(int argc, char** argv) {
   c_env->add_option("--clearance-band", bake_env.clearance_band, "Clearance field clamp (m)")->check(CLI::Range(1e-3, 100.0));
   c_env->add_option("--region-split", bake_env.region_split, "Split regions longer than this (m)")->check(CLI::Range(1e-3, 1000.0));
   c_env->add_option("--min-free-height", bake_env.min_free_height, "Least free space above a region cell (m)")->check(CLI::Range(0.0, 100.0));
+  c_env->add_option("--threads", bake_env.threads, "Worker threads; 0: every CPU the process may use")->check(CLI::Range(0, 256));
   c_env->add_option("--out", bake_env.out, "Output artifact")->required();
 
   BakeRobotArgs bake_robot;
@@ -146,6 +147,7 @@ int main(int argc, char** argv) {
                       "Joint step (rad) of the exact self-distance tables; 0 bakes none")->check(CLI::Range(0.0, 1.0));
   std::string tcp_text;
   c_robot->add_option("--tcp", tcp_text, "Tool centre point on the tip link x,y,z,qx,qy,qz,qw; becomes the chain's tip (<tip>_tcp)");
+  c_robot->add_option("--threads", bake_robot.threads, "Worker threads; 0: every CPU the process may use")->check(CLI::Range(0, 256));
   c_robot->add_option("--out", bake_robot.out, "Output artifact")->required();
 
   PlanArgs plan;
