@@ -173,15 +173,17 @@ BatchManifest read_batch_manifest(const fs::path& path) {
       const YAML::Node q = qs[i];
       const std::string where = "queries[" + std::to_string(i) + "]";
       require_known_keys(q, {"name", "robot", "objects", "environments", "initial_grasps", "start", "variants", "seeds",
-                             "time_limit", "iterations", "query"},
+                             "time_limit", "iterations", "query", "runs"},
                          r.file, where);
+      if (q["runs"] && (q["objects"] || q["environments"] || q["variants"] || q["seeds"]))
+        r.fail(where, "either runs: (an explicit list) or objects/environments/variants/seeds (their product), not both");
       BatchQueryTemplate t;
       t.name = q["name"] ? q["name"].as<std::string>() : "q" + std::to_string(i);
       check_file_name_component(t.name, r.file, where + ".name");
       if (!template_names.insert(t.name).second) r.fail(where + ".name", "'" + t.name + "' appears twice");
       t.robot = q["robot"] ? q["robot"].as<std::string>() : "";
       if (!defined["robot"].count(t.robot)) r.fail(where + ".robot", "no robot '" + t.robot + "' in robots");
-      for (const auto& o : r.names(q["objects"], where + ".objects")) {
+      for (const auto& o : q["runs"] ? std::vector<std::string>{} : r.names(q["objects"], where + ".objects")) {
         if (defined["object"].count(o)) t.objects.push_back(o);
         else if (defined["object-group"].count(o)) {  // a glob: every object it made
           for (const auto& b : m.bakes)
@@ -190,7 +192,7 @@ BatchManifest read_batch_manifest(const fs::path& path) {
           r.fail(where + ".objects", "no object '" + o + "' in objects");
         }
       }
-      for (const auto& e : r.names(q["environments"], where + ".environments")) {
+      for (const auto& e : q["runs"] ? std::vector<std::string>{} : r.names(q["environments"], where + ".environments")) {
         if (!defined["environment"].count(e)) r.fail(where + ".environments", "no environment '" + e + "' in environments");
         t.environments.push_back(e);
       }
@@ -220,6 +222,34 @@ BatchManifest read_batch_manifest(const fs::path& path) {
         YAML::Emitter e;
         e << extra;
         t.extra_yaml = e.c_str();
+      }
+      if (const YAML::Node runs = q["runs"]) {
+        if (!runs.IsSequence() || runs.size() == 0) r.fail(where + ".runs", "expected a non-empty list of runs");
+        for (std::size_t k = 0; k < runs.size(); ++k) {
+          const YAML::Node x = runs[k];
+          const std::string rw = where + ".runs[" + std::to_string(k) + "]";
+          require_known_keys(x, {"object", "environment", "grasp", "variant", "seed"}, r.file, rw);
+          BatchRun run;
+          run.object = x["object"] ? x["object"].as<std::string>() : "";
+          run.environment = x["environment"] ? x["environment"].as<std::string>() : "";
+          run.grasp = x["grasp"] ? x["grasp"].as<std::string>() : "";
+          run.variant = x["variant"] ? x["variant"].as<std::string>() : "full";
+          run.seed = x["seed"] ? x["seed"].as<int>() : 1;
+          if (!defined["object"].count(run.object)) r.fail(rw + ".object", "no object '" + run.object + "' in objects");
+          if (!defined["environment"].count(run.environment))
+            r.fail(rw + ".environment", "no environment '" + run.environment + "' in environments");
+          if (std::none_of(t.grasps.begin(), t.grasps.end(), [&](const auto& g) { return g.first == run.grasp; }))
+            r.fail(rw + ".grasp", "no grasp '" + run.grasp + "' in initial_grasps");
+          if (!runtime::parse_variant(run.variant)) r.fail(rw + ".variant", "unknown variant '" + run.variant + "'");
+          if (run.seed < 1) r.fail(rw + ".seed", "must be >= 1");
+          t.runs.push_back(run);
+        }
+      } else {
+        for (const auto& object : t.objects)
+          for (const auto& env : t.environments)
+            for (const auto& grasp : t.grasps)
+              for (const auto& variant : t.variants)
+                for (int seed = 1; seed <= t.seeds; ++seed) t.runs.push_back({object, env, grasp.first, variant, seed});
       }
       m.queries.push_back(std::move(t));
     }

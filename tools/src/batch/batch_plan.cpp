@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <map>
 #include <sstream>
 
@@ -67,42 +68,41 @@ BatchPlan plan_batch(const BatchManifest& m, const fs::path& out) {
   for (const auto& t : plan.tasks) bake_of[t.name] = &t;
   std::vector<BatchTask> queries;
   for (const auto& q : m.queries)
-    for (const auto& object : q.objects)
-      for (const auto& env : q.environments)
-        for (const auto& [grasp, pose] : q.grasps)
-          for (const auto& variant : q.variants)
-            for (int seed = 1; seed <= q.seeds; ++seed) {
-              const BatchTask* r = bake_of.at("robot " + q.robot);
-              const BatchTask* o = bake_of.at("object " + object);
-              const BatchTask* e = bake_of.at("environment " + env);
-              const auto rel = [&](const BatchTask* b) { return b->output.lexically_relative(out / "artifacts").string(); };
-              std::ostringstream y;
-              y << "# written by dmgplace batch (" << m.name << ")\n"
-                << "robot: " << rel(r) << "\nobject: " << rel(o) << "\nenvironment: " << rel(e) << "\n"
-                << "start: " << numbers_yaml(q.start.data(), q.start.size()) << "\n"
-                << "initial_grasp: {pose: " << numbers_yaml(pose.data(), 7) << "}\n"
-                << "time_limit: " << runtime::number_text(q.time_limit) << "\nseed: " << seed << "\nvariant: " << variant << "\n";
-              if (!q.extra_yaml.empty()) y << q.extra_yaml << "\n";
-              BatchTask t;
-              t.kind = "query";
-              t.robot = q.robot, t.object = object, t.environment = env, t.grasp = grasp, t.variant = variant;
-              t.g0 = pose;
-              t.seed = seed;
-              t.query_yaml = y.str();
-              t.deps = {r->id, o->id, e->id};
-              t.id = identity({{"versions", versions()},
-                               {"kind", "query"},
-                               {"deps", t.deps},
-                               {"query", t.query_yaml},
-                               {"iterations", q.iterations}});
-              t.name = "query " + q.name + "/" + object + "@" + env + "/" + grasp + "/" + variant + "/" + std::to_string(seed);
-              t.output = out / "runs" / (q.name + "." + object + "." + env + "." + grasp + "." + variant + "." +
-                                         std::to_string(seed) + "-" + t.id.substr(0, 12));
-              t.args = {"place", (t.output / "query.yaml").string(), "--artifacts", (out / "artifacts").string(),
-                        "--out", t.output.string(), "--threads", "0"};
-              if (q.iterations > 0) t.args.insert(t.args.end(), {"--iterations", std::to_string(q.iterations)});
-              queries.push_back(std::move(t));
-            }
+    for (const auto& run : q.runs) {
+      const std::string &object = run.object, &env = run.environment, &grasp = run.grasp, &variant = run.variant;
+      const int seed = run.seed;
+      const auto& pose = std::find_if(q.grasps.begin(), q.grasps.end(), [&](const auto& g) { return g.first == grasp; })->second;
+      const BatchTask* r = bake_of.at("robot " + q.robot);
+      const BatchTask* o = bake_of.at("object " + object);
+      const BatchTask* e = bake_of.at("environment " + env);
+      const auto rel = [&](const BatchTask* b) { return b->output.lexically_relative(out / "artifacts").string(); };
+      std::ostringstream y;
+      y << "# written by dmgplace batch (" << m.name << ")\n"
+        << "robot: " << rel(r) << "\nobject: " << rel(o) << "\nenvironment: " << rel(e) << "\n"
+        << "start: " << numbers_yaml(q.start.data(), q.start.size()) << "\n"
+        << "initial_grasp: {pose: " << numbers_yaml(pose.data(), 7) << "}\n"
+        << "time_limit: " << runtime::number_text(q.time_limit) << "\nseed: " << seed << "\nvariant: " << variant << "\n";
+      if (!q.extra_yaml.empty()) y << q.extra_yaml << "\n";
+      BatchTask t;
+      t.kind = "query";
+      t.robot = q.robot, t.object = object, t.environment = env, t.grasp = grasp, t.variant = variant;
+      t.g0 = pose;
+      t.seed = seed;
+      t.query_yaml = y.str();
+      t.deps = {r->id, o->id, e->id};
+      t.id = identity({{"versions", versions()},
+                       {"kind", "query"},
+                       {"deps", t.deps},
+                       {"query", t.query_yaml},
+                       {"iterations", q.iterations}});
+      t.name = "query " + q.name + "/" + object + "@" + env + "/" + grasp + "/" + variant + "/" + std::to_string(seed);
+      t.output = out / "runs" / (q.name + "." + object + "." + env + "." + grasp + "." + variant + "." +
+                                 std::to_string(seed) + "-" + t.id.substr(0, 12));
+      t.args = {"place", (t.output / "query.yaml").string(), "--artifacts", (out / "artifacts").string(),
+                "--out", t.output.string(), "--threads", "0"};
+      if (q.iterations > 0) t.args.insert(t.args.end(), {"--iterations", std::to_string(q.iterations)});
+      queries.push_back(std::move(t));
+    }
   plan.tasks.insert(plan.tasks.end(), queries.begin(), queries.end());
   return plan;
 }

@@ -27,6 +27,11 @@
 //       time_limit: 2
 //       iterations: 0            # > 0: also stop after this many rounds (reproducible)
 //       query: {volume: [...], objective: [...], options: {...}}   # copied into each query file
+//     - name: chosen                # or an explicit list instead of the cross product:
+//       robot: dmgarm
+//       initial_grasps: {side: [...]}
+//       start: [...]
+//       runs: [{object: bottle, environment: cabinet, grasp: side, variant: full, seed: 7}]
 #include <array>
 #include <filesystem>
 #include <string>
@@ -42,8 +47,17 @@ struct BatchBake {
   std::vector<std::filesystem::path> inputs;     // files read (their bytes enter the identity)
 };
 
+// One query run of a template.
+struct BatchRun {
+  std::string object, environment, grasp, variant;
+  int seed = 1;
+};
+
 struct BatchQueryTemplate {
   std::string name, robot;
+  // The runs: objects x environments x initial grasps x variants x seeds, or the template's
+  // explicit `runs:` list ({object, environment, grasp, variant, seed} each).
+  std::vector<BatchRun> runs;
   std::vector<std::string> objects, environments;
   std::vector<std::pair<std::string, std::array<double, 7>>> grasps;  // name -> TCP pose in the object frame
   std::vector<double> start;
