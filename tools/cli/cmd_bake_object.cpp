@@ -23,7 +23,7 @@ int run_bake_object(const BakeObjectArgs& a) {
     obj.mass.com = Eigen::Vector3d((*a.com)[0], (*a.com)[1], (*a.com)[2]);
     obj.mass.com_overridden = true;
   }
-  tools::PlacementOptions place;
+  tools::FaceOptions place;
   place.merge_angle = a.face_merge_angle;
   place.margin = a.stability_margin;
   obj.placement = tools::compute_placement_faces(obj.mesh, obj.mass.com, place, a.mesh);

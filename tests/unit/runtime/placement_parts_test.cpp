@@ -38,7 +38,7 @@ formats::ObjectArtifact box_object() {
   formats::ObjectArtifact o;
   o.mesh = tools::make_box_mesh(Eigen::Vector3d(0.10, 0.06, 0.04));
   o.mass.com = Eigen::Vector3d::Zero();
-  o.placement = tools::compute_placement_faces(o.mesh, o.mass.com, tools::PlacementOptions{}, "box");
+  o.placement = tools::compute_placement_faces(o.mesh, o.mass.com, tools::FaceOptions{}, "box");
   return o;
 }
 

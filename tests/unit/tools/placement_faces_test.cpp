@@ -10,7 +10,7 @@
 namespace dmgplace::tools {
 namespace {
 
-formats::PlacementFaces faces_of(const TriMesh& m, const PlacementOptions& o = {}) {
+formats::PlacementFaces faces_of(const TriMesh& m, const FaceOptions& o = {}) {
   const auto mass = compute_mass_properties(m, 0, "test");
   return compute_placement_faces(m, mass.com, o, "test");
 }
@@ -45,7 +45,7 @@ TEST(PlacementFaces, BottleStandsOnItsBottomAndLiesOnItsSide) {
 
 TEST(PlacementFaces, AComOverrideThatTipsAFaceRemovesIt) {
   const auto box = make_box_mesh({0.1, 0.1, 0.1});
-  PlacementOptions o;
+  FaceOptions o;
   const auto centred = compute_placement_faces(box, Eigen::Vector3d::Zero(), o, "test");
   ASSERT_EQ(centred.faces.size(), 6u);
   // COM 4.5 cm off centre along +x: inside the box, but less than 1 cm from the +x side's edges,

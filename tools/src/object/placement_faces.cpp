@@ -100,7 +100,7 @@ Eigen::Quaterniond rotation_to_down(const Eigen::Vector3d& n) {
 }  // namespace
 
 formats::PlacementFaces compute_placement_faces(const TriMesh& mesh, const Eigen::Vector3d& com,
-                                                const PlacementOptions& o, const std::string& file) {
+                                                const FaceOptions& o, const std::string& file) {
   if (!(o.merge_angle >= 0 && o.merge_angle < M_PI / 2) || !(o.margin >= 0) || !(o.margin_fraction >= 0))
     throw Error(file, "placement", "merge angle must be in [0, pi/2) and margins non-negative");
   std::vector<K::Point_3> points;

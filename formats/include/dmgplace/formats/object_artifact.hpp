@@ -33,7 +33,7 @@ struct PlacementFace {
 };
 
 struct PlacementFaces {
-  double merge_angle = 0.2;      // rad: adjacent hull facets closer than this were merged
+  double merge_angle = 0.2;      // rad: a face holds the hull facets within this of its seed facet's normal
   double required_margin = 0.01; // m: a face is stable when margin >= this
   std::vector<PlacementFace> faces;
 };

@@ -7,8 +7,9 @@
 
 namespace dmgplace::tools {
 
-struct PlacementOptions {
-  double merge_angle = 0.2;      // rad: grow a face while facet normals stay this close to its mean normal
+// Options of the placement-face analysis (not the planner's runtime::PlacementOptions).
+struct FaceOptions {
+  double merge_angle = 0.2;      // rad: a face grows from its seed facet over neighbours within this of the seed's normal
   double margin = 0.01;          // m: COM projection at least this far inside the support polygon...
   double margin_fraction = 0.1;  // ...but at most this fraction of the object's smallest width (small objects)
 };
@@ -16,6 +17,6 @@ struct PlacementOptions {
 // `com` is the (possibly overridden) centre of mass. Throws dmgplace::Error naming `file` when the
 // mesh has no 3-D convex hull (flat or degenerate) or an option is out of range.
 formats::PlacementFaces compute_placement_faces(const TriMesh& mesh, const Eigen::Vector3d& com,
-                                                const PlacementOptions& options, const std::string& file);
+                                                const FaceOptions& options, const std::string& file);
 
 }  // namespace dmgplace::tools
