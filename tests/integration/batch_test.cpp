@@ -87,6 +87,13 @@ std::vector<std::string> litter(const fs::path& out) {
   return found;
 }
 
+// A finished batch: a further run runs nothing, its dataset equals `reference`, nothing is left over.
+void expect_complete(const Batch& b, const fs::path& out, const std::map<std::string, std::string>& reference) {
+  EXPECT_EQ(counts(b.run(out).output)[0], 0);
+  EXPECT_EQ(dataset_digest(out), reference);
+  EXPECT_THAT(litter(out), ::testing::IsEmpty());
+}
+
 }  // namespace
 
 TEST(Batch, RunsOnceResumesShardsAndCollects) {
@@ -111,9 +118,7 @@ TEST(Batch, RunsOnceResumesShardsAndCollects) {
     ran += counts(r.output)[0];
   }
   EXPECT_EQ(ran, 7);
-  EXPECT_EQ(counts(b.run(sharded).output)[0], 0);
-  EXPECT_EQ(dataset_digest(sharded), reference);
-  EXPECT_THAT(litter(sharded), ::testing::IsEmpty());
+  expect_complete(b, sharded, reference);
 }
 
 TEST(Batch, KilledAtRandomMomentsLosesAndRepeatsNothing) {
@@ -139,9 +144,7 @@ TEST(Batch, KilledAtRandomMomentsLosesAndRepeatsNothing) {
   }
   const auto r = b.run(out);
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_EQ(counts(b.run(out).output)[0], 0);
-  EXPECT_EQ(dataset_digest(out), reference);
-  EXPECT_THAT(litter(out), ::testing::IsEmpty());
+  expect_complete(b, out, reference);
 }
 
 TEST(Batch, AChangedMeshReRunsOnlyWhatDependsOnIt) {

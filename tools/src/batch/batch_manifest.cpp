@@ -23,18 +23,13 @@ struct Reader {
 
   [[noreturn]] void fail(const std::string& where, const std::string& why) const { throw Error(file, where, why); }
 
-  fs::path existing(const YAML::Node& n, const std::string& where) const {
-    if (!n || !n.IsScalar() || n.Scalar().empty()) fail(where, "expected a file path");
+  // A path relative to the manifest's folder that must name an existing file (or folder).
+  fs::path existing(const YAML::Node& n, const std::string& where, bool folder = false) const {
+    if (!n || !n.IsScalar() || n.Scalar().empty()) fail(where, folder ? "expected a folder" : "expected a file path");
     const fs::path p = fs::path(n.Scalar()).is_absolute() ? fs::path(n.Scalar()) : dir / n.Scalar();
     std::error_code ec;
-    if (!fs::is_regular_file(p, ec)) fail(where, "no such file: " + p.string());
-    return p;
-  }
-  fs::path folder(const YAML::Node& n, const std::string& where) const {
-    if (!n || !n.IsScalar() || n.Scalar().empty()) fail(where, "expected a folder");
-    const fs::path p = fs::path(n.Scalar()).is_absolute() ? fs::path(n.Scalar()) : dir / n.Scalar();
-    std::error_code ec;
-    if (!fs::is_directory(p, ec)) fail(where, "no such folder: " + p.string());
+    if (!(folder ? fs::is_directory(p, ec) : fs::is_regular_file(p, ec)))
+      fail(where, std::string(folder ? "no such folder: " : "no such file: ") + p.string());
     return p;
   }
   std::vector<std::string> flags(const YAML::Node& n, const std::string& where) const {
@@ -125,7 +120,7 @@ BatchManifest read_batch_manifest(const fs::path& path) {
       }
       if (!n["arm"]) r.fail(where, "needs arm: BASE_LINK:TIP_LINK");
       b.args.insert(b.args.end(), {"--arm", n["arm"].as<std::string>()});
-      if (n["package_path"]) b.args.insert(b.args.end(), {"--package-path", r.folder(n["package_path"], where + ".package_path").string()});
+      if (n["package_path"]) b.args.insert(b.args.end(), {"--package-path", r.existing(n["package_path"], where + ".package_path", true).string()});
       for (auto& f : r.flags(n["flags"], where + ".flags")) b.args.push_back(f);
       m.bakes.push_back(b);
       defined[kind].insert(name);
@@ -161,7 +156,7 @@ BatchManifest read_batch_manifest(const fs::path& path) {
       std::string volume;
       for (double x : v) volume += (volume.empty() ? "" : ",") + runtime::number_text(x);
       BatchBake b{kind, name, {scene.string(), "--volume", volume}, {scene}};
-      if (n["package_path"]) b.args.insert(b.args.end(), {"--package-path", r.folder(n["package_path"], where + ".package_path").string()});
+      if (n["package_path"]) b.args.insert(b.args.end(), {"--package-path", r.existing(n["package_path"], where + ".package_path", true).string()});
       for (auto& f : r.flags(n["flags"], where + ".flags")) b.args.push_back(f);
       m.bakes.push_back(b);
       defined[kind].insert(name);
