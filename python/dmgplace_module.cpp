@@ -5,6 +5,7 @@
 // while it plans and takes it back only to call `on_solution` / `stop`, so other Python threads
 // run meanwhile; Ctrl-C ends it within one search round and raises KeyboardInterrupt.
 #include <pybind11/eigen.h>
+#include "dmgplace/formats/pose_input.hpp"
 #include <pybind11/functional.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -25,9 +26,8 @@ Eigen::Isometry3d pose_from(const py::object& o, const char* what) {
   if (a.rows() == 4 && a.cols() == 4) {
     p.matrix() = a;
   } else if (a.size() == 7) {
-    Eigen::Quaterniond q(a(6), a(3), a(4), a(5));
-    if (!(q.norm() > 1e-9)) throw Error("python", what, "zero quaternion");
-    p = Eigen::Translation3d(a(0), a(1), a(2)) * q.normalized();
+    const double v[7] = {a(0), a(1), a(2), a(3), a(4), a(5), a(6)};
+    p = formats::pose_from_xyz_quaternion(v, "python", what);
   } else {
     throw Error("python", what, "expected a 4x4 matrix or [x, y, z, qx, qy, qz, qw]");
   }

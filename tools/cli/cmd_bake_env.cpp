@@ -1,4 +1,5 @@
 #include <iostream>
+#include "dmgplace/formats/pose_input.hpp"
 
 #include "cli_util.hpp"
 #include "commands.hpp"
@@ -19,12 +20,7 @@ int run_bake_env(const BakeEnvArgs& a) {
   tools::SceneLoadOptions opts;
   for (const auto& p : a.package_paths) opts.urdf.package_paths.emplace_back(p);
   if (a.frame) {
-    const auto& f = *a.frame;
-    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-    t.translation() = Eigen::Vector3d(f[0], f[1], f[2]);
-    t.linear() = (Eigen::AngleAxisd(f[5], Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(f[4], Eigen::Vector3d::UnitY()) *
-                  Eigen::AngleAxisd(f[3], Eigen::Vector3d::UnitX())).toRotationMatrix();
-    opts.frame = t;
+    opts.frame = formats::pose_from_xyz_rpy(*a.frame, "--frame", "");
   }
   env.scene = tools::load_scene(a.scene, opts);
   tools::EnvBakeOptions bake;

@@ -1,4 +1,5 @@
 #include <iostream>
+#include "dmgplace/formats/pose_input.hpp"
 
 #include "cli_util.hpp"
 #include "commands.hpp"
@@ -25,10 +26,7 @@ int run_bake_robot(const BakeRobotArgs& a) {
   o.self_tables.threads = a.threads;
   if (o.self_tables.enabled) o.self_tables.step = a.self_table_step;
   if (a.tcp) {
-    const auto& t = *a.tcp;
-    const Eigen::Quaterniond q(t[6], t[3], t[4], t[5]);
-    if (q.norm() < 1e-9) throw Error("--tcp", "", "zero quaternion");
-    o.tcp = Eigen::Translation3d(t[0], t[1], t[2]) * q.normalized();
+    o.tcp = formats::pose_from_xyz_quaternion(*a.tcp, "--tcp", "");
   }
   formats::RobotArtifact robot = tools::bake_robot(o);
   std::vector<std::filesystem::path> inputs{a.urdf};

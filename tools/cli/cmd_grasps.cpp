@@ -1,5 +1,6 @@
 // `dmgplace grasps OBJECT.h5 --initial POSE`: the grasps reachable in-hand from an initial grasp.
 #include <cstdio>
+#include "dmgplace/formats/pose_input.hpp"
 #include <iostream>
 
 #include <nlohmann/json.hpp>
@@ -41,11 +42,7 @@ nlohmann::ordered_json action_json(const runtime::InHandAction& a) {
 
 int run_grasps(const GraspsArgs& a) {
   const auto obj = formats::load_object(a.object);
-  const Eigen::Quaterniond q(a.initial[6], a.initial[3], a.initial[4], a.initial[5]);
-  if (q.norm() < 1e-9) throw Error("--initial", "", "the quaternion qx,qy,qz,qw must not be zero");
-  Eigen::Isometry3d initial = Eigen::Isometry3d::Identity();
-  initial.linear() = q.normalized().toRotationMatrix();
-  initial.translation() = Eigen::Vector3d(a.initial[0], a.initial[1], a.initial[2]);
+  const Eigen::Isometry3d initial = formats::pose_from_xyz_quaternion(a.initial, "--initial", "");
   const runtime::GraspGraph graph(obj.dmg);
   const auto r = runtime::reachable_grasps(graph, initial, a.opening);
   if (r.initial_state < 0) throw Error(a.object, "dmg", "the object has no grasps for this gripper");

@@ -1,4 +1,5 @@
 #include "dmgplace/tools/placement/placement_query_file.hpp"
+#include "dmgplace/formats/pose_input.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -170,9 +171,7 @@ PlacementQueryFile read_placement_query(const std::filesystem::path& path, const
     if (!g || !g["pose"]) throw Error(file, "initial_grasp", "missing {pose: [x, y, z, qx, qy, qz, qw]}");
     require_known_keys(g, {"pose", "opening"}, file, "initial_grasp");
     const auto p = numbers(g["pose"], 7, file, "initial_grasp.pose");
-    Eigen::Quaterniond quat(p[6], p[3], p[4], p[5]);
-    if (quat.norm() < 1e-6) throw Error(file, "initial_grasp.pose", "zero quaternion");
-    f.query.g0 = Eigen::Translation3d(p[0], p[1], p[2]) * quat.normalized();
+    f.query.g0 = formats::pose_from_xyz_quaternion(std::span<const double, 7>(p.data(), 7), file, "initial_grasp.pose");
     if (g["opening"]) f.query.g0_opening = ranged(g["opening"], 1e-4, 1, file, "initial_grasp.opening");
     if (root["volume"]) {
       const auto v = numbers(root["volume"], 6, file, "volume");

@@ -1,4 +1,5 @@
 #include "dmgplace/tools/viewer/view_result.hpp"
+#include "dmgplace/formats/pose_input.hpp"
 
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -44,12 +45,7 @@ class Reader {
   // [x, y, z, qx, qy, qz, qw]
   Eigen::Isometry3d pose(const json& j, const std::string& ptr) const {
     const auto v = numbers(j, ptr, 7);
-    Eigen::Quaterniond q(v[6], v[3], v[4], v[5]);
-    if (q.norm() < 1e-9) fail(ptr, "zero quaternion");
-    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-    t.linear() = q.normalized().toRotationMatrix();
-    t.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
-    return t;
+    return formats::pose_from_xyz_quaternion(std::span<const double, 7>(v.data(), 7), file_, ptr);
   }
   std::vector<Eigen::VectorXd> joint_path(const json& j, const std::string& ptr, std::size_t dof) const {
     const json& v = at(j, ptr);
