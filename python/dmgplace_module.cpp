@@ -81,6 +81,8 @@ py::dict result_dict(const runtime::PlacementResult& r) {
   d["seconds"] = r.seconds;
   d["reachable_grasps"] = r.reachable_grasps;
   d["initial_state"] = r.initial_state;
+  d["snap_distance"] = r.snap_distance;
+  d["initial_opening"] = r.initial_opening;
   py::list imp;
   for (const auto& s : r.improvements) imp.append(solution_dict(s));
   d["improvements"] = imp;

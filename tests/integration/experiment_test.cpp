@@ -36,7 +36,7 @@ TEST(ExperimentCli, RunsResumesAndPlotsASmallGrid) {
   ASSERT_EQ(run({"bake-env", data / "scenes/cabinet.yaml", "--volume", volume, "--margin", "0.9", "--sdf-resolution", "0.02",
                  "--band", "0.25", "--out", art / "cabinet.h5"}).exit_code, 0);
   test::write_text(dir / "spec.yaml",
-                   "name: small\ntime_limit: 1\nruns: 2\nreport_times: [0.5, 1]\nproblems:\n"
+                   "name: small\ntime_limit: 1\nruns: 2\nthreads: 2\nreport_times: [0.5, 1]\nproblems:\n"
                    "  - {name: side, query: " + (data / "queries/cabinet_bottle_side.yaml").string() +
                    ", variants: [full, no-regrasp]}\n");
   const std::vector<test::Arg> cmd = {"experiment", dir / "spec.yaml", "--artifacts", art, "--out", out, "--jobs", "2"};
@@ -48,6 +48,8 @@ TEST(ExperimentCli, RunsResumesAndPlotsASmallGrid) {
       const fs::path run_dir = out / "runs/side" / variant / ("seed_" + std::to_string(seed));
       EXPECT_TRUE(fs::exists(run_dir / "result.json")) << run_dir;
       EXPECT_GE(csv_rows(run_dir / "trace.csv"), 1) << run_dir;
+      // The spec's planner threads are honoured, not forced to 0.
+      EXPECT_NE(test::read_text(run_dir / "result.json").find("\"threads\": 2"), std::string::npos) << run_dir;
     }
   EXPECT_EQ(csv_rows(out / "summary.csv"), 4);
   const std::string header = test::read_text(out / "summary.csv").substr(0, 200);

@@ -9,6 +9,7 @@
 #include "dmgplace/formats/object_artifact.hpp"
 #include "dmgplace/formats/robot_artifact.hpp"
 #include "dmgplace/runtime/placement/placement_planner.hpp"
+#include "placement_fixture.hpp"
 #include "run_cli.hpp"
 #include "test_support.hpp"
 
@@ -17,70 +18,10 @@ using namespace dmgplace;
 using namespace dmgplace::runtime;
 
 namespace {
-
-// `dmgplace ARGS...`'s exit code; its output is not needed.
-int cli(const std::vector<test::Arg>& args) { return test::run_cli(args, false).exit_code; }
-
-// Top-down grasp near the bottle's top: placing it upright deep on the lower shelf would put the
-// hand and wrist into the shelf above, so only an in-hand regrasp can place it there.
-Eigen::Isometry3d top_grasp() {
-  return Eigen::Translation3d(0, 0, 0.13) * Eigen::Quaterniond(0, 1, 0, 0);
-}
-Eigen::Isometry3d side_grasp() {
-  return Eigen::Translation3d(0, 0, 0.06) * Eigen::Quaterniond(0.7071068, 0, 0.7071068, 0);
-}
-
-class Placement : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() { test::set_up_suite_or_exit("Placement", [] { bake(); }); }
-  static void bake() {
-    dir_ = new test::TempDir();
-    const fs::path data = test::source_dir() / "datasets";
-    const fs::path d = dir_->path();
-    ASSERT_EQ(cli({"make-objects", "--out", d}), 0);
-    ASSERT_EQ(cli({"bake-robot", data / "robots/dmgarm/dmgarm.urdf", "--srdf", data / "robots/dmgarm/dmgarm.srdf", "--arm",
-                   "dmgarm_link0:dmgarm_tcp", "--out", d / "arm.h5"}),
-              0);
-    ASSERT_EQ(cli({"bake-object", d / "bottle.stl", "--mass", "0.15", "--out", d / "bottle.h5"}), 0);
-    std::string volume = test::read_text(data / "scenes/cabinet.volume");
-    volume.erase(volume.find_last_not_of(" \n\r") + 1);
-    ASSERT_EQ(cli({"bake-env", data / "scenes/cabinet.yaml", "--volume", volume, "--margin", "0.9", "--sdf-resolution", "0.02",
-                   "--band", "0.25", "--out", d / "cabinet.h5"}),
-              0);
-    world_ = new PlacementWorld(formats::load_robot(d / "arm.h5"), formats::load_object(d / "bottle.h5"),
-                                formats::load_environment(d / "cabinet.h5"));
-  }
-  static void TearDownTestSuite() {
-    delete world_;
-    delete dir_;
-  }
-
-  static PlacementQuery query(const Eigen::Isometry3d& g0) {
-    PlacementQuery qr;
-    qr.q0 = Eigen::VectorXd(7);
-    qr.q0 << 0, -0.785, 0, -2.356, 0, 1.571, 0.785;
-    qr.g0 = g0;
-    qr.seed = 3;
-    return qr;
-  }
-  // Lower shelf, right of the compartment, from 7 cm behind the cabinet's front edge.
-  static Eigen::AlignedBox3d deep_lower_shelf() { return {Eigen::Vector3d(0.62, -0.07, 0.45), Eigen::Vector3d(0.85, 0.39, 0.72)}; }
-
-  static PlacementResult solve(const PlacementQuery& qr, long iterations, bool until_first = false) {
-    PlacementPlanner planner(*world_, qr);
-    bool found = false;
-    auto budget = stop_after_iterations(iterations);
-    return planner.run([&] { return (until_first && found) || budget(); }, [&](const PlacementSolution&) { found = true; });
-  }
-
-  static test::TempDir* dir_;
-  static PlacementWorld* world_;
-};
-test::TempDir* Placement::dir_ = nullptr;
-PlacementWorld* Placement::world_ = nullptr;
-
-Eigen::VectorXd vec(const std::vector<double>& v) { return Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size())); }
-
+using test::side_grasp;
+using test::top_grasp;
+using test::vec;
+class Placement : public test::PlacementFixture {};
 }  // namespace
 
 TEST_F(Placement, BlockingGraspIsPlacedOnlyAfterRegrasp) {
@@ -123,9 +64,18 @@ TEST_F(Placement, EveryPublishedSolutionIsStableFreeAndImproving) {
     // Starts at q0; every segment collision-free for the exact layer at the checking resolution.
     ASSERT_GE(s.path.size(), 2u);
     EXPECT_LT((vec(s.path.front()) - qr.q0).norm(), 1e-9);
-    const ExactChecker exact = world_->grasp_exact(s.grasp);
+    const ExactChecker exact = world_->grasp_exact(s.grasp, s.opening);
     for (std::size_t i = 1; i < s.path.size(); ++i)
       ASSERT_TRUE(exact.segment_free(vec(s.path[i - 1]), vec(s.path[i]), qr.options.motion_resolution)) << "segment " << i;
+    // The retreat starts where the path ends and every segment is free for the exact layer with
+    // the object released at its placement.
+    if (!s.retreat.empty()) {
+      Eigen::Isometry3d up = s.pose;
+      up.translation().z() += qr.options.lift;
+      const ExactChecker released = world_->released_exact(up);
+      for (std::size_t i = 1; i < s.retreat.size(); ++i)
+        ASSERT_TRUE(released.segment_free(vec(s.retreat[i - 1]), vec(s.retreat[i]), qr.options.motion_resolution)) << "retreat " << i;
+    }
     // The arm at the end of the path holds the object just above its resting pose.
     const Eigen::Isometry3d held = kin.tip_pose(vec(s.path.back())) * s.grasp.inverse();
     EXPECT_LT((held.translation() - s.pose.translation() - Eigen::Vector3d(0, 0, qr.options.lift)).norm(), 1e-3);
@@ -198,7 +148,7 @@ TEST_F(Placement, ThreadedPlannerFindsSolutionsToo) {
   auto deadline = stop_after_seconds(20);
   const PlacementResult r = planner.run([&] { return found || deadline(); }, [&](const PlacementSolution&) { found = true; });
   ASSERT_TRUE(r.solved()) << r.reason;
-  const ExactChecker exact = world_->grasp_exact(r.best().grasp);
+  const ExactChecker exact = world_->grasp_exact(r.best().grasp, r.best().opening);
   for (std::size_t i = 1; i < r.best().path.size(); ++i)
     EXPECT_TRUE(exact.segment_free(vec(r.best().path[i - 1]), vec(r.best().path[i]), qr.options.motion_resolution));
 }
@@ -234,7 +184,7 @@ TEST_F(Placement, UnreachableRegionsEndWithAReason) {
   EXPECT_FALSE(r.solved());
   EXPECT_GT(r.counters.ik_calls, 0);
   EXPECT_EQ(r.counters.ik_solutions, 0);
-  EXPECT_NE(r.reason.find("(0 solved)"), std::string::npos) << r.reason;
+  EXPECT_NE(r.reason.find("(0 solved,"), std::string::npos) << r.reason;
 }
 
 TEST_F(Placement, ExactLayerCatchesAWrongSphereModel) {
@@ -250,14 +200,14 @@ TEST_F(Placement, ExactLayerCatchesAWrongSphereModel) {
   const PlacementResult r = planner.run(stop_after_iterations(1500));
   ASSERT_TRUE(r.solved()) << r.reason;
   for (const auto& s : r.improvements) {
-    const ExactChecker exact = wrong.grasp_exact(s.grasp);
+    const ExactChecker exact = wrong.grasp_exact(s.grasp, s.opening);
     for (std::size_t i = 1; i < s.path.size(); ++i)
       ASSERT_TRUE(exact.segment_free(vec(s.path[i - 1]), vec(s.path[i]), qr.options.motion_resolution)) << "segment " << i;
   }
   // Near the placement (inside the distance field) the wrong fast layer calls colliding
   // configurations free: without the exact re-check those would have been published.
   const auto& best = r.best();
-  const TwoLayerChecker layers = wrong.grasp_checker(best.grasp, nullptr);
+  const TwoLayerChecker layers = wrong.grasp_checker(best.grasp, best.opening, nullptr);
   std::mt19937_64 rng(1);
   std::normal_distribution<double> noise(0, 0.15);
   int fooled = 0;

@@ -43,7 +43,7 @@ struct BakeEnvArgs {
   std::vector<std::string> package_paths;
   double resolution = 0.01;      // distance grid and region cells (m)
   double band = 0.10;            // distance field clamp (m)
-  double clearance_band = 0.25;  // clearance field clamp (m)
+  double clearance_band = 0;     // clearance field clamp (m); 0: the volume's diagonal
   double region_split = 0.30;    // split regions longer than this (m)
   double min_free_height = 0.02; // least free space above a region cell (m)
   double margin = 0.05;          // the distance grid covers V grown by this (m)

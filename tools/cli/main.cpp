@@ -124,7 +124,8 @@ int main(int argc, char** argv) {
   c_env->add_option("--band", bake_env.band, "Distance field clamp (m)")->check(CLI::Range(1e-3, 100.0));
   c_env->add_option("--margin", bake_env.margin, "The distance grid covers the volume grown by this (m); make it reach the arm for fast checks")->check(CLI::Range(0.0, 10.0));
   c_env->add_option("--sdf-resolution", bake_env.sdf_resolution, "Distance grid cell (m); default: --resolution")->check(CLI::Range(0.0, 1.0));
-  c_env->add_option("--clearance-band", bake_env.clearance_band, "Clearance field clamp (m)")->check(CLI::Range(1e-3, 100.0));
+  c_env->add_option("--clearance-band", bake_env.clearance_band, "Clearance field clamp (m); 0: the target volume's diagonal")
+      ->check(CLI::Range(0.0, 100.0));
   c_env->add_option("--region-split", bake_env.region_split, "Split regions longer than this (m)")->check(CLI::Range(1e-3, 1000.0));
   c_env->add_option("--min-free-height", bake_env.min_free_height, "Least free space above a region cell (m)")->check(CLI::Range(0.0, 100.0));
   c_env->add_option("--threads", bake_env.threads, "Worker threads; 0: every CPU the process may use")->check(CLI::Range(0, 256));

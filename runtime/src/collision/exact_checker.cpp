@@ -1,5 +1,7 @@
 #include "dmgplace/runtime/collision/exact_checker.hpp"
 
+#include "dmgplace/runtime/motion/segment_check.hpp"
+
 #include <fcl/fcl.h>
 #include <octomap/octomap.h>
 
@@ -422,11 +424,15 @@ double ExactChecker::link_distance(const Eigen::VectorXd& q, int link_a, int lin
 }
 
 bool ExactChecker::segment_free(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution) const {
-  const double span = (b - a).norm();  // the planners' metric: Euclidean joint-space length
-  const int steps = std::max(1, int(std::ceil(span / resolution)));
-  for (int i = 0; i <= steps; ++i)
-    if (!is_free(a + (b - a) * (double(i) / steps))) return false;
-  return true;
+  return is_free(a) && segment_valid(a, b, resolution, [this](const Eigen::VectorXd& q) { return is_free(q); });
+}
+
+ExactChecker ExactChecker::with_kinematics(const Kinematics& kin) const {
+  if (&kin.model() != &kin_->model())
+    throw Error("ExactChecker", "kinematics", "a different robot model: only joint values outside the chain may differ");
+  ExactChecker c(*this);
+  c.kin_ = &kin;
+  return c;
 }
 
 }  // namespace dmgplace::runtime

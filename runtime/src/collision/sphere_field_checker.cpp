@@ -177,6 +177,15 @@ SphereFieldChecker SphereFieldChecker::with_attached(AttachedSpheres object) con
   return c;
 }
 
+SphereFieldChecker SphereFieldChecker::with_kinematics(const Kinematics& kin) const {
+  if (&kin.model() != &kin_->model())
+    throw Error("SphereFieldChecker", "kinematics", "a different robot model: only joint values outside the chain may differ");
+  SphereFieldChecker c = *this;
+  c.kin_ = &kin;
+  c.build_bodies();  // reaches come from the model (prismatic travel included), rebuilt anyway
+  return c;
+}
+
 namespace {
 // Below this field clearance (metres) a refined certificate also asks the exact primitives: the
 // node bound's loss is then a large share of the clearance (tried 0.02-0.2 m on MotionBenchMaker).

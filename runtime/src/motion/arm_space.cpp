@@ -34,24 +34,4 @@ ob::SpaceInformationPtr make_arm_space(const Kinematics& kin, ValidityFn valid, 
   return si;
 }
 
-bool path_valid(const std::vector<std::vector<double>>& path, const ValidityFn& valid, double resolution) {
-  if (path.empty()) return false;
-  Eigen::VectorXd q(Eigen::Index(path[0].size()));
-  for (std::size_t i = 0; i < path.size(); ++i) {
-    const auto& b = path[i];
-    const auto& a = path[i == 0 ? 0 : i - 1];
-    // The planners' metric (OMPL's longest valid segment: Euclidean joint-space length), so the
-    // states re-checked are the ones a motion validator at this resolution checked.
-    double span = 0;
-    for (std::size_t k = 0; k < a.size(); ++k) span += (b[k] - a[k]) * (b[k] - a[k]);
-    const int steps = std::max(1, int(std::ceil(std::sqrt(span) / resolution)));
-    for (int s = 0; s <= steps; ++s) {
-      const double t = double(s) / steps;
-      for (std::size_t k = 0; k < a.size(); ++k) q[Eigen::Index(k)] = a[k] + t * (b[k] - a[k]);
-      if (!valid(q)) return false;
-    }
-  }
-  return true;
-}
-
 }  // namespace dmgplace::runtime

@@ -60,6 +60,7 @@ void MultiGoalRRTConnect::clear() {
   pending_add_.clear();
   pending_remove_.clear();
   found_.clear();
+  rejected_.clear();
   blocked_direct_.clear();
 }
 
@@ -152,6 +153,11 @@ std::size_t MultiGoalRRTConnect::goal_count() const {
 std::vector<FoundPath> MultiGoalRRTConnect::take_paths() {
   std::lock_guard<std::mutex> lock(mutex_);
   return std::exchange(found_, {});
+}
+
+std::vector<int> MultiGoalRRTConnect::take_rejected() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return std::exchange(rejected_, {});
 }
 
 void MultiGoalRRTConnect::take_pending() {
@@ -267,7 +273,11 @@ ob::PlannerStatus MultiGoalRRTConnect::solve(const ob::PlannerTerminationConditi
 
 bool MultiGoalRRTConnect::report(FoundPath f, std::chrono::steady_clock::time_point t0) {
   f.time_found = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (validator_ && !validator_(f.path)) return false;
+  if (validator_ && !validator_(f.path)) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    rejected_.push_back(f.goal_id);
+    return false;
+  }
   if (callback_) callback_(f);
   if (pdef_) {
     auto path = std::make_shared<ompl::geometric::PathGeometric>(si_);

@@ -56,6 +56,16 @@ std::vector<GraspPath> MultiGraspPlanner::take_paths() {
   return std::exchange(found_, {});
 }
 
+std::vector<std::pair<int, int>> MultiGraspPlanner::take_rejected() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return std::exchange(rejected_, {});
+}
+
+void MultiGraspPlanner::collect(int grasp, MultiGoalRRTConnect& planner) {
+  for (auto& f : planner.take_paths()) found_.push_back({grasp, std::move(f)});
+  for (int id : planner.take_rejected()) rejected_.emplace_back(grasp, id);
+}
+
 void MultiGraspPlanner::run_round(int iterations) {
   std::vector<std::pair<int, std::shared_ptr<MultiGoalRRTConnect>>> work;
   {
@@ -68,9 +78,8 @@ void MultiGraspPlanner::run_round(int iterations) {
     // Stop early once its goals are all connected: an idle planner would only wait.
     auto* p = planner.get();
     planner->solve(ob::PlannerTerminationCondition([left, p] { return (*left)-- <= 0 || p->goal_count() == 0; }));
-    auto paths = planner->take_paths();
     std::lock_guard<std::mutex> lock(mutex_);
-    for (auto& f : paths) found_.push_back({grasp, std::move(f)});
+    collect(grasp, *planner);
   }
 }
 
@@ -112,10 +121,9 @@ void MultiGraspPlanner::work() {
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(slice_);
     planner->solve(ob::PlannerTerminationCondition(
         [this, deadline] { return !running_ || std::chrono::steady_clock::now() >= deadline; }));
-    auto paths = planner->take_paths();
     std::lock_guard<std::mutex> lock(mutex_);
     entries_[grasp].busy = false;
-    for (auto& f : paths) found_.push_back({grasp, std::move(f)});
+    collect(grasp, *planner);
   }
 }
 

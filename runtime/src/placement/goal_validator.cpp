@@ -29,8 +29,8 @@ Eigen::Isometry3d GoalValidator::lifted(const Eigen::Isometry3d& resting) const 
   return x;
 }
 
-GoalCheck GoalValidator::check(const PlacementTree& tree, const PlacementSample& s,
-                               const std::function<bool(double)>& better, std::mt19937_64& rng) {
+GoalCheck GoalValidator::check(const PlacementSample& s, const std::function<bool(double)>& better,
+                               std::mt19937_64& rng) {
   GoalCheck c;
   ++counters_.samples;
   if (s.face < 0 || s.region < 0) return c;
@@ -42,10 +42,12 @@ GoalCheck GoalValidator::check(const PlacementTree& tree, const PlacementSample&
   c.improves = better(c.objective);
   counters_.stable += c.stable;
   counters_.object_free += c.stable && c.object_free;
-  if (!c.stable || !c.object_free || !c.improves) return c;
-  c.grasp = selector_->select(tree, s.node, up, rng);
+  counters_.improving += c.stable && c.object_free && c.improves;
+  const GraspChoice choice = selector_->select(s.node, up, rng);
+  c.grasp = choice.grasp;
+  c.cached_grasp = choice.cached;
   if (c.grasp < 0) return c;
-  ++counters_.with_grasp;
+  counters_.cached_grasps += choice.cached;
   ++counters_.ik_calls;
   const IkResult ik = ik_.solve(up * spaces_->grasp(c.grasp).pose, query_->q0, rng);
   c.reachable = ik.success;
@@ -54,6 +56,7 @@ GoalCheck GoalValidator::check(const PlacementTree& tree, const PlacementSample&
   ++counters_.arm_checks;
   c.arm_free = spaces_->checker(c.grasp)->is_free(ik.q);
   c.q = ik.q;
+  counters_.reachable += c.kinematically_reachable();
   counters_.goals += c.valid();
   return c;
 }

@@ -9,7 +9,7 @@ std::shared_ptr<const TwoLayerChecker> GraspSpaces::checker(int g) {
   std::lock_guard<std::mutex> lock(mutex_);
   auto it = checkers_.find(g);
   if (it != checkers_.end()) return it->second;
-  auto c = std::make_shared<const TwoLayerChecker>(world_->grasp_checker(grasps_[std::size_t(g)].pose, counters_));
+  auto c = std::make_shared<const TwoLayerChecker>(world_->grasp_checker(grasps_[std::size_t(g)].pose, grasps_[std::size_t(g)].opening, counters_));
   checkers_[g] = c;
   return c;
 }
@@ -22,7 +22,7 @@ bool GraspSpaces::usable(int g) {
   }
   // Exact, object against the palm too: a wrong "usable" would hand the planner a start state it
   // cannot leave, and the per-grasp spaces no longer check object against hand.
-  const bool ok = world_->grasp_exact(grasps_[std::size_t(g)].pose).is_free(q0_);
+  const bool ok = world_->grasp_exact(grasps_[std::size_t(g)].pose, grasps_[std::size_t(g)].opening).is_free(q0_);
   std::lock_guard<std::mutex> lock(mutex_);
   usable_[g] = ok;
   return ok;

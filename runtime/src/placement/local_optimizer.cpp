@@ -4,19 +4,11 @@
 
 namespace dmgplace::runtime {
 
-bool segment_valid(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution,
-                   const std::function<bool(const Eigen::VectorXd&)>& valid) {
-  const int steps = std::max(1, int(std::ceil((b - a).cwiseAbs().maxCoeff() / resolution)));
-  for (int i = 1; i <= steps; ++i)
-    if (!valid(a + (b - a) * (double(i) / steps))) return false;
-  return true;
-}
-
 LocalOptimum optimize_locally(const LocalProblem& p, const Eigen::VectorXd& q_start, const Eigen::Isometry3d& resting,
                               const PlacementOptions& o) {
   LocalOptimum out;
   out.pose = resting;
-  out.objective = p.objective->value(resting);
+  out.objective = out.start_objective = p.objective->value(resting);
   if (!o.optimize_locally) return out;
   IkOptions ik_opt;
   ik_opt.max_restarts = 0;  // continuation from the current configuration only
@@ -50,6 +42,8 @@ LocalOptimum optimize_locally(const LocalProblem& p, const Eigen::VectorXd& q_st
     out.steps.push_back(std::vector<double>(q.data(), q.data() + q.size()));
     out.pose = cand;
     out.objective = value;
+    out.poses.push_back(cand);
+    out.values.push_back(value);
   }
   return out;
 }

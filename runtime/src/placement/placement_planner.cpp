@@ -9,26 +9,15 @@
 #include <thread>
 
 #include "dmgplace/formats/error.hpp"
-#include "dmgplace/formats/triangle_distance.hpp"
+#include "dmgplace/runtime/grasp/held_grasp.hpp"
 #include "dmgplace/runtime/motion/arm_space.hpp"
+#include "dmgplace/runtime/motion/segment_check.hpp"
 #include "dmgplace/runtime/motion/multi_grasp_planner.hpp"
 #include "dmgplace/runtime/placement/goal_validator.hpp"
 #include "dmgplace/runtime/placement/local_optimizer.hpp"
 #include "dmgplace/runtime/placement/retreat.hpp"
 
 namespace dmgplace::runtime {
-namespace {
-// Unsigned distance from p to the mesh surface (brute force: once per query).
-double surface_distance(const TriMesh& m, const Eigen::Vector3d& p) {
-  double best = std::numeric_limits<double>::infinity();
-  for (Eigen::Index t = 0; t < m.triangles.rows(); ++t) {
-    const Eigen::Vector3d a = m.vertices.row(m.triangles(t, 0)).transpose(), b = m.vertices.row(m.triangles(t, 1)).transpose(),
-                          c = m.vertices.row(m.triangles(t, 2)).transpose();
-    best = std::min(best, (closest_point_on_triangle(p, a, b, c) - p).norm());
-  }
-  return best;
-}
-}  // namespace
 namespace {
 using Clock = std::chrono::steady_clock;
 constexpr int kAnyActions = std::numeric_limits<int>::max();
@@ -73,7 +62,7 @@ PlacementPlanner::~PlacementPlanner() = default;
 
 struct PlacementPlanner::Run {
   struct Goal {
-    int grasp = -1, face = -1, region = -1;
+    int grasp = -1, face = -1, region = -1, node = -1;
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
     double objective = 0;
     Eigen::VectorXd q;
@@ -97,7 +86,7 @@ struct PlacementPlanner::Run {
   bool exhausted = false;
   double last_trace = -1;
   PlacementResult result;
-  long planner_calls = 0, paths = 0, retreat_failures = 0, iterations = 0;
+  long planner_calls = 0, paths = 0, paths_rejected = 0, retreat_failures = 0, iterations = 0;
 
   Run(const PlacementWorld& w, const PlacementQuery& query) : world(w), q(query), o(query.options), rng(query.seed) {}
 
@@ -118,9 +107,11 @@ struct PlacementPlanner::Run {
       c.samples = v.samples;
       c.stable = v.stable;
       c.object_free = v.object_free;
-      c.with_grasp = v.with_grasp;
+      c.improving = v.improving;
+      c.cached_grasps = v.cached_grasps;
       c.ik_calls = v.ik_calls;
       c.ik_solutions = v.ik_solutions;
+      c.reachable = v.reachable;
       c.object_checks = v.object_checks;
       c.goals = v.goals;
     }
@@ -131,6 +122,7 @@ struct PlacementPlanner::Run {
     if (selector) c.hand_checks = selector->hand_checks();
     c.planner_calls = planner_calls;
     c.paths = paths;
+    c.paths_rejected = paths_rejected;
     c.retreat_failures = retreat_failures;
     return c;
   }
@@ -146,6 +138,15 @@ struct PlacementPlanner::Run {
     result.trace.push_back(p);
   }
 
+  // g0's finger opening: the query's, else the object's width between the fingers at g0, else
+  // (the closing line misses the mesh) the opening of the DMG state g0 snaps to.
+  double initial_opening() const {
+    const double max_opening = world.object().dmg.gripper.max_opening;
+    if (q.g0_opening >= 0) return std::min(q.g0_opening, max_opening);
+    if (const auto w = grasp_width(world.object().mesh, q.g0)) return std::min(*w, max_opening);
+    return world.grasp_graph().opening(reach.initial_state);
+  }
+
   // Pre-processing; returns the reason when the query cannot have a solution.
   std::string prepare() {
     const Eigen::AlignedBox3d volume = q.volume ? *q.volume : world.env().volume;
@@ -155,20 +156,25 @@ struct PlacementPlanner::Run {
     if (space->region_count() == 0) return "no placement region inside the target volume";
     reach = reachable_grasps(world.grasp_graph(), q.g0, q.g0_opening);
     if (reach.initial_state < 0 || reach.grasps.empty()) return "the object's DMG has no grasp to start from";
+    // Grasp 0 is g0 exactly as held (its pose and opening), not the DMG state it snaps to; the
+    // in-hand sequences to every other grasp start from that state.
     std::vector<ReachableGrasp> grasps = reach.grasps;
+    grasps[0].pose = q.g0;
+    grasps[0].opening = initial_opening();
     if (q.variant == PlacementVariant::NoRegrasp) grasps.resize(1);
     result.reachable_grasps = int(grasps.size());
     result.initial_state = reach.initial_state;
+    result.snap_distance = reach.snap_distance;
+    result.initial_opening = grasps[0].opening;
     spaces = std::make_unique<GraspSpaces>(world, std::move(grasps), q.q0);
     if (!world.exact().is_free(q.q0)) return "the start configuration q0 is in collision: " + world.exact().check(q.q0).contact;
     if (q.variant == PlacementVariant::NoRegrasp && !spaces->usable(0))
       return "holding the object with g0, the start configuration is in collision: " +
-             spaces->checker(0)->exact().check(q.q0).contact;
-    selector = std::make_unique<GraspSelector>(
-        *spaces, q.variant, o.p_accept, o.grasp_tries, [this](int g, const Eigen::Isometry3d& pose) {
-          return world.hand_free(pose * spaces->grasp(g).pose);
-        });
+             world.grasp_exact(q.g0, spaces->grasp(0).opening).check(q.q0).contact;
     tree = std::make_unique<PlacementTree>(*space, o.max_depth, o.ucb_c);
+    selector = std::make_unique<GraspSelector>(*spaces, *tree, q.variant, o.p_accept, o.hand_tries, [this](int g, const Eigen::Isometry3d& pose) {
+      return world.hand_free(pose * spaces->grasp(g).pose, spaces->grasp(g).opening);
+    });
     validator = std::make_unique<GoalValidator>(world, *space, *objective, *spaces, *selector, q);
     auto factory = [this](int g) {
       auto checker = spaces->checker(g);
@@ -189,7 +195,7 @@ struct PlacementPlanner::Run {
 
   void add_goal(const GoalCheck& c, const PlacementSample& s) {
     const int id = next_goal++;
-    Goal g{c.grasp, s.face, s.region, s.pose, c.objective, c.q};
+    Goal g{c.grasp, s.face, s.region, s.node, s.pose, c.objective, c.q};
     if (!motion->add_goal(c.grasp, id, std::vector<double>(c.q.data(), c.q.data() + c.q.size()))) return;
     goals[id] = std::move(g);
   }
@@ -203,13 +209,21 @@ struct PlacementPlanner::Run {
         return;
       }
       const PlacementSample s = tree->rollout(n, rng);
-      const GoalCheck c = validator->check(*tree, s, improves, rng);
+      const GoalCheck c = validator->check(s, improves, rng);
       tree->backpropagate(n, c.reward(o));
+      if (c.kinematically_reachable()) selector->cache(n, c.grasp);
       if (c.valid()) {
-        tree->cache_grasp(n, c.grasp);
         add_goal(c, s);
-        return;
+        return;  // to the planner at once: the first solution comes sooner (the paper runs on to i_max)
       }
+    }
+  }
+
+  // Goals whose arm path the exact re-check refused: their trees are gone, so they leave.
+  void drop_rejected_goals() {
+    for (const auto& [grasp, id] : motion->take_rejected()) {
+      ++paths_rejected;
+      goals.erase(id);
     }
   }
 
@@ -243,26 +257,47 @@ struct PlacementPlanner::Run {
     lp.lift = o.lift;
     const LocalOptimum opt = optimize_locally(lp, goal.q, goal.pose, o);
     std::vector<InHandAction> actions = reach.actions_to(world.grasp_graph(), grasp.state);
-    if (!better(opt.objective, int(actions.size()))) return;
-    JointPath path = gp.found.path;
-    for (const auto& s : opt.steps) path.push_back(std::vector<double>(s.data(), s.data() + s.size()));
-    // Every published path is re-validated by the exact layer, local steps included.
+    // The approach passed the exact re-check (the planner's path validator); the local steps
+    // must too, each segment at the same states: keep the longest exact-valid prefix.
     const ExactChecker& exact = checker->exact();
-    if (!path_valid(path, [&exact](const Eigen::VectorXd& x) { return exact.is_free(x); }, o.motion_resolution)) return;
-    const Eigen::VectorXd q_place = Eigen::Map<const Eigen::VectorXd>(path.back().data(), Eigen::Index(path.back().size()));
-    PlacementSolution sol;
-    if (o.check_retreat) {
-      Eigen::Isometry3d up = opt.pose;
-      up.translation().z() += o.lift;
-      const Retreat r = plan_retreat(world.kin(), world.released_exact(up), q_place, o.retreat_distance, o.motion_resolution);
-      if (!r.ok) {
-        ++retreat_failures;
-        return;
-      }
-      sol.retreat = r.path;
+    const ValidityFn exact_free = [&exact](const Eigen::VectorXd& x) { return exact.is_free(x); };
+    const auto vec = [](const std::vector<double>& v) { return Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size())); };
+    std::size_t valid_steps = 0;
+    for (Eigen::VectorXd prev = vec(gp.found.path.back()); valid_steps < opt.steps.size(); ++valid_steps) {
+      const Eigen::VectorXd next = vec(opt.steps[valid_steps]);
+      if (!segment_valid(prev, next, o.motion_resolution, exact_free)) break;
+      prev = next;
     }
-    sol.pose = opt.pose;
-    sol.objective = opt.objective;
+    // From the furthest step back to the goal itself: where the hand cannot withdraw from the
+    // optimum, an earlier step (or the goal) may still be a solution.
+    for (int k = int(valid_steps); k >= 0; --k) {
+      const Eigen::Isometry3d pose = k == 0 ? goal.pose : opt.poses[std::size_t(k - 1)];
+      const double value = k == 0 ? opt.start_objective : opt.values[std::size_t(k - 1)];
+      if (!better(value, int(actions.size()))) return;
+      JointPath path = gp.found.path;
+      path.insert(path.end(), opt.steps.begin(), opt.steps.begin() + k);
+      PlacementSolution sol;
+      if (o.check_retreat) {
+        Eigen::Isometry3d up = pose;
+        up.translation().z() += o.lift;
+        Retreat r = plan_retreat(world.kin(), world.released_exact(up), vec(path.back()), o.retreat_distance, o.motion_resolution);
+        if (!r.ok) {
+          ++retreat_failures;
+          continue;
+        }
+        sol.retreat = std::move(r.path);
+      }
+      publish(std::move(sol), goal, pose, value, std::move(path), std::move(actions), cb);
+      return;
+    }
+  }
+
+  void publish(PlacementSolution sol, const Goal& goal, const Eigen::Isometry3d& pose, double value, JointPath path,
+               std::vector<InHandAction> actions, const PlacementPlanner::Callback& cb) {
+    const ReachableGrasp& grasp = spaces->grasp(goal.grasp);
+    selector->cache(goal.node, goal.grasp);  // reached and optimised there: cache it again (authors' code)
+    sol.pose = pose;
+    sol.objective = value;
     sol.face = goal.face;
     sol.region = space->source_region(goal.region);
     sol.grasp_state = grasp.state;
@@ -285,8 +320,9 @@ struct PlacementPlanner::Run {
     s << "no placement found in " << elapsed() << " s";
     if (exhausted) s << " (the search space has no node left)";
     s << ": " << c.samples << " poses sampled, " << c.stable << " stable, " << c.object_free << " of them free of the scene, "
-      << c.with_grasp << " with a grasp whose hand fits, " << c.ik_calls << " reached the IK stage (" << c.ik_solutions
-      << " solved), " << c.goals << " valid goals, " << c.paths << " arm paths";
+      << c.improving << " of those improving; " << c.ik_calls << " IK calls (" << c.ik_solutions << " solved, " << c.reachable
+      << " collision-free), " << c.goals << " valid goals, " << c.paths << " arm paths";
+    if (c.paths_rejected) s << ", " << c.paths_rejected << " arm paths refused by the exact re-check";
     if (c.retreat_failures) s << ", " << c.retreat_failures << " placements without a free retreat";
     return s.str();
   }
@@ -312,6 +348,7 @@ PlacementResult PlacementPlanner::run(const Stop& stop, const Callback& on_solut
     ++r.planner_calls;
     if (!threaded) r.motion->run_round(query_.options.slice_iterations);
     for (const auto& gp : r.motion->take_paths()) r.reached(gp, on_solution);
+    r.drop_rejected_goals();
     if (threaded && (r.exhausted || full)) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     if (!threaded && r.exhausted && r.goals.empty()) break;  // nothing left to do, deterministically
     r.trace(false);

@@ -50,7 +50,7 @@ const std::vector<PlacementOptionSpec>& placement_option_specs() {
       {"reward_objective", &O::reward_objective, 0, 1000, "relaxed reward weight: objective improves"},
       {"reward_reachable", &O::reward_reachable, 0, 1000, "relaxed reward weight: IK solution exists"},
       {"p_accept", &O::p_accept, 0, 1, "probability of keeping a cached grasp (Algorithm 3)"},
-      {"grasp_tries", &O::grasp_tries, 1, 100000, "untried grasps drawn per selection"},
+      {"hand_tries", &O::hand_tries, 0, 100000, "hand-checked draws outside the grasp cache before an unchecked one (0: the paper's)"},
       {"lift", &O::lift, 0, 0.1, "goal configurations hold the object this far above the support (m)"},
       {"ik_restarts", &O::ik_restarts, 0, 1000, "random IK restarts after the seed"},
       {"motion_resolution", &O::motion_resolution, 1e-4, 1, "joint-space collision check step (rad)"},

@@ -145,11 +145,4 @@ void PlacementTree::backpropagate(int n, double reward) {
   }
 }
 
-void PlacementTree::cache_grasp(int n, int grasp) {
-  for (; n >= 0; n = nodes_[std::size_t(n)].parent) {
-    auto& g = nodes_[std::size_t(n)].grasps;
-    if (std::find(g.begin(), g.end(), grasp) == g.end()) g.push_back(grasp);
-  }
-}
-
 }  // namespace dmgplace::runtime

@@ -61,13 +61,7 @@ PlacementWorld::PlacementWorld(formats::RobotArtifact robot, formats::ObjectArti
   kin_ = std::make_unique<Kinematics>(robot_.model, robot_.model.arm_base, robot_.model.arm_tip);
   const auto& model = robot_.model;
   hand_.links = rigid_with_tip(*kin_);
-  // Finger joints: movable joints outside the chain whose child is a hand link.
-  const double opening = finger_opening >= 0 ? finger_opening : object_.dmg.gripper.max_opening;
-  for (const auto& j : model.joints) {
-    if (j.type == JointType::Fixed || in_chain(*kin_, j.name)) continue;
-    if (std::find(hand_.links.begin(), hand_.links.end(), j.child) == hand_.links.end()) continue;
-    if (j.mimic < 0) kin_->set_joint_value(j.name, std::clamp(0.5 * opening, j.lower, j.upper));
-  }
+  set_fingers(*kin_, finger_opening >= 0 ? finger_opening : object_.dmg.gripper.max_opening);
   // Fingers: hand links below a movable non-chain joint (children first reached through one).
   for (int l : hand_.links) {
     int link = l;
@@ -81,10 +75,7 @@ PlacementWorld::PlacementWorld(formats::RobotArtifact robot, formats::ObjectArti
     }
     if (finger) hand_.fingers.push_back(l);
   }
-  std::vector<Eigen::Isometry3d> poses;
-  kin_->link_poses(0.5 * (kin_->lower() + kin_->upper()), poses);
-  const Eigen::Isometry3d tip_inv = poses[std::size_t(kin_->tip_link())].inverse();
-  for (int l : hand_.links) hand_.in_tcp.emplace_back(l, tip_inv * poses[std::size_t(l)]);
+  hand_.in_tcp = hand_in_tcp(*kin_);
   grasps_ = std::make_unique<GraspGraph>(object_.dmg);
   exact_ = std::make_unique<ExactChecker>(*kin_, scene_);
   fast_ = std::make_unique<SphereFieldChecker>(*kin_, robot_.spheres, env_.sdf, env_.sdf_band);
@@ -94,8 +85,42 @@ PlacementWorld::PlacementWorld(formats::RobotArtifact robot, formats::ObjectArti
   object_spheres_ = cover_object(object_.mesh);
 }
 
-TwoLayerChecker PlacementWorld::grasp_checker(const Eigen::Isometry3d& tcp_in_object,
+void PlacementWorld::set_fingers(Kinematics& kin, double opening) const {
+  // Finger joints: movable joints outside the chain whose child is a hand link; each finger
+  // travels half the opening (mimic joints follow their leader).
+  for (const auto& j : kin.model().joints) {
+    if (j.type == JointType::Fixed || in_chain(kin, j.name)) continue;
+    if (std::find(hand_.links.begin(), hand_.links.end(), j.child) == hand_.links.end()) continue;
+    if (j.mimic < 0) kin.set_joint_value(j.name, std::clamp(0.5 * opening, j.lower, j.upper));
+  }
+}
+
+std::vector<std::pair<int, Eigen::Isometry3d>> PlacementWorld::hand_in_tcp(const Kinematics& kin) const {
+  std::vector<Eigen::Isometry3d> poses;
+  kin.link_poses(0.5 * (kin.lower() + kin.upper()), poses);
+  const Eigen::Isometry3d tip_inv = poses[std::size_t(kin.tip_link())].inverse();
+  std::vector<std::pair<int, Eigen::Isometry3d>> out;
+  for (int l : hand_.links) out.emplace_back(l, tip_inv * poses[std::size_t(l)]);
+  return out;
+}
+
+const PlacementWorld::FingerSetting& PlacementWorld::fingers_at(double opening) const {
+  std::lock_guard<std::mutex> lock(fingers_mutex_);
+  auto& slot = fingers_[opening];  // exact value: each grasp's own (a DMG has one per node)
+  if (!slot) {
+    slot = std::make_unique<FingerSetting>();
+    slot->kin = std::make_unique<Kinematics>(*kin_);  // shares the model; only finger values differ
+    set_fingers(*slot->kin, opening);
+    slot->hand = hand_in_tcp(*slot->kin);
+  }
+  return *slot;
+}
+
+const Kinematics& PlacementWorld::kin_at(double opening) const { return opening >= 0 ? *fingers_at(opening).kin : *kin_; }
+
+TwoLayerChecker PlacementWorld::grasp_checker(const Eigen::Isometry3d& tcp_in_object, double opening,
                                               std::shared_ptr<CheckCounters> counters) const {
+  const Kinematics& kin = kin_at(opening);
   const Eigen::Isometry3d object_in_tip = tcp_in_object.inverse();
   AttachedSpheres att;
   att.link = kin_->tip_link();
@@ -106,25 +131,27 @@ TwoLayerChecker PlacementWorld::grasp_checker(const Eigen::Isometry3d& tcp_in_ob
     att.centers.push_back(object_in_tip * object_spheres_.centers[i]);
     att.radii.push_back(object_spheres_.radii[i]);
   }
-  return TwoLayerChecker(fast_->with_attached(std::move(att)),
-                         exact_->with_attached(*object_mesh_, kin_->tip_link(), object_in_tip, hand_.links), std::move(counters));
+  return TwoLayerChecker(fast_->with_kinematics(kin).with_attached(std::move(att)),
+                         exact_->with_kinematics(kin).with_attached(*object_mesh_, kin_->tip_link(), object_in_tip, hand_.links),
+                         std::move(counters));
 }
 
 TwoLayerChecker PlacementWorld::arm_checker(std::shared_ptr<CheckCounters> counters) const {
   return TwoLayerChecker(*fast_, *exact_, std::move(counters));
 }
 
-ExactChecker PlacementWorld::grasp_exact(const Eigen::Isometry3d& tcp_in_object) const {
-  return exact_->with_attached(*object_mesh_, kin_->tip_link(), tcp_in_object.inverse(), hand_.fingers);
+ExactChecker PlacementWorld::grasp_exact(const Eigen::Isometry3d& tcp_in_object, double opening) const {
+  return exact_->with_kinematics(kin_at(opening))
+      .with_attached(*object_mesh_, kin_->tip_link(), tcp_in_object.inverse(), hand_.fingers);
 }
 
 ExactChecker PlacementWorld::released_exact(const Eigen::Isometry3d& object_pose) const {
   return exact_->with_attached(*object_mesh_, kin_->base_link(), object_pose, hand_.fingers);
 }
 
-bool PlacementWorld::hand_free(const Eigen::Isometry3d& tcp_world) const {
+bool PlacementWorld::hand_free(const Eigen::Isometry3d& tcp_world, double opening) const {
   thread_local std::vector<std::pair<int, Eigen::Isometry3d>> poses;
-  poses = hand_.in_tcp;
+  poses = opening >= 0 ? fingers_at(opening).hand : hand_.in_tcp;
   for (auto& [link, pose] : poses) pose = tcp_world * pose;
   return exact_->links_free(poses);
 }

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <random>
 
-#include "dmgplace/runtime/placement/local_optimizer.hpp"
+#include "dmgplace/runtime/motion/segment_check.hpp"
 #include "dmgplace/runtime/robot/ik.hpp"
 
 namespace dmgplace::runtime {

@@ -9,30 +9,30 @@
 
 namespace dmgplace::runtime {
 
-Kinematics::Kinematics(const RobotModel& model, const std::string& base, const std::string& tip) : model_(model) {
-  base_ = model_.link_index(base);
-  tip_ = model_.link_index(tip);
-  if (base_ < 0) throw Error(model_.name, "arm base", "no link named '" + base + "'");
-  if (tip_ < 0) throw Error(model_.name, "arm tip", "no link named '" + tip + "'");
-  const std::size_t nl = model_.links.size(), nj = model_.joints.size();
+Kinematics::Kinematics(const RobotModel& model, const std::string& base, const std::string& tip) : model_(std::make_shared<const RobotModel>(model)) {
+  base_ = model_->link_index(base);
+  tip_ = model_->link_index(tip);
+  if (base_ < 0) throw Error(model_->name, "arm base", "no link named '" + base + "'");
+  if (tip_ < 0) throw Error(model_->name, "arm tip", "no link named '" + tip + "'");
+  const std::size_t nl = model_->links.size(), nj = model_->joints.size();
   std::vector<int> parent_joint(nl, -1);
   for (std::size_t j = 0; j < nj; ++j) {
-    const auto& jt = model_.joints[j];
+    const auto& jt = model_->joints[j];
     if (jt.child < 0 || std::size_t(jt.child) >= nl || jt.parent < 0 || std::size_t(jt.parent) >= nl)
-      throw Error(model_.name, "joint '" + jt.name + "'", "link index out of range");
+      throw Error(model_->name, "joint '" + jt.name + "'", "link index out of range");
     parent_joint[std::size_t(jt.child)] = int(j);
   }
   // Path tip -> base.
   for (int link = tip_, steps = 0; link != base_; ++steps) {
     int j = parent_joint[std::size_t(link)];
-    if (j < 0 || steps > int(nl)) throw Error(model_.name, "arm chain", "'" + tip + "' does not descend from '" + base + "'");
+    if (j < 0 || steps > int(nl)) throw Error(model_->name, "arm chain", "'" + tip + "' does not descend from '" + base + "'");
     path_joints_.push_back(j);
-    link = model_.joints[std::size_t(j)].parent;
+    link = model_->joints[std::size_t(j)].parent;
   }
   std::reverse(path_joints_.begin(), path_joints_.end());
   chain_slot_.assign(nj, -1);
   for (int j : path_joints_) {
-    const auto& jt = model_.joints[std::size_t(j)];
+    const auto& jt = model_->joints[std::size_t(j)];
     if (jt.type == JointType::Fixed || jt.mimic >= 0) continue;
     chain_slot_[std::size_t(j)] = int(chain_joints_.size());
     chain_joints_.push_back(j);
@@ -41,7 +41,7 @@ Kinematics::Kinematics(const RobotModel& model, const std::string& base, const s
   lower_.resize(dof());
   upper_.resize(dof());
   for (int i = 0; i < dof(); ++i) {
-    const auto& jt = model_.joints[std::size_t(chain_joints_[std::size_t(i)])];
+    const auto& jt = model_->joints[std::size_t(chain_joints_[std::size_t(i)])];
     const bool unlimited = jt.type == JointType::Continuous;
     lower_[i] = unlimited ? -M_PI : jt.lower;
     upper_[i] = unlimited ? M_PI : jt.upper;
@@ -52,18 +52,18 @@ Kinematics::Kinematics(const RobotModel& model, const std::string& base, const s
   for (std::size_t pass = 0; pass <= nj && order_.size() < nj; ++pass)
     for (std::size_t j = 0; j < nj; ++j) {
       if (done[j]) continue;
-      int pj = parent_joint[std::size_t(model_.joints[j].parent)];
+      int pj = parent_joint[std::size_t(model_->joints[j].parent)];
       if (pj < 0 || done[std::size_t(pj)]) {
         order_.push_back(int(j));
         done[j] = 1;
       }
     }
-  if (order_.size() != nj) throw Error(model_.name, "joints", "kinematic loop");
+  if (order_.size() != nj) throw Error(model_->name, "joints", "kinematic loop");
   for (std::size_t l = 0; l < nl; ++l)
     if (parent_joint[l] < 0) roots_.push_back(int(l));
   terms_.resize(nj);
   for (std::size_t j = 0; j < nj; ++j) {
-    const auto& jt = model_.joints[j];
+    const auto& jt = model_->joints[j];
     Eigen::Matrix3d K;
     K << 0, -jt.axis.z(), jt.axis.y(), jt.axis.z(), 0, -jt.axis.x(), -jt.axis.y(), jt.axis.x(), 0;
     auto& m = terms_[j];
@@ -75,21 +75,21 @@ Kinematics::Kinematics(const RobotModel& model, const std::string& base, const s
 }
 
 void Kinematics::set_joint_value(const std::string& joint, double value) {
-  int j = model_.joint_index(joint);
-  if (j < 0) throw Error(model_.name, "joint", "no joint named '" + joint + "'");
-  if (chain_slot_[std::size_t(j)] >= 0) throw Error(model_.name, "joint '" + joint + "'", "is driven by the chain");
+  int j = model_->joint_index(joint);
+  if (j < 0) throw Error(model_->name, "joint", "no joint named '" + joint + "'");
+  if (chain_slot_[std::size_t(j)] >= 0) throw Error(model_->name, "joint '" + joint + "'", "is driven by the chain");
   fixed_values_[std::size_t(j)] = value;
 }
 
 double Kinematics::joint_value(int j, const Eigen::VectorXd& q) const {
-  const auto& jt = model_.joints[std::size_t(j)];
+  const auto& jt = model_->joints[std::size_t(j)];
   if (jt.mimic >= 0) return jt.mimic_multiplier * joint_value(jt.mimic, q) + jt.mimic_offset;
   int slot = chain_slot_[std::size_t(j)];
   return slot >= 0 ? q[slot] : fixed_values_[std::size_t(j)];
 }
 
 Eigen::Isometry3d Kinematics::joint_motion(int j, double v) const {
-  const auto& jt = model_.joints[std::size_t(j)];
+  const auto& jt = model_->joints[std::size_t(j)];
   const auto& terms = terms_[std::size_t(j)];
   Eigen::Isometry3d m = jt.origin;
   switch (jt.type) {
@@ -111,13 +111,13 @@ Eigen::Isometry3d Kinematics::joint_motion(int j, double v) const {
 
 void Kinematics::link_poses(const Eigen::VectorXd& q, std::vector<Eigen::Isometry3d>& poses) const {
   // Every link but the roots is written below (joints in topological order): only roots are reset.
-  if (poses.size() != model_.links.size()) poses.assign(model_.links.size(), Eigen::Isometry3d::Identity());
+  if (poses.size() != model_->links.size()) poses.assign(model_->links.size(), Eigen::Isometry3d::Identity());
   for (int r : roots_) poses[std::size_t(r)].setIdentity();
   // Express the tree in the base frame: first the root-to-base transform, then invert it.
   // child = parent * origin * motion, the motion folded into the origin's rotation (revolute) or
   // translation (prismatic) in place: no 4x4 temporary per joint.
   for (int j : order_) {
-    const auto& jt = model_.joints[std::size_t(j)];
+    const auto& jt = model_->joints[std::size_t(j)];
     const Eigen::Isometry3d& parent = poses[std::size_t(jt.parent)];
     Eigen::Isometry3d& child = poses[std::size_t(jt.child)];
     const auto& terms = terms_[std::size_t(j)];
@@ -167,7 +167,7 @@ Eigen::Isometry3d Kinematics::tip_pose_and_jacobian(const Eigen::VectorXd& q, Ja
   int n = 0;
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   for (int j : path_joints_) {
-    const auto& jt = model_.joints[std::size_t(j)];
+    const auto& jt = model_->joints[std::size_t(j)];
     Eigen::Isometry3d at_joint = t * jt.origin;
     t = t * joint_motion(j, joint_value(j, q));
     if (jt.type == JointType::Fixed || n >= 64) continue;
@@ -198,7 +198,7 @@ Eigen::Isometry3d Kinematics::tip_pose_and_jacobian(const Eigen::VectorXd& q, Ja
 }
 
 std::vector<char> Kinematics::moving_links() const {
-  std::vector<char> moving(model_.links.size(), 0);
+  std::vector<char> moving(model_->links.size(), 0);
   const Eigen::VectorXd q0 = 0.5 * (lower_ + upper_);
   std::vector<Eigen::Isometry3d> a, b;
   link_poses(q0, a);

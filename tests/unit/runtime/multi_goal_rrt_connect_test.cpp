@@ -166,7 +166,14 @@ TEST(MultiGoalRRTConnect, ValidatorCanRejectAPathAndSingleQueryModeFillsTheProbl
   EXPECT_EQ(status, ob::PlannerStatus::EXACT_SOLUTION);
   EXPECT_EQ(calls, 2) << "the first path was rejected, the second accepted";
   EXPECT_TRUE(p.pdef->hasSolution());
-  EXPECT_EQ(p.planner->take_paths().size(), 1u);
+  const auto paths = p.planner->take_paths();
+  ASSERT_EQ(paths.size(), 1u);
+  // The refused goal is reported once, so a caller can stop counting it as open.
+  const std::vector<int> rejected = p.planner->take_rejected();
+  ASSERT_EQ(rejected.size(), 1u);
+  EXPECT_NE(rejected[0], paths[0].goal_id);
+  EXPECT_TRUE(rejected[0] == 1 || rejected[0] == 2);
+  EXPECT_TRUE(p.planner->take_rejected().empty());
 }
 
 // Two grasps, two collision spaces: in grasp 1 the gap in the wall is closed, so its goal behind

@@ -98,3 +98,37 @@ TEST(EnvArtifact, BadBakeOptionsNameTheOption) {
   o.resolution = 1e-5;  // 10 um over 0.5 m^3: far too many samples
   EXPECT_THROW(tools::bake_environment(env, o), Error);
 }
+
+// The clearance objective must keep rising across the whole target volume: by default the field
+// is clamped at V's diagonal, not at a fixed band that flattens it a few decimetres from a wall.
+TEST(EnvArtifact, ClearanceKeepsRisingAcrossTheWholeVolume) {
+  formats::EnvironmentArtifact env;
+  auto box = [](Eigen::Vector3d size, Eigen::Vector3d at) {
+    Shape s;
+    s.type = ShapeType::Box;
+    s.size = size;
+    s.origin.translation() = at;
+    return s;
+  };
+  env.scene.objects.push_back({"floor", {box({3.2, 1, 0.02}, {0, 0, -0.01})}});
+  env.scene.objects.push_back({"wall", {box({0.02, 1, 1}, {-1.5, 0, 0.5})}});  // its face at x = -1.49
+  env.volume = Eigen::AlignedBox3d(Eigen::Vector3d(-1.45, -0.4, 0), Eigen::Vector3d(1.45, 0.4, 0.5));
+  tools::EnvBakeOptions o;
+  o.resolution = 0.02;
+  tools::bake_environment(env, o);
+  const auto& f = env.clearance;
+  EXPECT_NEAR(f.band, env.volume.diagonal().norm(), 1e-12);
+  double previous = -1;
+  for (double x = -1.4; x <= 1.4; x += 0.1) {
+    // The node nearest (x, 0, 0.1): the distance to the wall, up to a cell of rounding.
+    const Eigen::Vector3d p(x, 0, 0.1);
+    std::array<int, 3> i{};
+    for (int k = 0; k < 3; ++k) i[std::size_t(k)] = int(std::lround((p[k] - f.origin[k]) / f.resolution));
+    const Eigen::Vector3d node = f.origin + f.resolution * Eigen::Vector3d(i[0], i[1], i[2]);
+    const double v = f.values[std::size_t(i[0]) + std::size_t(f.dims[0]) * (std::size_t(i[1]) + std::size_t(f.dims[1]) * std::size_t(i[2]))];
+    EXPECT_NEAR(v, node.x() + 1.49, 2e-3) << "at x = " << x;
+    EXPECT_GT(v, previous) << "at x = " << x;
+    previous = v;
+  }
+  EXPECT_GT(previous, 2.5) << "far beyond the old 0.25 m band";
+}

@@ -23,7 +23,8 @@ void bake_environment(formats::EnvironmentArtifact& env, const EnvBakeOptions& o
   require_positive(o.resolution, "--resolution");
   require_positive(o.band, "--band");
   require_positive(o.clearance_resolution, "--clearance-resolution");
-  require_positive(o.clearance_band, "--clearance-band");
+  if (!(o.clearance_band >= 0) || !std::isfinite(o.clearance_band))
+    throw Error("--clearance-band", "", "must be a finite length >= 0 (0: the target volume's diagonal)");
   require_positive(o.regions.split_size, "--region-split");
   if (!(o.margin >= 0) || !std::isfinite(o.margin)) throw Error("--margin", "", "must be a finite length >= 0");
   if (!(o.regions.min_free_height >= 0)) throw Error("--min-free-height", "", "must be >= 0");
@@ -44,7 +45,10 @@ void bake_environment(formats::EnvironmentArtifact& env, const EnvBakeOptions& o
   const double sdf_resolution = o.sdf_resolution > 0 ? o.sdf_resolution : o.resolution;
   env.sdf = distance_field(scene, grid_covering(grown, sdf_resolution), o.band, o.threads);
   env.sdf_signed = geometry.any_closed();
-  env.clearance = clearance_field(scene, grid_covering(v, o.clearance_resolution), o.clearance_band, o.threads);
+  // Clamped no lower than V's diagonal by default, so the clearance objective keeps rising
+  // wherever a placement really is farther from everything (a band would flatten it there).
+  const double clearance_band = o.clearance_band > 0 ? o.clearance_band : v.diagonal().norm();
+  env.clearance = clearance_field(scene, grid_covering(v, o.clearance_resolution), clearance_band, o.threads);
 
   RegionOptions ro = o.regions;
   ro.resolution = o.resolution;

@@ -86,7 +86,7 @@ ExperimentTotals run_experiment(const ExperimentSpec& spec, const ExperimentOpti
         PlacementQueryFile q = queries.at(t.problem);
         q.query.seed = std::uint64_t(t.seed);
         q.query.variant = t.variant;
-        q.query.options.threads = 0;  // one core per run, deterministic
+        if (spec.threads) q.query.options.threads = *spec.threads;  // else the query's own (0: deterministic)
         q.time_limit = limit;
         const auto world = worlds.get(q);
         q.query.q0 = resolve_start(q, world->kin());

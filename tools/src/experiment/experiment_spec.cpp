@@ -22,12 +22,16 @@ ExperimentSpec read_experiment_spec(const std::filesystem::path& path) {
     const std::filesystem::path x = p;
     return x.is_absolute() ? x : dir / x;
   };
-  require_known_keys(root, {"name", "artifacts", "time_limit", "runs", "quick", "report_times", "problems"}, file, "");
+  require_known_keys(root, {"name", "artifacts", "time_limit", "runs", "threads", "quick", "report_times", "problems"}, file, "");
   try {
     s.name = root["name"] ? root["name"].as<std::string>() : path.stem().string();
     if (root["artifacts"]) s.artifacts = rel(root["artifacts"].as<std::string>());
     if (root["time_limit"]) s.time_limit = root["time_limit"].as<double>();
     if (root["runs"]) s.runs = root["runs"].as<int>();
+    if (root["threads"]) {
+      s.threads = root["threads"].as<int>();
+      if (*s.threads < 0 || *s.threads > 256) throw Error(file, "threads", "must be in [0, 256] (0: synchronous and deterministic)");
+    }
     if (const YAML::Node q = root["quick"]) {
       if (q["time_limit"]) s.quick_time_limit = q["time_limit"].as<double>();
       if (q["runs"]) s.quick_runs = q["runs"].as<int>();

@@ -23,12 +23,24 @@ ordered_json pose_json(const Eigen::Isometry3d& p) {
 ordered_json vec_json(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
 ordered_json counters_json(const PlacementCounters& c) {
-  return {{"iterations", c.iterations},       {"samples", c.samples}, {"stable", c.stable}, {"object_free", c.object_free}, {"with_grasp", c.with_grasp},
-          {"ik_calls", c.ik_calls},           {"ik_solutions", c.ik_solutions},
-          {"collision_checks", c.collision_checks}, {"exact_checks", c.exact_checks},
-          {"object_checks", c.object_checks}, {"hand_checks", c.hand_checks},
-          {"goals", c.goals},                 {"planner_calls", c.planner_calls},
-          {"paths", c.paths},                 {"retreat_failures", c.retreat_failures}};
+  return {{"iterations", c.iterations},
+          {"samples", c.samples},
+          {"stable", c.stable},
+          {"object_free", c.object_free},
+          {"improving", c.improving},
+          {"cached_grasps", c.cached_grasps},
+          {"ik_calls", c.ik_calls},
+          {"ik_solutions", c.ik_solutions},
+          {"reachable", c.reachable},
+          {"collision_checks", c.collision_checks},
+          {"exact_checks", c.exact_checks},
+          {"object_checks", c.object_checks},
+          {"hand_checks", c.hand_checks},
+          {"goals", c.goals},
+          {"planner_calls", c.planner_calls},
+          {"paths", c.paths},
+          {"paths_rejected", c.paths_rejected},
+          {"retreat_failures", c.retreat_failures}};
 }
 
 ordered_json solution_json(const PlacementSolution& s) {
@@ -88,6 +100,7 @@ std::string result_json(const PlacementQueryFile& q, const runtime::PlacementRes
                 {"variant", runtime::to_string(q.query.variant)},
                 {"seed", q.query.seed},
                 {"time_limit", q.time_limit},
+                {"threads", q.query.options.threads},
                 {"start", std::vector<double>(q.query.q0.data(), q.query.q0.data() + q.query.q0.size())},
                 {"initial_grasp", pose_json(q.query.g0)}};
   if (q.query.volume)
@@ -103,6 +116,8 @@ std::string result_json(const PlacementQueryFile& q, const runtime::PlacementRes
   j["seconds"] = r.seconds;
   j["reachable_grasps"] = r.reachable_grasps;
   j["initial_state"] = r.initial_state;
+  j["snap_distance"] = r.snap_distance;
+  j["initial_opening"] = r.initial_opening;
   j["counters"] = counters_json(r.counters);
   if (r.solved()) j["best"] = solution_json(r.best());
   ordered_json imp = ordered_json::array();

@@ -49,6 +49,10 @@ class ExactChecker {
   ExactChecker with_attached(const CollisionMesh& object, int link, const Eigen::Isometry3d& object_in_link,
                              std::vector<int> touching_links) const;
 
+  // The same checker posing the robot with `kin`: a copy of this one's kinematics (the same
+  // model) with other finger joint values. `kin` must outlive the checker.
+  ExactChecker with_kinematics(const Kinematics& kin) const;
+
   // The listed links' geometry alone at the given poses (world), against the environment: a hand
   // without its arm, for instance.
   bool links_free(const std::vector<std::pair<int, Eigen::Isometry3d>>& link_poses) const;
@@ -68,8 +72,7 @@ class ExactChecker {
   // Smallest distance between two links' collision geometry at q (0 when they touch).
   double link_distance(const Eigen::VectorXd& q, int link_a, int link_b) const;
 
-  // Exact checks along the straight joint-space segment every `resolution` of Euclidean length
-  // (radians), the states an OMPL motion validator at that resolution checks.
+  // Exact checks of a and of the segment to b at the states segment_valid (segment_check.hpp) visits.
   bool segment_free(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution) const;
 
   const Kinematics& kinematics() const { return *kin_; }

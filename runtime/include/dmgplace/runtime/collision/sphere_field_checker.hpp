@@ -77,6 +77,9 @@ class SphereFieldChecker {
 
   // A checker for one grasp: same robot and environment (shared, no copy), plus the object.
   SphereFieldChecker with_attached(AttachedSpheres object) const;
+  // The same checker posing the robot with `kin` (a copy of this one's kinematics, the same model,
+  // other finger joint values); `kin` must outlive the checker.
+  SphereFieldChecker with_kinematics(const Kinematics& kin) const;
 
   SphereCheck check(const Eigen::VectorXd& q) const;
   // check() plus a certified free distance along `direction` (joint space; any length): how long

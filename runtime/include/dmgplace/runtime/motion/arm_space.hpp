@@ -6,11 +6,11 @@
 
 #include <functional>
 
+#include "dmgplace/runtime/motion/segment_check.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
 
 namespace dmgplace::runtime {
 
-using ValidityFn = std::function<bool(const Eigen::VectorXd&)>;
 // < 0: q is invalid; otherwise q is valid and so is q + t * direction for t in [0, result]
 // (TwoLayerChecker::free_distance).
 using FreeDistanceFn = std::function<double(const Eigen::VectorXd& q, const Eigen::VectorXd& direction, double enough)>;
@@ -19,9 +19,5 @@ using FreeDistanceFn = std::function<double(const Eigen::VectorXd& q, const Eige
 // `resolution` steps, except those inside an interval the checker proved free.
 ompl::base::SpaceInformationPtr make_arm_space(const Kinematics& kin, ValidityFn valid, double resolution,
                                                FreeDistanceFn free_distance = nullptr);
-
-// Every segment of `path` valid when checked every `resolution` of Euclidean joint-space length
-// (the metric of OMPL's motion validators, so the same states the planner checked).
-bool path_valid(const std::vector<std::vector<double>>& path, const ValidityFn& valid, double resolution);
 
 }  // namespace dmgplace::runtime

@@ -41,6 +41,9 @@ class MultiGoalRRTConnect : public ompl::base::Planner {
   std::size_t goal_count() const;
   // Paths found since the last call (thread-safe).
   std::vector<FoundPath> take_paths();
+  // Goals whose path the validator refused since the last call (thread-safe): their trees are
+  // gone, so the caller should stop counting them as open.
+  std::vector<int> take_rejected();
   // Called (from the solving thread) for each path as soon as it is found.
   void set_path_callback(std::function<void(const FoundPath&)> cb) { callback_ = std::move(cb); }
   // Optional last word on a path before it is reported (e.g. an exact checker); false drops it.
@@ -82,6 +85,7 @@ class MultiGoalRRTConnect : public ompl::base::Planner {
   std::vector<std::pair<int, std::vector<double>>> pending_add_;
   std::vector<int> pending_remove_;
   std::vector<FoundPath> found_;
+  std::vector<int> rejected_;
   std::function<void(const FoundPath&)> callback_;
   std::function<bool(const JointPath&)> validator_;
   std::mt19937_64 rng_{1};

@@ -34,6 +34,8 @@ class MultiGraspPlanner {
   bool add_goal(int grasp, int goal_id, const std::vector<double>& q);
   void remove_goal(int grasp, int goal_id);
   std::vector<GraspPath> take_paths();
+  // (grasp, goal id) of goals whose path the validator refused since the last call.
+  std::vector<std::pair<int, int>> take_rejected();
   // Optional last check of every path of a grasp (e.g. the exact checker); set it before start().
   void set_path_validator(std::function<bool(int grasp, const JointPath&)> v) { validator_ = std::move(v); }
 
@@ -50,6 +52,7 @@ class MultiGraspPlanner {
     bool busy = false;
   };
   Entry& entry(int grasp);  // mutex_ held
+  void collect(int grasp, MultiGoalRRTConnect& planner);  // mutex_ held
   void work();
 
   SpaceFactory factory_;
@@ -62,6 +65,7 @@ class MultiGraspPlanner {
   std::map<int, Entry> entries_;
   std::size_t turn_ = 0;
   std::vector<GraspPath> found_;
+  std::vector<std::pair<int, int>> rejected_;
   std::vector<std::thread> workers_;
   std::atomic<bool> running_{false};
 };

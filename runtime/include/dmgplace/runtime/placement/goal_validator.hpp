@@ -1,8 +1,10 @@
 #pragma once
-// Is a sampled placement a goal? Checks in the order of cost: stable on its region, object free of
-// the environment, objective better than the best so far, a grasp whose hand fits (Algorithm 3),
-// an IK solution, and an arm free of collisions holding the object that way. The indicators give
-// the relaxed MCTS reward of samples that fail.
+// Is a sampled placement a goal? Algorithm 2, lines 5-8, for every sample: stable on its region,
+// object free of the environment, objective better than the best so far, a grasp (Algorithm 3),
+// an IK solution for it, and an arm free of collisions holding the object that way. Every
+// constraint is evaluated even when an earlier one fails, so invalid samples still earn the
+// relaxed MCTS reward of the parts they satisfy (reachable regions steer the tree even where the
+// object collides) and kinematically reachable grasps reach the grasp cache.
 #include <random>
 
 #include "dmgplace/runtime/placement/grasp_selector.hpp"
@@ -15,14 +17,20 @@ namespace dmgplace::runtime {
 struct GoalCheck {
   bool stable = false, object_free = false, improves = false, reachable = false, arm_free = false;
   int grasp = -1;
+  bool cached_grasp = false;  // the grasp came from Algorithm 3's cache
   double objective = 0;
-  Eigen::VectorXd q;  // the goal configuration, object lifted above its resting pose
+  Eigen::VectorXd q;  // the IK solution, object lifted above its resting pose (when reachable)
   bool valid() const { return stable && object_free && improves && reachable && arm_free; }
+  // Kinematically reachable in the paper's sense: an IK solution that is collision-free with
+  // the object held by this grasp (which includes the object against the scene).
+  bool kinematically_reachable() const { return reachable && arm_free; }
+  // 1 when valid; otherwise the weighted share of satisfied constraints (the authors' relaxation).
   double reward(const PlacementOptions& o) const;
 };
 
 struct GoalCounters {
-  long samples = 0, stable = 0, object_free = 0, with_grasp = 0, ik_calls = 0, ik_solutions = 0, object_checks = 0, arm_checks = 0, goals = 0;
+  long samples = 0, stable = 0, object_free = 0, improving = 0, cached_grasps = 0, ik_calls = 0, ik_solutions = 0,
+       reachable = 0, object_checks = 0, arm_checks = 0, goals = 0;
 };
 
 class GoalValidator {
@@ -30,8 +38,7 @@ class GoalValidator {
   GoalValidator(const PlacementWorld& world, const SearchSpace& space, const Objective& objective, GraspSpaces& spaces,
                 GraspSelector& selector, const PlacementQuery& query);
   // `better(value)`: whether an objective value would improve on the best solution so far.
-  GoalCheck check(const PlacementTree& tree, const PlacementSample& s, const std::function<bool(double)>& better,
-                  std::mt19937_64& rng);
+  GoalCheck check(const PlacementSample& s, const std::function<bool(double)>& better, std::mt19937_64& rng);
   Eigen::Isometry3d lifted(const Eigen::Isometry3d& resting) const;
   const GoalCounters& counters() const { return counters_; }
 

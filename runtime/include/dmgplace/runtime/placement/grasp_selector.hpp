@@ -1,10 +1,26 @@
 #pragma once
-// Grasp selection (the paper's Algorithm 3): walk up the hierarchy from the sampled node and try
-// the grasps cached there, accepting a hand-collision-free one with probability p_accept;
-// otherwise draw untried grasps uniformly (the initial grasp first when nothing is cached).
+// Grasp selection (the paper's Algorithm 3). Walking up from the sampled node to the root (the
+// root's own cache excluded), the grasps cached on the way form an ordered set G, nearest node
+// first; with nothing cached G = {g0}. Each grasp of G whose hand is free of the environment at
+// the sampled pose is returned with probability p_accept. Otherwise a grasp is drawn uniformly
+// from G(g0) \ G (from all of G(g0) when G covers it).
+//
+// Beyond the paper: that last draw may be hand-filtered, `hand_tries` uniform draws whose hand is
+// checked at the pose before one is taken unchecked (so it stays a uniform draw among the
+// grasps whose hand fits, when there are some). 0 is the paper's Algorithm 3 exactly. Where the
+// initial grasp blocks and nothing is cached yet, this is what finds the first reachable grasp.
+//
+// The random-grasp ablation draws uniformly from G(g0); no-regrasp always returns g0.
+// G(g0) here is the reachable grasps with which the start configuration is collision-free (a grasp
+// the arm cannot hold at q0 cannot start a path); draws skip the others.
+//
+// The cache (the paper's P_s) lives here, beside the selector: a grasp is cached at a node and
+// all its ancestors as soon as it reached a pose sampled below that node kinematically (IK
+// solution, arm and object free), and again after local optimisation of a reached placement.
 #include <cstdint>
 #include <functional>
 #include <random>
+#include <vector>
 
 #include "dmgplace/runtime/placement/grasp_spaces.hpp"
 #include "dmgplace/runtime/placement/placement_query.hpp"
@@ -12,24 +28,37 @@
 
 namespace dmgplace::runtime {
 
+struct GraspChoice {
+  int grasp = -1;       // index into GraspSpaces (0 is g0); -1: no usable grasp at all
+  bool cached = false;  // taken from the cache (or g0 accepted as the empty cache's stand-in)
+};
+
 class GraspSelector {
  public:
   // hand_free(g, object_pose): grasp g's hand is free of the environment with the object there.
   using HandFree = std::function<bool(int grasp, const Eigen::Isometry3d& object_pose)>;
-  GraspSelector(GraspSpaces& spaces, PlacementVariant variant, double p_accept, int tries, HandFree hand_free);
-  // A grasp index into spaces.grasps() (0 is g0), or -1 when none passes.
-  int select(const PlacementTree& tree, int node, const Eigen::Isometry3d& object_pose, std::mt19937_64& rng);
+  GraspSelector(GraspSpaces& spaces, const PlacementTree& tree, PlacementVariant variant, double p_accept,
+                int hand_tries, HandFree hand_free);
+  GraspChoice select(int node, const Eigen::Isometry3d& object_pose, std::mt19937_64& rng);
+  // Records that `grasp` kinematically reached a pose sampled below `node`.
+  void cache(int node, int grasp);
+  // The ordered set G for `node` (nearest node first, no repeats); empty when nothing is cached.
+  std::vector<int> cached(int node) const;
   long hand_checks() const { return hand_checks_; }
 
  private:
-  bool acceptable(int g, const Eigen::Isometry3d& pose);
+  int draw(bool skip_cached, std::mt19937_64& rng);  // uniform over usable grasps (not in G)
   GraspSpaces* spaces_;
+  const PlacementTree* tree_;
   PlacementVariant variant_;
   double p_accept_;
-  int tries_;
+  int hand_tries_;
   HandFree hand_free_;
   long hand_checks_ = 0;
-  std::vector<std::uint32_t> tried_;  // == stamp_: tried in the current call
+  std::vector<std::vector<int>> node_grasps_;  // per tree node, in the order cached
+  std::vector<int> g_;                         // G of the current call
+  std::vector<std::uint32_t> in_g_;            // == stamp_: in G for the current call
+  std::vector<char> unusable_;                 // known not usable at q0
   std::uint32_t stamp_ = 0;
 };
 

@@ -1,6 +1,7 @@
 #pragma once
-// One collision space per grasp (the object held differently), made on first use and shared by
-// the goal validator, the motion planner's workers and the local optimiser. Thread-safe.
+// One collision space per grasp (the object held differently, the fingers at that grasp's
+// opening), made on first use and shared by the goal validator, the motion planner's workers and
+// the local optimiser. Thread-safe.
 #include <map>
 #include <memory>
 #include <mutex>

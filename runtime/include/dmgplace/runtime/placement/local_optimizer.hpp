@@ -7,6 +7,7 @@
 #include <random>
 
 #include "dmgplace/runtime/collision/two_layer_checker.hpp"
+#include "dmgplace/runtime/motion/segment_check.hpp"
 #include "dmgplace/runtime/types.hpp"
 #include "dmgplace/runtime/placement/objective.hpp"
 #include "dmgplace/runtime/placement/search_space.hpp"
@@ -16,8 +17,11 @@ namespace dmgplace::runtime {
 
 struct LocalOptimum {
   JointPath steps;  // configurations after the start, each reached by a valid segment
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // resting pose reached
+  std::vector<Eigen::Isometry3d> poses;  // resting pose after each step
+  std::vector<double> values;            // objective after each step (increasing)
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // resting pose reached (the last step's)
   double objective = 0;
+  double start_objective = 0;  // at the start pose
   int iterations = 0;
 };
 
@@ -33,9 +37,5 @@ struct LocalProblem {
 
 LocalOptimum optimize_locally(const LocalProblem& p, const Eigen::VectorXd& q_start, const Eigen::Isometry3d& resting,
                               const PlacementOptions& o);
-
-// Joint-space segment valid at `resolution` (max joint step, rad) under `valid`.
-bool segment_valid(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution,
-                   const std::function<bool(const Eigen::VectorXd&)>& valid);
 
 }  // namespace dmgplace::runtime

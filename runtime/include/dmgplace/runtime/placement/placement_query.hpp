@@ -38,8 +38,8 @@ struct PlacementOptions {
   double reward_arm_free = 0.1, reward_object_free = 0.15, reward_contact = 0.15, reward_objective = 0.25,
          reward_reachable = 0.2;
   // Grasp selection (Algorithm 3).
-  double p_accept = 0.9;
-  int grasp_tries = 8;          // untried grasps drawn per selection before giving up
+  double p_accept = 0.9;        // a cached grasp whose hand fits is taken with this probability
+  int hand_tries = 8;           // beyond the paper: hand-checked draws from G(g0) \ G first (0: off)
   // Validity.
   double lift = 0.004;          // goal configurations hold the object this far above the support (m)
   int ik_restarts = 4;          // random restarts after the seed

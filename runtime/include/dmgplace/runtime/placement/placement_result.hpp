@@ -16,8 +16,10 @@ struct PlacementCounters {
   long samples = 0;           // poses sampled by MCTS rollouts
   long stable = 0;            // ... of which stable on their region
   long object_free = 0;       // ... and with the object free of the scene
-  long with_grasp = 0;        // ... and a grasp whose hand fits there
+  long improving = 0;         // ... and improving on the best so far
+  long cached_grasps = 0;     // samples whose grasp came from Algorithm 3's cache
   long ik_calls = 0, ik_solutions = 0;
+  long reachable = 0;         // IK solutions free of collision: kinematically reachable samples
   long collision_checks = 0;  // arm configurations checked (fast layer; exact where needed)
   long exact_checks = 0;      // of which needed FCL
   long object_checks = 0;     // object-alone checks of sampled poses
@@ -25,6 +27,7 @@ struct PlacementCounters {
   long goals = 0;             // valid goals handed to the motion planner
   long planner_calls = 0;     // planner rounds (synchronous) or polls (threaded)
   long paths = 0;             // paths the motion planner returned
+  long paths_rejected = 0;    // arm paths the exact re-check refused (their goals are dropped)
   long retreat_failures = 0;  // reached placements dropped because the hand could not withdraw
 };
 
@@ -55,7 +58,9 @@ struct PlacementResult {
   PlacementCounters counters;
   double seconds = 0;
   int reachable_grasps = 0;
-  int initial_state = -1;
+  int initial_state = -1;     // the grasp-graph state nearest g0: in-hand sequences start there
+  double snap_distance = 0;   // how far g0 is from it (GraspGraph::snap's score: m + 0.05 m/rad)
+  double initial_opening = 0; // g0's finger opening (given, or measured on the object's mesh)
   std::string reason;  // why there is no solution (empty when there is one)
   bool solved() const { return !improvements.empty(); }
   const PlacementSolution& best() const { return improvements.back(); }

@@ -3,7 +3,7 @@
 // region -> recursive split of the region's cells (quadtree in x, y) paired with a 4-way split of
 // the rotation interval, `max_depth` levels deep. Nodes are created as MCTS expands them; a
 // rollout descends at random below the selected node and samples a pose in the leaf it reaches.
-// Each node also keeps the grasp cache of Algorithm 3.
+// Algorithm 3's grasp cache is keyed by these nodes but lives in GraspSelector.
 #include <random>
 #include <vector>
 
@@ -34,8 +34,7 @@ class PlacementTree {
     std::vector<Cell> unexpanded;  // listed on first visit
     bool listed = false;
     int visits = 0;
-    double reward = 0;        // sum
-    std::vector<int> grasps;  // grasp cache: grasps that reached a valid pose below this node
+    double reward = 0;  // sum
   };
 
   PlacementTree(const SearchSpace& space, int max_depth, double c);
@@ -44,8 +43,6 @@ class PlacementTree {
   int select(std::mt19937_64& rng);
   PlacementSample rollout(int node, std::mt19937_64& rng);
   void backpropagate(int node, double reward);
-  // Records that `grasp` reached a valid pose below `node` (and so below each ancestor).
-  void cache_grasp(int node, int grasp);
 
   const Node& node(int n) const { return nodes_[std::size_t(n)]; }
   int size() const { return int(nodes_.size()); }

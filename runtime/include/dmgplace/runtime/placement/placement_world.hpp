@@ -2,7 +2,9 @@
 // Everything a placement query runs against, built once from the three artifacts: the arm's
 // kinematics, both collision layers with the environment, the held object's grasp graph, mesh and
 // sphere cover, and the hand (the links rigid with the tool centre point).
+#include <map>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "dmgplace/formats/environment_artifact.hpp"
@@ -43,18 +45,23 @@ class PlacementWorld {
   const SphereSet& object_spheres() const { return object_spheres_; }
   const HandModel& hand() const { return hand_; }
 
-  // Both layers with the object held at `tcp_in_object` (a grasp): shares all geometry. Object and
-  // hand are not checked against each other (their relative pose is the grasp's, fixed).
-  TwoLayerChecker grasp_checker(const Eigen::Isometry3d& tcp_in_object, std::shared_ptr<CheckCounters> counters) const;
+  // Both layers with the object held at `tcp_in_object` (a grasp) and the fingers at that grasp's
+  // `opening` (m; < 0: as kin() has them): shares all geometry. Object and hand are not
+  // checked against each other (their relative pose is the grasp's, fixed).
+  TwoLayerChecker grasp_checker(const Eigen::Isometry3d& tcp_in_object, double opening,
+                                std::shared_ptr<CheckCounters> counters) const;
   // Both layers for the arm alone, empty-handed.
   TwoLayerChecker arm_checker(std::shared_ptr<CheckCounters> counters) const;
   // Exact, with the object also checked against the hand's non-finger links: the grasp itself.
-  ExactChecker grasp_exact(const Eigen::Isometry3d& tcp_in_object) const;
+  ExactChecker grasp_exact(const Eigen::Isometry3d& tcp_in_object, double opening) const;
   // The object released at `object_pose` (world), the arm free to move around it.
   ExactChecker released_exact(const Eigen::Isometry3d& object_pose) const;
   // Hand-only exact test at a TCP pose (no arm, no IK): the grasp filter of Algorithm 3. Exact
   // because the hand works close to the support, where conservative spheres would reject it.
-  bool hand_free(const Eigen::Isometry3d& tcp_world) const;
+  // Fingers at `opening` (< 0: as the world's kinematics has them).
+  bool hand_free(const Eigen::Isometry3d& tcp_world, double opening = -1) const;
+  // Hand links' poses in the TCP frame with the fingers at `opening` (>= 0; tests, viewers).
+  const std::vector<std::pair<int, Eigen::Isometry3d>>& hand_at(double opening) const { return fingers_at(opening).hand; }
 
  private:
   formats::RobotArtifact robot_;
@@ -68,6 +75,18 @@ class PlacementWorld {
   std::unique_ptr<CollisionMesh> object_mesh_;
   SphereSet object_spheres_;
   HandModel hand_;
+  // Per finger opening: kinematics with the fingers there (the checkers point at it, so it lives
+  // as long as the world) and the hand links' poses in the TCP frame.
+  struct FingerSetting {
+    std::unique_ptr<Kinematics> kin;
+    std::vector<std::pair<int, Eigen::Isometry3d>> hand;
+  };
+  const FingerSetting& fingers_at(double opening) const;  // opening >= 0
+  const Kinematics& kin_at(double opening) const;          // < 0: kin()
+  void set_fingers(Kinematics& kin, double opening) const;
+  std::vector<std::pair<int, Eigen::Isometry3d>> hand_in_tcp(const Kinematics& kin) const;
+  mutable std::mutex fingers_mutex_;
+  mutable std::map<double, std::unique_ptr<FingerSetting>> fingers_;
 };
 
 }  // namespace dmgplace::runtime

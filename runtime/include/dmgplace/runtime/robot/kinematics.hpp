@@ -3,6 +3,7 @@
 // geometric Jacobian. Our own Eigen code (no KDL: see docs). Hot-path calls do not allocate once
 // the output containers have their size.
 #include <Eigen/Geometry>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -21,7 +22,7 @@ class Kinematics {
   const std::vector<std::string>& joint_names() const { return joint_names_; }
   const Eigen::VectorXd& lower() const { return lower_; }
   const Eigen::VectorXd& upper() const { return upper_; }
-  const RobotModel& model() const { return model_; }
+  const RobotModel& model() const { return *model_; }
   int tip_link() const { return tip_; }
   int base_link() const { return base_; }
 
@@ -61,7 +62,7 @@ class Kinematics {
   std::vector<int> roots_;  // links without a parent joint
   double joint_value(int joint, const Eigen::VectorXd& q) const;
 
-  RobotModel model_;
+  std::shared_ptr<const RobotModel> model_;  // shared by copies (e.g. one per finger opening)
   int base_ = -1, tip_ = -1;
   bool base_is_root_ = false;
   std::vector<int> chain_joints_;        // independent moving joints from base to tip

@@ -12,7 +12,7 @@ struct EnvBakeOptions {
   double margin = 0.05;                // the distance grid covers V grown by this (m)
   double sdf_resolution = 0;           // distance grid cell (m); <= 0: `resolution`
   double clearance_resolution = 0.02;  // clearance grid (m)
-  double clearance_band = 0.25;        // clearance clamp (m)
+  double clearance_band = 0;           // clearance clamp (m); 0: the target volume's diagonal
   double scan_voxel = 0.005;           // scan points kept per voxel of this edge (m); <= 0 keeps all
   RegionOptions regions;               // its resolution is replaced by `resolution`
   int segments = 32;                   // polygon segments of tessellated cylinders and spheres

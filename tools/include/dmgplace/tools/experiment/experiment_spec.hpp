@@ -12,6 +12,7 @@
 //     - {name: cabinet_bottle_side, query: ../queries/cabinet_bottle_side.yaml,
 //        variants: [full, random-grasp, no-regrasp]}
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,8 @@ struct ExperimentSpec {
   std::filesystem::path artifacts;  // empty: each query's own folder
   double time_limit = 60;
   int runs = 50;
+  // Motion planner threads per run (the query option `threads`); unset: each query's own value.
+  std::optional<int> threads;
   double quick_time_limit = 2;
   int quick_runs = 3;
   std::vector<double> report_times{1, 5, 20};
