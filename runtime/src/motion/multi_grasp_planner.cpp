@@ -73,8 +73,12 @@ void MultiGraspPlanner::run_round(int iterations) {
     for (auto& [grasp, e] : entries_)
       if (e.planner->goal_count() > 0) work.emplace_back(grasp, e.planner);
   }
+  // The round's iterations are shared among the grasps with goals (each at least a few), so a
+  // round costs about the same however many grasps wait: goal sampling, which runs between
+  // rounds, keeps its share of the time as the asynchronous design intends.
+  const int share = work.empty() ? 0 : std::max(kMinShare, iterations / int(work.size()));
   for (auto& [grasp, planner] : work) {
-    auto left = std::make_shared<int>(iterations);
+    auto left = std::make_shared<int>(share);
     // Stop early once its goals are all connected: an idle planner would only wait.
     auto* p = planner.get();
     planner->solve(ob::PlannerTerminationCondition([left, p] { return (*left)-- <= 0 || p->goal_count() == 0; }));

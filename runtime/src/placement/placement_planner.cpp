@@ -280,7 +280,13 @@ struct PlacementPlanner::Run {
       if (o.check_retreat) {
         Eigen::Isometry3d up = pose;
         up.translation().z() += o.lift;
-        Retreat r = plan_retreat(world.kin(), world.released_exact(up), vec(path.back()), o.retreat_distance, o.motion_resolution);
+        const ExactChecker released = world.released_exact(up);
+        const Eigen::VectorXd q_place = vec(path.back());
+        // Back along the approach first; where the arm cannot do that (it folds into itself or
+        // the scene), straight up: the fingers are open and leave the object either way.
+        const Eigen::Vector3d back = -world.kin().tip_pose(q_place).linear().col(2);
+        Retreat r = plan_retreat(world.kin(), released, q_place, back, o.retreat_distance, o.motion_resolution);
+        if (!r.ok && back.z() < 0.99) r = plan_retreat(world.kin(), released, q_place, Eigen::Vector3d::UnitZ(), o.retreat_distance, o.motion_resolution);
         if (!r.ok) {
           ++retreat_failures;
           continue;

@@ -55,7 +55,7 @@ const std::vector<PlacementOptionSpec>& placement_option_specs() {
       {"ik_restarts", &O::ik_restarts, 0, 1000, "random IK restarts after the seed"},
       {"motion_resolution", &O::motion_resolution, 1e-4, 1, "joint-space collision check step (rad)"},
       {"threads", &O::threads, 0, 256, "planner worker threads; 0: synchronous and deterministic"},
-      {"slice_iterations", &O::slice_iterations, 1, 1000000, "synchronous mode: planner iterations per grasp and round"},
+      {"slice_iterations", &O::slice_iterations, 1, 1000000, "synchronous mode: planner iterations per round, shared by the grasps with goals"},
       {"max_open_goals", &O::max_open_goals, 1, 100000, "goal sampling pauses while this many wait for a path"},
       {"optimize_locally", &O::optimize_locally, 0, 0, "gradient ascent of the objective after each solution"},
       {"local_step", &O::local_step, 1e-6, 1, "initial local-optimisation step (m; rad for theta)"},

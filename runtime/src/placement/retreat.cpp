@@ -9,7 +9,7 @@
 namespace dmgplace::runtime {
 
 Retreat plan_retreat(const Kinematics& kin, const ExactChecker& released, const Eigen::VectorXd& q_place,
-                     double distance, double resolution) {
+                     const Eigen::Vector3d& direction, double distance, double resolution) {
   Retreat out;
   out.path.push_back(std::vector<double>(q_place.data(), q_place.data() + q_place.size()));
   if (!released.is_free(q_place)) {
@@ -25,7 +25,8 @@ Retreat plan_retreat(const Kinematics& kin, const ExactChecker& released, const 
   Eigen::VectorXd q = q_place;
   auto valid = [&](const Eigen::VectorXd& c) { return released.is_free(c); };
   for (int s = 1; s <= steps; ++s) {
-    const Eigen::Isometry3d target = tcp * Eigen::Translation3d(0, 0, -distance * s / steps);
+    Eigen::Isometry3d target = tcp;
+    target.translation() += direction.normalized() * (distance * s / steps);
     const IkResult r = ik.solve(target, q, rng);
     if (!r.success || (r.q - q).cwiseAbs().maxCoeff() > 0.3) {
       out.reason = "no continuous arm motion withdraws the hand";

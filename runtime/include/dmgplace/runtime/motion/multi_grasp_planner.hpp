@@ -40,8 +40,10 @@ class MultiGraspPlanner {
   void set_path_validator(std::function<bool(int grasp, const JointPath&)> v) { validator_ = std::move(v); }
 
   // Synchronous and deterministic alternative to start(): serves every grasp with goals once, in
-  // grasp order, for `iterations` planner iterations each, on the calling thread.
+  // grasp order, on the calling thread, `iterations` planner iterations shared among them (at
+  // least kMinShare each).
   void run_round(int iterations);
+  static constexpr int kMinShare = 20;
   void start();
   void stop();  // joins the workers; also done by the destructor
   int threads() const { return threads_; }

@@ -24,7 +24,8 @@ struct GoalCheck {
   // Kinematically reachable in the paper's sense: an IK solution that is collision-free with
   // the object held by this grasp (which includes the object against the scene).
   bool kinematically_reachable() const { return reachable && arm_free; }
-  // 1 when valid; otherwise the weighted share of satisfied constraints (the authors' relaxation).
+  // 1 when valid; otherwise the weighted share of satisfied constraints (the authors' weights),
+  // the objective's share only for a stable, object-free pose.
   double reward(const PlacementOptions& o) const;
 };
 

@@ -46,7 +46,7 @@ struct PlacementOptions {
   // Motion planning.
   double motion_resolution = 0.05;  // joint-space collision check step (rad)
   int threads = 0;                  // 0: synchronous and deterministic; N > 0: N planner worker threads
-  int slice_iterations = 200;       // synchronous mode: planner iterations per grasp and round
+  int slice_iterations = 200;       // synchronous mode: planner iterations per round, shared by the grasps with goals
   int max_open_goals = 64;          // goal sampling pauses while this many wait for a path
   // Local optimisation (OPTIMIZELOCALLY).
   bool optimize_locally = true;

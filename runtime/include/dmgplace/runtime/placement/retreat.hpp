@@ -1,7 +1,9 @@
 #pragma once
 // Beyond the paper (the limitation its authors name): after release the gripper must get away.
 // With the object left at its placement (an obstacle now, fingers allowed to touch it), the TCP
-// withdraws straight back along its approach axis; every segment is checked exactly.
+// withdraws in a straight line along `direction` (base frame: the planner tries back along the
+// approach axis, then straight up), orientation kept; every segment is checked exactly at the
+// segment checker's states.
 #include "dmgplace/runtime/collision/exact_checker.hpp"
 #include "dmgplace/runtime/types.hpp"
 
@@ -14,6 +16,6 @@ struct Retreat {
 };
 
 Retreat plan_retreat(const Kinematics& kin, const ExactChecker& released, const Eigen::VectorXd& q_place,
-                     double distance, double resolution);
+                     const Eigen::Vector3d& direction, double distance, double resolution);
 
 }  // namespace dmgplace::runtime
