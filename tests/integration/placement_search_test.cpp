@@ -23,12 +23,12 @@ class PlacementSearch : public test::PlacementFixture {
     SearchSpace space;
     PlacementTree tree;
     ReachableGrasps reach;
-    GraspSpaces spaces;
+    PerGraspCheckers per_grasp;
     Parts(const PlacementWorld& w, const PlacementQuery& q)
         : space(w.object(), w.env().regions, w.env().volume),
           tree(space, 4, 0.5),
           reach(reachable_grasps(w.grasp_graph(), q.g0)),
-          spaces(w, reach.grasps, q.q0) {}
+          per_grasp(w, reach.grasps, q.q0) {}
   };
   // A node below the face level under each of two different faces (they share only the root).
   static std::pair<int, int> nodes_under_two_faces(PlacementTree& tree, std::mt19937_64& rng) {
@@ -96,11 +96,11 @@ TEST_F(PlacementSearch, EachGraspsCheckerHasTheFingersAtItsOpening) {
   // And a planned grasp's space uses its own opening from the DMG.
   const PlacementQuery qr = query(side_grasp());
   Parts p(*world_, qr);
-  for (int g : {1, p.spaces.size() / 2, p.spaces.size() - 1}) {
-    const double opening = p.spaces.grasp(g).opening;
-    EXPECT_NEAR(opening, world_->grasp_graph().opening(p.spaces.grasp(g).state), 1e-12);
+  for (int g : {1, p.per_grasp.size() / 2, p.per_grasp.size() - 1}) {
+    const double opening = p.per_grasp.grasp(g).opening;
+    EXPECT_NEAR(opening, world_->grasp_graph().opening(p.per_grasp.grasp(g).state), 1e-12);
     std::vector<Eigen::Isometry3d> poses;
-    p.spaces.checker(g)->exact().kinematics().link_poses(0.5 * (world_->kin().lower() + world_->kin().upper()), poses);
+    p.per_grasp.checker(g)->exact().kinematics().link_poses(0.5 * (world_->kin().lower() + world_->kin().upper()), poses);
     const Eigen::Isometry3d tip = poses[std::size_t(world_->kin().tip_link())];
     const double y = std::abs((tip.inverse() * poses[std::size_t(fingers[0])].translation()).y() -
                               (tip.inverse() * poses[std::size_t(fingers[1])].translation()).y());
@@ -110,8 +110,10 @@ TEST_F(PlacementSearch, EachGraspsCheckerHasTheFingersAtItsOpening) {
 
 TEST_F(PlacementSearch, EverySampleIsEvaluatedForReachability) {
   // The relaxed reward needs the IK answer of samples that are unstable, colliding or not
-  // improving too: every sample gets a grasp and an IK call.
+  // improving too: with the paper's Algorithm 3 (hand_tries 0) every sample gets a grasp and an
+  // IK call.
   PlacementQuery qr = query(side_grasp());
+  qr.options.hand_tries = 0;
   const PlacementResult r = solve(qr, 400);
   const PlacementCounters& c = r.counters;
   ASSERT_GT(c.samples, 50);
@@ -129,14 +131,14 @@ TEST_F(PlacementSearch, AnEmptyCacheStillRollsPAccept) {
   ASSERT_GE(a, 0);
   const auto always_free = [](int, const Eigen::Isometry3d&) { return true; };
   const Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  GraspSelector never(p.spaces, p.tree, PlacementVariant::Full, 0.0, 8, always_free);
+  GraspSelector never(p.per_grasp, p.tree, PlacementVariant::Full, 0.0, 8, always_free);
   for (int k = 0; k < 50; ++k) {
     const GraspChoice c = never.select(a, pose, rng);
     EXPECT_FALSE(c.cached);
     EXPECT_NE(c.grasp, 0) << "p_accept = 0: g0 is never taken as the empty cache's stand-in, the draw excludes it";
     EXPECT_GE(c.grasp, 0);
   }
-  GraspSelector always(p.spaces, p.tree, PlacementVariant::Full, 1.0, 8, always_free);
+  GraspSelector always(p.per_grasp, p.tree, PlacementVariant::Full, 1.0, 8, always_free);
   const GraspChoice c = always.select(a, pose, rng);
   EXPECT_EQ(c.grasp, 0);
   EXPECT_TRUE(c.cached);
@@ -149,8 +151,8 @@ TEST_F(PlacementSearch, CachedGraspsAreFoundFromTheNodeUpButNotThroughTheRoot) {
   const auto [a, b] = nodes_under_two_faces(p.tree, rng);
   ASSERT_GE(b, 0);
   const auto always_free = [](int, const Eigen::Isometry3d&) { return true; };
-  GraspSelector s(p.spaces, p.tree, PlacementVariant::Full, 1.0, 8, always_free);
-  const int g = p.spaces.size() - 1;
+  GraspSelector s(p.per_grasp, p.tree, PlacementVariant::Full, 1.0, 8, always_free);
+  const int g = p.per_grasp.size() - 1;
   s.cache(a, g);
   s.cache(a, g);  // a set: no repeats
   EXPECT_EQ(s.cached(a), std::vector<int>{g});
@@ -159,8 +161,8 @@ TEST_F(PlacementSearch, CachedGraspsAreFoundFromTheNodeUpButNotThroughTheRoot) {
   EXPECT_EQ(s.select(a, Eigen::Isometry3d::Identity(), rng).grasp, g);
   EXPECT_EQ(s.select(b, Eigen::Isometry3d::Identity(), rng).grasp, 0);
   // The hand filter applies to cached grasps: with every hand colliding, the cached grasp is
-  // skipped and the draw comes from the rest of G(g0).
-  GraspSelector blocked(p.spaces, p.tree, PlacementVariant::Full, 1.0, 8, [](int, const Eigen::Isometry3d&) { return false; });
+  // skipped and the draw (the paper's, unchecked) comes from the rest of G(g0).
+  GraspSelector blocked(p.per_grasp, p.tree, PlacementVariant::Full, 1.0, 0, [](int, const Eigen::Isometry3d&) { return false; });
   blocked.cache(a, g);
   for (int k = 0; k < 30; ++k) {
     const GraspChoice c = blocked.select(a, Eigen::Isometry3d::Identity(), rng);
@@ -173,24 +175,24 @@ TEST_F(PlacementSearch, RandomGraspDrawsUniformlyFromTheReachableGrasps) {
   const PlacementQuery qr = query(side_grasp());
   Parts p(*world_, qr);
   int usable = 0;
-  for (int g = 0; g < p.spaces.size(); ++g) usable += p.spaces.usable(g);
+  for (int g = 0; g < p.per_grasp.size(); ++g) usable += p.per_grasp.usable(g);
   ASSERT_GT(usable, 20);
   // Not hand-filtered: the ablation of the paper draws even where every hand would collide.
-  GraspSelector s(p.spaces, p.tree, PlacementVariant::RandomGrasp, 0.9, 8, [](int, const Eigen::Isometry3d&) { return false; });
+  GraspSelector s(p.per_grasp, p.tree, PlacementVariant::RandomGrasp, 0.9, 8, [](int, const Eigen::Isometry3d&) { return false; });
   std::mt19937_64 rng(4);
-  std::vector<int> count(std::size_t(p.spaces.size()), 0);
+  std::vector<int> count(std::size_t(p.per_grasp.size()), 0);
   const int draws = 200 * usable;
   for (int k = 0; k < draws; ++k) {
     const GraspChoice c = s.select(0, Eigen::Isometry3d::Identity(), rng);
     ASSERT_GE(c.grasp, 0);
-    ASSERT_TRUE(p.spaces.usable(c.grasp));
+    ASSERT_TRUE(p.per_grasp.usable(c.grasp));
     ++count[std::size_t(c.grasp)];
   }
   // Pearson's chi-square against uniform over the usable grasps, well inside its tail.
   const double expected = double(draws) / usable;
   double chi2 = 0;
-  for (int g = 0; g < p.spaces.size(); ++g)
-    if (p.spaces.usable(g)) chi2 += (count[std::size_t(g)] - expected) * (count[std::size_t(g)] - expected) / expected;
+  for (int g = 0; g < p.per_grasp.size(); ++g)
+    if (p.per_grasp.usable(g)) chi2 += (count[std::size_t(g)] - expected) * (count[std::size_t(g)] - expected) / expected;
   const double dof = usable - 1;
   EXPECT_LT(chi2, dof + 6 * std::sqrt(2 * dof));
   EXPECT_GT(chi2, dof - 6 * std::sqrt(2 * dof)) << "too even to be random";
@@ -204,17 +206,17 @@ TEST_F(PlacementSearch, HandTriesZeroIsThePapersDrawAndOtherwiseDrawsAreHandChec
   ASSERT_GE(a, 0);
   int checks = 0;
   const auto blocked = [&](int, const Eigen::Isometry3d&) { return ++checks, false; };
-  GraspSelector paper(p.spaces, p.tree, PlacementVariant::Full, 0.9, 0, blocked);
+  GraspSelector paper(p.per_grasp, p.tree, PlacementVariant::Full, 0.9, 0, blocked);
   paper.select(a, Eigen::Isometry3d::Identity(), rng);
   EXPECT_EQ(checks, 1) << "only G = {g0} is hand-checked";
   checks = 0;
-  GraspSelector filtered(p.spaces, p.tree, PlacementVariant::Full, 0.9, 5, blocked);
+  GraspSelector filtered(p.per_grasp, p.tree, PlacementVariant::Full, 0.9, 5, blocked);
   const GraspChoice c = filtered.select(a, Eigen::Isometry3d::Identity(), rng);
-  EXPECT_EQ(checks, 1 + 5) << "g0, then five hand-checked draws, then one unchecked";
-  EXPECT_GE(c.grasp, 1);
+  EXPECT_EQ(checks, 1 + 5) << "g0, then five hand-checked draws";
+  EXPECT_EQ(c.grasp, -1) << "no hand fits: no grasp (and no IK)";
   // With hands that fit, the first hand-checked draw is taken.
   checks = 0;
-  GraspSelector fits(p.spaces, p.tree, PlacementVariant::Full, 0.0, 5, [&](int, const Eigen::Isometry3d&) { return ++checks, true; });
+  GraspSelector fits(p.per_grasp, p.tree, PlacementVariant::Full, 0.0, 5, [&](int, const Eigen::Isometry3d&) { return ++checks, true; });
   EXPECT_GE(fits.select(a, Eigen::Isometry3d::Identity(), rng).grasp, 1);
   EXPECT_EQ(checks, 2);
 }

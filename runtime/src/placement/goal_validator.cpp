@@ -23,8 +23,8 @@ double GoalCheck::reward(const PlacementOptions& o) const {
 }
 
 GoalValidator::GoalValidator(const PlacementWorld& world, const SearchSpace& space, const Objective& objective,
-                             GraspSpaces& spaces, GraspSelector& selector, const PlacementQuery& query)
-    : world_(&world), space_(&space), objective_(&objective), spaces_(&spaces), selector_(&selector), query_(&query),
+                             PerGraspCheckers& per_grasp, GraspSelector& selector, const PlacementQuery& query)
+    : world_(&world), space_(&space), objective_(&objective), per_grasp_(&per_grasp), selector_(&selector), query_(&query),
       ik_(world.kin(), ik_options(query.options)) {}
 
 Eigen::Isometry3d GoalValidator::lifted(const Eigen::Isometry3d& resting) const {
@@ -53,12 +53,12 @@ GoalCheck GoalValidator::check(const PlacementSample& s, const std::function<boo
   if (c.grasp < 0) return c;
   counters_.cached_grasps += choice.cached;
   ++counters_.ik_calls;
-  const IkResult ik = ik_.solve(up * spaces_->grasp(c.grasp).pose, query_->q0, rng);
+  const IkResult ik = ik_.solve(up * per_grasp_->grasp(c.grasp).pose, query_->q0, rng);
   c.reachable = ik.success;
   if (!c.reachable) return c;
   ++counters_.ik_solutions;
   ++counters_.arm_checks;
-  c.arm_free = spaces_->checker(c.grasp)->is_free(ik.q);
+  c.arm_free = per_grasp_->checker(c.grasp)->is_free(ik.q);
   c.q = ik.q;
   counters_.reachable += c.kinematically_reachable();
   counters_.goals += c.valid();

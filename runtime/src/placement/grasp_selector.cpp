@@ -4,11 +4,11 @@
 
 namespace dmgplace::runtime {
 
-GraspSelector::GraspSelector(GraspSpaces& spaces, const PlacementTree& tree, PlacementVariant variant, double p_accept,
+GraspSelector::GraspSelector(PerGraspCheckers& per_grasp, const PlacementTree& tree, PlacementVariant variant, double p_accept,
                              int hand_tries, HandFree hand_free)
-    : spaces_(&spaces), tree_(&tree), variant_(variant), p_accept_(p_accept), hand_tries_(std::max(0, hand_tries)),
+    : per_grasp_(&per_grasp), tree_(&tree), variant_(variant), p_accept_(p_accept), hand_tries_(std::max(0, hand_tries)),
       hand_free_(std::move(hand_free)),
-      in_g_(std::size_t(spaces.size()), 0), unusable_(std::size_t(spaces.size()), 0) {}
+      in_g_(std::size_t(per_grasp.size()), 0), unusable_(std::size_t(per_grasp.size()), 0) {}
 
 void GraspSelector::cache(int node, int grasp) {
   for (int n = node; n >= 0; n = tree_->node(n).parent) {
@@ -30,14 +30,14 @@ std::vector<int> GraspSelector::cached(int node) const {
 }
 
 int GraspSelector::draw(bool skip_cached, std::mt19937_64& rng) {
-  const int n = spaces_->size();
+  const int n = per_grasp_->size();
   std::uniform_int_distribution<int> pick(0, n - 1);
   // Rejection from the set minus G and the known-unusable grasps: cheap while those are few,
   // which is the common case with thousands of grasps. After 4n misses, list what is left.
   for (int t = 0; t < 4 * n; ++t) {
     const int g = pick(rng);
     if ((skip_cached && in_g_[std::size_t(g)] == stamp_) || unusable_[std::size_t(g)]) continue;
-    if (spaces_->usable(g)) return g;
+    if (per_grasp_->usable(g)) return g;
     unusable_[std::size_t(g)] = 1;
   }
   std::vector<int> left;
@@ -46,7 +46,7 @@ int GraspSelector::draw(bool skip_cached, std::mt19937_64& rng) {
   while (!left.empty()) {
     std::uniform_int_distribution<std::size_t> k(0, left.size() - 1);
     const std::size_t i = k(rng);
-    if (spaces_->usable(left[i])) return left[i];
+    if (per_grasp_->usable(left[i])) return left[i];
     unusable_[std::size_t(left[i])] = 1;
     left.erase(left.begin() + std::ptrdiff_t(i));
   }
@@ -54,9 +54,9 @@ int GraspSelector::draw(bool skip_cached, std::mt19937_64& rng) {
 }
 
 GraspChoice GraspSelector::select(int node, const Eigen::Isometry3d& pose, std::mt19937_64& rng) {
-  const int n = spaces_->size();
+  const int n = per_grasp_->size();
   if (n == 0) return {};
-  if (variant_ == PlacementVariant::NoRegrasp) return {spaces_->usable(0) ? 0 : -1, false};
+  if (variant_ == PlacementVariant::NoRegrasp) return {per_grasp_->usable(0) ? 0 : -1, false};
   ++stamp_;  // a new stamp per call marks "in G" without clearing the array
   if (variant_ == PlacementVariant::RandomGrasp) return {draw(false, rng), false};
   // Lines 1-7: G in the order cached, nearest node first (stamps dedupe in O(1)).
@@ -71,7 +71,7 @@ GraspChoice GraspSelector::select(int node, const Eigen::Isometry3d& pose, std::
     if (unusable_[std::size_t(k)]) continue;
     ++hand_checks_;
     if (!hand_free_(k, pose)) continue;
-    if (!spaces_->usable(k)) {
+    if (!per_grasp_->usable(k)) {
       unusable_[std::size_t(k)] = 1;
       continue;
     }
@@ -85,6 +85,9 @@ GraspChoice GraspSelector::select(int node, const Eigen::Isometry3d& pose, std::
     ++hand_checks_;
     if (hand_free_(k, pose)) return {k, false};
   }
+  // Every hand tried collides here: no grasp, so no IK (a colliding hand cannot give a free arm,
+  // and an IK success alone would credit this node with "reachable" it is not).
+  if (hand_tries_ > 0) return {};
   const int from_rest = draw(true, rng);
   return {from_rest >= 0 ? from_rest : draw(false, rng), false};
 }

@@ -76,7 +76,7 @@ struct PlacementPlanner::Run {
   std::unique_ptr<SearchSpace> space;
   std::unique_ptr<Objective> objective;
   ReachableGrasps reach;
-  std::unique_ptr<GraspSpaces> spaces;
+  std::unique_ptr<PerGraspCheckers> per_grasp;
   std::unique_ptr<GraspSelector> selector;
   std::unique_ptr<PlacementTree> tree;
   std::unique_ptr<GoalValidator> validator;
@@ -115,9 +115,9 @@ struct PlacementPlanner::Run {
       c.object_checks = v.object_checks;
       c.goals = v.goals;
     }
-    if (spaces) {
-      c.collision_checks = spaces->counters().fast;
-      c.exact_checks = spaces->counters().exact_pairs + spaces->counters().exact_full;
+    if (per_grasp) {
+      c.collision_checks = per_grasp->counters().fast;
+      c.exact_checks = per_grasp->counters().exact_pairs + per_grasp->counters().exact_full;
     }
     if (selector) c.hand_checks = selector->hand_checks();
     c.planner_calls = planner_calls;
@@ -166,18 +166,18 @@ struct PlacementPlanner::Run {
     result.initial_state = reach.initial_state;
     result.snap_distance = reach.snap_distance;
     result.initial_opening = grasps[0].opening;
-    spaces = std::make_unique<GraspSpaces>(world, std::move(grasps), q.q0);
+    per_grasp = std::make_unique<PerGraspCheckers>(world, std::move(grasps), q.q0);
     if (!world.exact().is_free(q.q0)) return "the start configuration q0 is in collision: " + world.exact().check(q.q0).contact;
-    if (q.variant == PlacementVariant::NoRegrasp && !spaces->usable(0))
+    if (q.variant == PlacementVariant::NoRegrasp && !per_grasp->usable(0))
       return "holding the object with g0, the start configuration is in collision: " +
-             world.grasp_exact(q.g0, spaces->grasp(0).opening).check(q.q0).contact;
+             world.grasp_exact(q.g0, per_grasp->grasp(0).opening).check(q.q0).contact;
     tree = std::make_unique<PlacementTree>(*space, o.max_depth, o.ucb_c);
-    selector = std::make_unique<GraspSelector>(*spaces, *tree, q.variant, o.p_accept, o.hand_tries, [this](int g, const Eigen::Isometry3d& pose) {
-      return world.hand_free(pose * spaces->grasp(g).pose, spaces->grasp(g).opening);
+    selector = std::make_unique<GraspSelector>(*per_grasp, *tree, q.variant, o.p_accept, o.hand_tries, [this](int g, const Eigen::Isometry3d& pose) {
+      return world.hand_free(pose * per_grasp->grasp(g).pose, per_grasp->grasp(g).opening);
     });
-    validator = std::make_unique<GoalValidator>(world, *space, *objective, *spaces, *selector, q);
+    validator = std::make_unique<GoalValidator>(world, *space, *objective, *per_grasp, *selector, q);
     auto factory = [this](int g) {
-      auto checker = spaces->checker(g);
+      auto checker = per_grasp->checker(g);
       return make_arm_space(
           world.kin(), [checker](const Eigen::VectorXd& x) { return checker->is_free(x); }, o.motion_resolution,
           [checker](const Eigen::VectorXd& x, const Eigen::VectorXd& dir, double enough) {
@@ -187,7 +187,7 @@ struct PlacementPlanner::Run {
     motion = std::make_unique<MultiGraspPlanner>(factory, std::vector<double>(q.q0.data(), q.q0.data() + q.q0.size()),
                                                  std::max(1, o.threads), q.seed);
     motion->set_path_validator([this](int g, const JointPath& path) {
-      const ExactChecker& exact = spaces->checker(g)->exact();
+      const ExactChecker& exact = per_grasp->checker(g)->exact();
       return path_valid(path, [&exact](const Eigen::VectorXd& x) { return exact.is_free(x); }, o.motion_resolution);
     });
     return {};
@@ -244,8 +244,8 @@ struct PlacementPlanner::Run {
     if (it == goals.end()) return;  // removed meanwhile: no better than the best any more
     const Goal goal = it->second;
     goals.erase(it);
-    const ReachableGrasp& grasp = spaces->grasp(goal.grasp);
-    auto checker = spaces->checker(goal.grasp);
+    const ReachableGrasp& grasp = per_grasp->grasp(goal.grasp);
+    auto checker = per_grasp->checker(goal.grasp);
     LocalProblem lp;
     lp.kin = &world.kin();
     lp.space = space.get();
@@ -300,7 +300,7 @@ struct PlacementPlanner::Run {
 
   void publish(PlacementSolution sol, const Goal& goal, const Eigen::Isometry3d& pose, double value, JointPath path,
                std::vector<InHandAction> actions, const PlacementPlanner::Callback& cb) {
-    const ReachableGrasp& grasp = spaces->grasp(goal.grasp);
+    const ReachableGrasp& grasp = per_grasp->grasp(goal.grasp);
     selector->cache(goal.node, goal.grasp);  // reached and optimised there: cache it again (authors' code)
     sol.pose = pose;
     sol.objective = value;

@@ -125,7 +125,7 @@ TwoLayerChecker PlacementWorld::grasp_checker(const Eigen::Isometry3d& tcp_in_ob
   AttachedSpheres att;
   att.link = kin_->tip_link();
   // The object never moves against the hand: pairs with any hand link would only ever repeat the
-  // grasp's own check (GraspSpaces::usable), so both layers skip them.
+  // grasp's own check (PerGraspCheckers::usable), so both layers skip them.
   att.touching_links = hand_.links;
   for (std::size_t i = 0; i < object_spheres_.centers.size(); ++i) {
     att.centers.push_back(object_in_tip * object_spheres_.centers[i]);

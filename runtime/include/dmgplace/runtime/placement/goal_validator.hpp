@@ -36,7 +36,7 @@ struct GoalCounters {
 
 class GoalValidator {
  public:
-  GoalValidator(const PlacementWorld& world, const SearchSpace& space, const Objective& objective, GraspSpaces& spaces,
+  GoalValidator(const PlacementWorld& world, const SearchSpace& space, const Objective& objective, PerGraspCheckers& per_grasp,
                 GraspSelector& selector, const PlacementQuery& query);
   // `better(value)`: whether an objective value would improve on the best solution so far.
   GoalCheck check(const PlacementSample& s, const std::function<bool(double)>& better, std::mt19937_64& rng);
@@ -47,7 +47,7 @@ class GoalValidator {
   const PlacementWorld* world_;
   const SearchSpace* space_;
   const Objective* objective_;
-  GraspSpaces* spaces_;
+  PerGraspCheckers* per_grasp_;
   GraspSelector* selector_;
   const PlacementQuery* query_;
   IkSolver ik_;

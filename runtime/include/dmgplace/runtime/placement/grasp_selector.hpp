@@ -5,10 +5,12 @@
 // the sampled pose is returned with probability p_accept. Otherwise a grasp is drawn uniformly
 // from G(g0) \ G (from all of G(g0) when G covers it).
 //
-// Beyond the paper: that last draw may be hand-filtered, `hand_tries` uniform draws whose hand is
-// checked at the pose before one is taken unchecked (so it stays a uniform draw among the
-// grasps whose hand fits, when there are some). 0 is the paper's Algorithm 3 exactly. Where the
-// initial grasp blocks and nothing is cached yet, this is what finds the first reachable grasp.
+// Beyond the paper: that last draw may be hand-filtered: up to `hand_tries` uniform draws whose
+// hand is checked at the pose, the first that fits taken (a uniform draw among the grasps whose
+// hand fits); when none fits, the sample has no grasp and skips IK (a colliding hand cannot give
+// a collision-free arm, and IK successes there would credit the node with a reachability it does
+// not have). 0 is the paper's Algorithm 3 exactly. Where the initial grasp blocks and nothing is
+// cached yet, this is what finds the first reachable grasp (measured: 5/5 vs 2/5 in 5 s).
 //
 // The random-grasp ablation draws uniformly from G(g0); no-regrasp always returns g0.
 // G(g0) here is the reachable grasps with which the start configuration is collision-free (a grasp
@@ -22,14 +24,14 @@
 #include <random>
 #include <vector>
 
-#include "dmgplace/runtime/placement/grasp_spaces.hpp"
+#include "dmgplace/runtime/placement/per_grasp_checkers.hpp"
 #include "dmgplace/runtime/placement/placement_query.hpp"
 #include "dmgplace/runtime/placement/placement_tree.hpp"
 
 namespace dmgplace::runtime {
 
 struct GraspChoice {
-  int grasp = -1;       // index into GraspSpaces (0 is g0); -1: no usable grasp at all
+  int grasp = -1;       // index into PerGraspCheckers (0 is g0); -1: none (no usable grasp, or no hand fits)
   bool cached = false;  // taken from the cache (or g0 accepted as the empty cache's stand-in)
 };
 
@@ -37,7 +39,7 @@ class GraspSelector {
  public:
   // hand_free(g, object_pose): grasp g's hand is free of the environment with the object there.
   using HandFree = std::function<bool(int grasp, const Eigen::Isometry3d& object_pose)>;
-  GraspSelector(GraspSpaces& spaces, const PlacementTree& tree, PlacementVariant variant, double p_accept,
+  GraspSelector(PerGraspCheckers& per_grasp, const PlacementTree& tree, PlacementVariant variant, double p_accept,
                 int hand_tries, HandFree hand_free);
   GraspChoice select(int node, const Eigen::Isometry3d& object_pose, std::mt19937_64& rng);
   // Records that `grasp` kinematically reached a pose sampled below `node`.
@@ -48,7 +50,7 @@ class GraspSelector {
 
  private:
   int draw(bool skip_cached, std::mt19937_64& rng);  // uniform over usable grasps (not in G)
-  GraspSpaces* spaces_;
+  PerGraspCheckers* per_grasp_;
   const PlacementTree* tree_;
   PlacementVariant variant_;
   double p_accept_;

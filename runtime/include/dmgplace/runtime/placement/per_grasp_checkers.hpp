@@ -11,9 +11,9 @@
 
 namespace dmgplace::runtime {
 
-class GraspSpaces {
+class PerGraspCheckers {
  public:
-  GraspSpaces(const PlacementWorld& world, std::vector<ReachableGrasp> grasps, Eigen::VectorXd q0);
+  PerGraspCheckers(const PlacementWorld& world, std::vector<ReachableGrasp> grasps, Eigen::VectorXd q0);
   int size() const { return int(grasps_.size()); }
   const ReachableGrasp& grasp(int g) const { return grasps_[std::size_t(g)]; }
   const std::vector<ReachableGrasp>& grasps() const { return grasps_; }

@@ -1,11 +1,11 @@
-#include "dmgplace/runtime/placement/grasp_spaces.hpp"
+#include "dmgplace/runtime/placement/per_grasp_checkers.hpp"
 
 namespace dmgplace::runtime {
 
-GraspSpaces::GraspSpaces(const PlacementWorld& world, std::vector<ReachableGrasp> grasps, Eigen::VectorXd q0)
+PerGraspCheckers::PerGraspCheckers(const PlacementWorld& world, std::vector<ReachableGrasp> grasps, Eigen::VectorXd q0)
     : world_(&world), grasps_(std::move(grasps)), q0_(std::move(q0)) {}
 
-std::shared_ptr<const TwoLayerChecker> GraspSpaces::checker(int g) {
+std::shared_ptr<const TwoLayerChecker> PerGraspCheckers::checker(int g) {
   std::lock_guard<std::mutex> lock(mutex_);
   auto it = checkers_.find(g);
   if (it != checkers_.end()) return it->second;
@@ -14,7 +14,7 @@ std::shared_ptr<const TwoLayerChecker> GraspSpaces::checker(int g) {
   return c;
 }
 
-bool GraspSpaces::usable(int g) {
+bool PerGraspCheckers::usable(int g) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     auto it = usable_.find(g);
