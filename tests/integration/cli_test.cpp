@@ -55,8 +55,14 @@ TEST(Cli, BakesValidatesAndInspectsTheBuiltInObjects) {
   // Inertia of a solid box about its centre: m/12 (b^2 + c^2).
   EXPECT_NEAR(obj.mass.inertia(0, 0), obj.mass.mass / 12 * (ext.y() * ext.y() + ext.z() * ext.z()), 1e-12);
 
-  CliRun com = run({"bake-object", dir / "bottle.stl", "--com", "0,0,0.05", "--mass", "0.2", "--out", dir / "bottle.h5"});
+  CliRun com = run({"bake-object", dir / "bottle.stl", "--com", "0,0,0.05", "--mass", "0.2", "--out", dir / "bottle.h5", "--json"});
   ASSERT_EQ(com.exit_code, 0) << com.output;
+  // --json on a bake: what was written, how long it took, and the artifact's typed summary.
+  const auto baked = nlohmann::json::parse(com.output);
+  EXPECT_EQ(baked["written"].get<std::string>(), (dir / "bottle.h5").string());
+  EXPECT_GT(baked["seconds"].get<double>(), 0.0);
+  EXPECT_TRUE(baked["artifact"]["dmg_nodes"].is_number_integer()) << baked["artifact"];
+  EXPECT_DOUBLE_EQ(baked["artifact"]["parameters"]["mass"].get<double>(), 0.2);
   auto bottle = dmgplace::formats::load_object(dir / "bottle.h5");
   EXPECT_TRUE(bottle.mass.com_overridden);
   EXPECT_EQ(bottle.mass.com, Eigen::Vector3d(0, 0, 0.05));
@@ -72,8 +78,11 @@ TEST(Cli, BakesTheBuiltInRobotAndScenes) {
     std::string volume = dmgplace::test::read_text(data() / "scenes" / (std::string(scene) + ".volume"));
     while (!volume.empty() && std::isspace(static_cast<unsigned char>(volume.back()))) volume.pop_back();
     CliRun e = run({"bake-env", data() / "scenes" / (std::string(scene) + ".yaml"), "--volume", volume, "--out",
-                    dir / (std::string(scene) + ".h5")});
+                    dir / (std::string(scene) + ".h5"), "--json"});
     ASSERT_EQ(e.exit_code, 0) << e.output;
+    // The header records the clearance band that was used (0 asks for V's diagonal).
+    const auto baked = nlohmann::json::parse(e.output);
+    EXPECT_GT(baked["artifact"]["parameters"]["clearance_band"].get<double>(), 0.5) << e.output;
   }
   CliRun v = run({"validate", dir / "arm.h5", dir / "cabinet.h5", dir / "table.h5"});
   EXPECT_EQ(v.exit_code, 0) << v.output;

@@ -172,11 +172,12 @@ TEST_F(Placement, PlaceWithNoTimeEndsWithNoSolutionAndAReason) {
 }
 
 TEST_F(Placement, UnreachableRegionsEndWithAReason) {
-  // The same scene with its placement regions moved 5 m away from the robot: stable and free
-  // poses exist, none is reachable.
+  // The same scene with its placement regions moved 0.6 m further from the robot: inside the
+  // arm's reach bound (so the set loads), but the arm is too short for every pose: stable and
+  // free poses exist, none is reachable.
   auto env = formats::load_environment(dir_->path() / "cabinet.h5");
-  for (auto& r : env.regions) r.origin.x() += 5;
-  env.volume.translate(Eigen::Vector3d(5, 0, 0));
+  for (auto& r : env.regions) r.origin.x() += 0.6;
+  env.volume.translate(Eigen::Vector3d(0.6, 0, 0));
   const PlacementWorld far(formats::load_robot(dir_->path() / "arm.h5"), formats::load_object(dir_->path() / "bottle.h5"),
                            std::move(env));
   PlacementPlanner planner(far, query(side_grasp()));
@@ -185,6 +186,20 @@ TEST_F(Placement, UnreachableRegionsEndWithAReason) {
   EXPECT_GT(r.counters.ik_calls, 0);
   EXPECT_EQ(r.counters.ik_solutions, 0);
   EXPECT_NE(r.reason.find("(0 solved,"), std::string::npos) << r.reason;
+}
+
+TEST_F(Placement, ASceneBeyondTheArmsReachIsRefusedAtLoad) {
+  // 5 m away: no region is within the arm's reach bound, which the loader tells at once instead
+  // of searching until the time limit.
+  auto env = formats::load_environment(dir_->path() / "cabinet.h5");
+  for (auto& r : env.regions) r.origin.x() += 5;
+  env.volume.translate(Eigen::Vector3d(5, 0, 0));
+  const std::string error = test::error_of([&] {
+    PlacementWorld far(formats::load_robot(dir_->path() / "arm.h5"), formats::load_object(dir_->path() / "bottle.h5"), std::move(env));
+  });
+  EXPECT_NE(error.find("arm.h5"), std::string::npos) << error;
+  EXPECT_NE(error.find("cabinet.h5"), std::string::npos) << error;
+  EXPECT_NE(error.find("reach"), std::string::npos) << error;
 }
 
 TEST_F(Placement, ExactLayerCatchesAWrongSphereModel) {

@@ -16,7 +16,32 @@ formats::ArtifactHeader make_header(const nlohmann::json& parameters, const std:
   return h;
 }
 
-void report_written(const std::filesystem::path& path) {
+nlohmann::ordered_json artifact_json(const std::filesystem::path& path) {
+  const auto typed = [](const std::string& v) {
+    auto parsed = nlohmann::ordered_json::parse(v, nullptr, false);
+    return parsed.is_number() || parsed.is_array() ? parsed : nlohmann::ordered_json(v);
+  };
+  nlohmann::ordered_json j;
+  j["inputs"] = nlohmann::ordered_json::array();
+  for (const auto& [k, v] : formats::inspect_artifact(path)) {
+    if (k == "input") {
+      const auto sep = v.find("  ");
+      j["inputs"].push_back({{"sha256", v.substr(0, sep)}, {"path", sep == std::string::npos ? "" : v.substr(sep + 2)}});
+    } else if (k == "parameters") {
+      j[k] = nlohmann::ordered_json::parse(v, nullptr, false);
+    } else {
+      j[k] = typed(v);
+    }
+  }
+  return j;
+}
+
+void report_written(const std::filesystem::path& path, bool json, double seconds) {
+  if (json) {
+    std::cout << nlohmann::ordered_json{{"written", path.string()}, {"seconds", seconds}, {"artifact", artifact_json(path)}}.dump(2)
+              << "\n";
+    return;
+  }
   std::cout << "wrote " << path.string();
   auto summary = formats::inspect_artifact(path);
   const char* sep = " (";

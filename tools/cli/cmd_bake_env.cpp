@@ -1,3 +1,4 @@
+#include <chrono>
 #include <iostream>
 #include "dmgplace/formats/pose_input.hpp"
 
@@ -11,6 +12,7 @@
 namespace dmgplace::cli {
 
 int run_bake_env(const BakeEnvArgs& a) {
+  const auto t0 = std::chrono::steady_clock::now();
   formats::EnvironmentArtifact env;
   const auto& v = a.volume;
   env.volume = Eigen::AlignedBox3d(Eigen::Vector3d(v[0], v[1], v[2]), Eigen::Vector3d(v[3], v[4], v[5]));
@@ -35,13 +37,13 @@ int run_bake_env(const BakeEnvArgs& a) {
   tools::bake_environment(env, bake);
   nlohmann::json params = {{"scene", a.scene},       {"volume", a.volume},
                            {"resolution", a.resolution}, {"band", a.band},
-                           {"clearance_band", a.clearance_band}, {"region_split", a.region_split},
+                           {"clearance_band", env.clearance.band}, {"region_split", a.region_split},
                            {"min_free_height", a.min_free_height}, {"margin", a.margin},
                            {"sdf_resolution", a.sdf_resolution > 0 ? a.sdf_resolution : a.resolution}};
   if (a.frame) params["frame"] = *a.frame;
   env.header = make_header(params, {a.scene});
   formats::save_environment(std::move(env), a.out);
-  report_written(a.out);
+  report_written(a.out, a.json, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   return 0;
 }
 

@@ -1,3 +1,4 @@
+#include <chrono>
 #include <iostream>
 
 #include "cli_util.hpp"
@@ -12,6 +13,7 @@
 namespace dmgplace::cli {
 
 int run_bake_object(const BakeObjectArgs& a) {
+  const auto t0 = std::chrono::steady_clock::now();
   tools::MeshReadOptions opts;
   opts.scale = a.scale;
   tools::MeshReport report;
@@ -48,7 +50,7 @@ int run_bake_object(const BakeObjectArgs& a) {
   if (!a.gripper.empty()) inputs.emplace_back(a.gripper);
   obj.header = make_header(params, inputs);
   formats::save_object(std::move(obj), a.out);
-  report_written(a.out);
+  report_written(a.out, a.json, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   return 0;
 }
 

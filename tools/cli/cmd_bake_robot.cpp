@@ -1,3 +1,4 @@
+#include <chrono>
 #include <iostream>
 #include "dmgplace/formats/pose_input.hpp"
 
@@ -9,6 +10,7 @@
 namespace dmgplace::cli {
 
 int run_bake_robot(const BakeRobotArgs& a) {
+  const auto t0 = std::chrono::steady_clock::now();
   auto colon = a.arm.find(':');
   if (colon == std::string::npos || colon == 0 || colon + 1 == a.arm.size())
     throw Error("--arm", "", "expected BASE_LINK:TIP_LINK, got '" + a.arm + "'");
@@ -43,7 +45,7 @@ int run_bake_robot(const BakeRobotArgs& a) {
   if (a.tcp) params["tcp"] = *a.tcp;
   robot.header = make_header(params, inputs);
   formats::save_robot(std::move(robot), a.out);
-  report_written(a.out);
+  report_written(a.out, a.json, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   return 0;
 }
 

@@ -8,7 +8,7 @@
 
 namespace dmgplace::cli {
 
-struct ValidateArgs { std::vector<std::string> files; bool quiet = false, json = false; };
+struct ValidateArgs { std::vector<std::string> files; bool quiet = false, json = false, set = false, check_inputs = false; };
 int run_validate(const ValidateArgs& a);
 
 struct InspectArgs { std::string file; bool json = false; };
@@ -16,6 +16,7 @@ int run_inspect(const InspectArgs& a);
 
 struct BakeObjectArgs {
   std::string mesh, out;
+  bool json = false;
   double scale = 1.0;
   std::optional<std::array<double, 3>> com;
   double mass = 0;  // <= 0: from volume at 1000 kg/m^3
@@ -38,6 +39,7 @@ int run_grasps(const GraspsArgs& a);
 
 struct BakeEnvArgs {
   std::string scene, out;
+  bool json = false;
   std::array<double, 6> volume{};
   std::optional<std::array<double, 6>> frame;  // x y z roll pitch yaw for scans
   std::vector<std::string> package_paths;
@@ -54,6 +56,7 @@ int run_bake_env(const BakeEnvArgs& a);
 
 struct BakeRobotArgs {
   std::string urdf, srdf, arm, out;
+  bool json = false;
   double sphere_max_radius = 0.08;  // metres (SphereCoverOptions default)
   double sphere_spacing = 0.005;    // metres between coverage samples
   double sphere_max_excess = 0.015; // metres a sphere may exceed half its median extent

@@ -49,6 +49,9 @@ int main(int argc, char** argv) {
   c_validate->add_option("files", validate.files, "Artifact files (.h5)")->required();
   c_validate->add_flag("--quiet,-q", validate.quiet, "Print only problems");
   c_validate->add_flag("--json", validate.json, "Print JSON: per file ok and its problems; totals");
+  c_validate->add_flag("--set", validate.set,
+                       "The files are one robot, one object and one environment: also check they fit together (gripper opening, reach, units)");
+  c_validate->add_flag("--check-inputs", validate.check_inputs, "Also report inputs that changed since the bake (where they still exist)");
 
   InspectArgs inspect;
   auto* c_inspect = app.add_subcommand("inspect", "Summarise an artifact (counts, bounds, parameters)");
@@ -69,6 +72,7 @@ int main(int argc, char** argv) {
   c_obj->add_option("--face-merge-angle", bake_object.face_merge_angle, "Placement faces: merge hull facets closer than this (rad)")->check(CLI::Range(0.0, 1.5));
   c_obj->add_option("--stability-margin", bake_object.stability_margin, "Placement faces: COM margin (m)")->check(CLI::Range(0.0, 1.0));
   c_obj->add_option("--out", bake_object.out, "Output artifact")->required();
+  c_obj->add_flag("--json", bake_object.json, "Print JSON: the file written, seconds taken, and the artifact's summary (as inspect --json)");
 
   PlaceArgs place;
   auto* c_place = app.add_subcommand("place", "Plan a placement (anytime): in-hand regrasp, arm path, best pose so far");
@@ -130,6 +134,7 @@ int main(int argc, char** argv) {
   c_env->add_option("--min-free-height", bake_env.min_free_height, "Least free space above a region cell (m)")->check(CLI::Range(0.0, 100.0));
   c_env->add_option("--threads", bake_env.threads, "Worker threads; 0: every CPU the process may use")->check(CLI::Range(0, 256));
   c_env->add_option("--out", bake_env.out, "Output artifact")->required();
+  c_env->add_flag("--json", bake_env.json, "Print JSON: the file written, seconds taken, and the artifact's summary (as inspect --json)");
 
   BakeRobotArgs bake_robot;
   auto* c_robot = app.add_subcommand("bake-robot", "Analyse a robot (URDF + SRDF) once into ROBOT.h5");
@@ -150,6 +155,7 @@ int main(int argc, char** argv) {
   c_robot->add_option("--tcp", tcp_text, "Tool centre point on the tip link x,y,z,qx,qy,qz,qw; becomes the chain's tip (<tip>_tcp)");
   c_robot->add_option("--threads", bake_robot.threads, "Worker threads; 0: every CPU the process may use")->check(CLI::Range(0, 256));
   c_robot->add_option("--out", bake_robot.out, "Output artifact")->required();
+  c_robot->add_flag("--json", bake_robot.json, "Print JSON: the file written, seconds taken, and the artifact's summary (as inspect --json)");
 
   PlanArgs plan;
   auto* c_plan = app.add_subcommand("plan", "Plan one MoveIt/MotionBenchMaker problem (scene + joint-space request)");

@@ -172,9 +172,10 @@ struct PlacementPlanner::Run {
       return "holding the object with g0, the start configuration is in collision: " +
              world.grasp_exact(q.g0, per_grasp->grasp(0).opening).check(q.q0).contact;
     tree = std::make_unique<PlacementTree>(*space, o.max_depth, o.ucb_c);
-    selector = std::make_unique<GraspSelector>(*per_grasp, *tree, q.variant, o.p_accept, o.hand_tries, [this](int g, const Eigen::Isometry3d& pose) {
+    const auto hand_free = [this](int g, const Eigen::Isometry3d& pose) {
       return world.hand_free(pose * per_grasp->grasp(g).pose, per_grasp->grasp(g).opening);
-    });
+    };
+    selector = std::make_unique<GraspSelector>(*per_grasp, *tree, q.variant, o.p_accept, o.hand_tries, hand_free);
     validator = std::make_unique<GoalValidator>(world, *space, *objective, *per_grasp, *selector, q);
     auto factory = [this](int g) {
       auto checker = per_grasp->checker(g);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "dmgplace/formats/error.hpp"
@@ -56,6 +57,7 @@ PlacementWorld::PlacementWorld(formats::RobotArtifact robot, formats::ObjectArti
     throw Error(name(object_.header, "object"), "/dmg/gripper",
                 "the initial grasp's opening " + std::to_string(finger_opening) + " m exceeds the gripper's maximum " +
                     std::to_string(object_.dmg.gripper.max_opening) + " m");
+  const FitNames names{name(robot_.header, "robot"), name(object_.header, "object"), name(env.header, "environment")};
   scene_ = env.scene;
   env_ = make_environment_model(std::move(env));
   kin_ = std::make_unique<Kinematics>(robot_.model, robot_.model.arm_base, robot_.model.arm_tip);
@@ -76,6 +78,12 @@ PlacementWorld::PlacementWorld(formats::RobotArtifact robot, formats::ObjectArti
     if (finger) hand_.fingers.push_back(l);
   }
   hand_.in_tcp = hand_in_tcp(*kin_);
+  fit_ = check_fit(object_, env_.regions, *kin_, finger_travel(), int(hand_.fingers.size()), names);
+  if (!fit_.ok()) {
+    std::string all;
+    for (const auto& e : fit_.errors) all += (all.empty() ? "" : "; ") + e;
+    throw Error(names.robot, "artifact set", all);
+  }
   grasps_ = std::make_unique<GraspGraph>(object_.dmg);
   exact_ = std::make_unique<ExactChecker>(*kin_, scene_);
   fast_ = std::make_unique<SphereFieldChecker>(*kin_, robot_.spheres, env_.sdf, env_.sdf_band);
@@ -114,6 +122,20 @@ const PlacementWorld::FingerSetting& PlacementWorld::fingers_at(double opening) 
     slot->hand = hand_in_tcp(*slot->kin);
   }
   return *slot;
+}
+
+double PlacementWorld::finger_travel() const {
+  // Spread of the finger frames along the closing axis, fingers closed and fully open.
+  auto gap = [&](double opening) {
+    Kinematics k(*kin_);
+    set_fingers(k, opening);
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const auto& [link, pose] : hand_in_tcp(k))
+      if (std::find(hand_.fingers.begin(), hand_.fingers.end(), link) != hand_.fingers.end())
+        lo = std::min(lo, pose.translation().y()), hi = std::max(hi, pose.translation().y());
+    return hi > lo ? hi - lo : 0.0;
+  };
+  return gap(1e3) - gap(0);  // driven to their upper and lower limits
 }
 
 const Kinematics& PlacementWorld::kin_at(double opening) const { return opening >= 0 ? *fingers_at(opening).kin : *kin_; }

@@ -15,6 +15,7 @@
 #include "dmgplace/runtime/collision/two_layer_checker.hpp"
 #include "dmgplace/runtime/environment/environment_model.hpp"
 #include "dmgplace/runtime/grasp/grasp_graph.hpp"
+#include "dmgplace/runtime/placement/artifact_fit.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
 
 namespace dmgplace::runtime {
@@ -29,6 +30,7 @@ class PlacementWorld {
  public:
   // The arm chain is the robot artifact's; its tip must be the gripper's TCP (z approach, y
   // closing). Finger joints are set to half of `finger_opening` (< 0: the gripper's maximum).
+  // Refuses (dmgplace::Error naming the files) a set that does not fit together (artifact_fit.hpp).
   PlacementWorld(formats::RobotArtifact robot, formats::ObjectArtifact object, formats::EnvironmentArtifact env,
                  double finger_opening = -1);
   PlacementWorld(const PlacementWorld&) = delete;
@@ -44,6 +46,10 @@ class PlacementWorld {
   const CollisionMesh& object_mesh() const { return *object_mesh_; }
   const SphereSet& object_spheres() const { return object_spheres_; }
   const HandModel& hand() const { return hand_; }
+  // How the three artifacts fit together: the warnings (errors refused construction).
+  const ArtifactFit& fit() const { return fit_; }
+  // How far the fingers open, closed to fully open (m, between the finger frames).
+  double finger_travel() const;
 
   // Both layers with the object held at `tcp_in_object` (a grasp) and the fingers at that grasp's
   // `opening` (m; < 0: as kin() has them): shares all geometry. Object and hand are not
@@ -75,6 +81,7 @@ class PlacementWorld {
   std::unique_ptr<CollisionMesh> object_mesh_;
   SphereSet object_spheres_;
   HandModel hand_;
+  ArtifactFit fit_;
   // Per finger opening: kinematics with the fingers there (the checkers point at it, so it lives
   // as long as the world) and the hand links' poses in the TCP frame.
   struct FingerSetting {
