@@ -86,6 +86,23 @@ TEST(Cli, BakesTheBuiltInRobotAndScenes) {
   }
   CliRun v = run({"validate", dir / "arm.h5", dir / "cabinet.h5", dir / "table.h5"});
   EXPECT_EQ(v.exit_code, 0) << v.output;
+
+  // Without an SRDF the allowed pairs are computed, reported, and written for review; passed back
+  // with --srdf they bake again.
+  CliRun no_srdf = run({"bake-robot", data() / "robots/dmgarm/dmgarm.urdf", "--arm", "dmgarm_link0:dmgarm_tcp", "--collision-samples",
+                        "300", "--write-srdf", dir / "review.srdf", "--out", dir / "arm_no_srdf.h5"});
+  ASSERT_EQ(no_srdf.exit_code, 0) << no_srdf.output;
+  EXPECT_NE(no_srdf.output.find("no --srdf:"), std::string::npos) << no_srdf.output;
+  EXPECT_NE(no_srdf.output.find("adjacent"), std::string::npos) << no_srdf.output;
+  EXPECT_NE(dmgplace::test::read_text(dir / "review.srdf").find("reason=\"Adjacent\""), std::string::npos);
+  CliRun back = run({"bake-robot", data() / "robots/dmgarm/dmgarm.urdf", "--srdf", dir / "review.srdf", "--arm",
+                     "dmgarm_link0:dmgarm_tcp", "--out", dir / "arm_reviewed.h5"});
+  EXPECT_EQ(back.exit_code, 0) << back.output;
+  EXPECT_EQ(back.output.find("no --srdf:"), std::string::npos) << back.output;
+  // --write-srdf with --srdf would write nothing it computed.
+  CliRun both = run({"bake-robot", data() / "robots/dmgarm/dmgarm.urdf", "--srdf", dir / "review.srdf", "--write-srdf",
+                     dir / "x.srdf", "--arm", "dmgarm_link0:dmgarm_tcp", "--out", dir / "x.h5"});
+  EXPECT_EQ(both.exit_code, 1) << both.output;
 }
 
 TEST(Cli, BadInputsFailWithMessagesNamingTheProblem) {

@@ -4,6 +4,7 @@
 
 #include "cli_util.hpp"
 #include "commands.hpp"
+#include "dmgplace/formats/atomic_file.hpp"
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/tools/robot/bake_robot.hpp"
 
@@ -30,7 +31,26 @@ int run_bake_robot(const BakeRobotArgs& a) {
   if (a.tcp) {
     o.tcp = formats::pose_from_xyz_quaternion(*a.tcp, "--tcp", "");
   }
-  formats::RobotArtifact robot = tools::bake_robot(o);
+  if (!a.write_srdf.empty() && !a.srdf.empty())
+    throw Error("--write-srdf", "", "writes the pairs computed without an SRDF; --srdf " + a.srdf + " was given");
+  o.allowed.samples = a.collision_samples;
+  tools::AllowedCollisions decided;
+  formats::RobotArtifact robot = tools::bake_robot(o, &decided);
+  if (a.srdf.empty()) {
+    // Say what was decided (stderr: stdout may carry --json).
+    std::cerr << "no --srdf: " << decided.disabled.size() << " of " << decided.checked_pairs << " link pairs may touch ("
+              << decided.count(tools::DisableReason::Adjacent) << " adjacent, " << decided.count(tools::DisableReason::Default)
+              << " touching in the default pose, " << decided.count(tools::DisableReason::Always) << " always and "
+              << decided.count(tools::DisableReason::Never) << " never colliding in " << decided.samples
+              << " random configurations)";
+    if (!a.write_srdf.empty()) {
+      formats::write_file_atomically(a.write_srdf, tools::srdf_text(robot.model, decided.disabled));
+      std::cerr << "; written to " << a.write_srdf << " for review (pass it back with --srdf)";
+    } else {
+      std::cerr << "; --write-srdf FILE writes them for review";
+    }
+    std::cerr << "\n";
+  }
   std::vector<std::filesystem::path> inputs{a.urdf};
   if (!a.srdf.empty()) inputs.emplace_back(a.srdf);
   nlohmann::json params = {{"urdf", a.urdf},
@@ -41,7 +61,8 @@ int run_bake_robot(const BakeRobotArgs& a) {
                            {"sphere_spacing", a.sphere_spacing},
                            {"sphere_max_excess", a.sphere_max_excess},
                            {"sphere_count", a.sphere_count},
-                           {"self_table_step", a.self_table_step}};
+                           {"self_table_step", a.self_table_step},
+                           {"collision_samples", a.srdf.empty() ? a.collision_samples : 0}};
   if (a.tcp) params["tcp"] = *a.tcp;
   robot.header = make_header(params, inputs);
   formats::save_robot(std::move(robot), a.out);

@@ -65,6 +65,8 @@ struct BakeRobotArgs {
   std::optional<std::array<double, 7>> tcp;  // TCP pose on the tip: x y z qx qy qz qw
   std::vector<std::string> package_paths;
   int threads = 0;                  // 0: every CPU the process may use (its affinity mask)
+  std::string write_srdf;           // without --srdf: write the computed allowed pairs here
+  int collision_samples = 2000;     // without --srdf: random configurations for the pairs
 };
 int run_bake_robot(const BakeRobotArgs& a);
 

@@ -139,7 +139,11 @@ int main(int argc, char** argv) {
   BakeRobotArgs bake_robot;
   auto* c_robot = app.add_subcommand("bake-robot", "Analyse a robot (URDF + SRDF) once into ROBOT.h5");
   c_robot->add_option("urdf", bake_robot.urdf, "Robot URDF")->required();
-  c_robot->add_option("--srdf", bake_robot.srdf, "SRDF with disabled collision pairs");
+  c_robot->add_option("--srdf", bake_robot.srdf, "SRDF with disabled collision pairs (without one they are computed)");
+  c_robot->add_option("--write-srdf", bake_robot.write_srdf, "Without --srdf: write the computed disabled pairs as an SRDF to review");
+  c_robot->add_option("--collision-samples", bake_robot.collision_samples,
+                      "Without --srdf: random configurations that decide always/never-colliding pairs")
+      ->check(CLI::Range(1, 1000000));
   c_robot->add_option("--package-path", bake_robot.package_paths, "Where package:// resources are found");
   c_robot->add_option("--arm", bake_robot.arm, "Planning chain BASE_LINK:TIP_LINK")->required();
   c_robot->add_option("--sphere-max-radius", bake_robot.sphere_max_radius,

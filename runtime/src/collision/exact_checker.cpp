@@ -401,6 +401,26 @@ bool ExactChecker::link_pairs_free(const std::vector<Eigen::Isometry3d>& poses, 
   return true;
 }
 
+std::vector<std::pair<int, int>> ExactChecker::colliding_link_pairs(const std::vector<Eigen::Isometry3d>& poses) const {
+  if (poses.size() != kin_->model().links.size()) throw Error("ExactChecker", "link poses", "one pose per link expected");
+  const Impl& impl = *impl_;
+  fcl::CollisionRequestd req;
+  ObjectPool::Lease lease(*impl.pool, impl.parts);
+  std::vector<std::pair<int, int>> out;
+  for (auto [a, b] : impl.self_pairs) {
+    if (impl.part_is_object[std::size_t(a)] || impl.part_is_object[std::size_t(b)]) continue;
+    const auto& pa = impl.parts[std::size_t(a)];
+    const auto& pb = impl.parts[std::size_t(b)];
+    const std::pair<int, int> links{std::min(pa.link, pb.link), std::max(pa.link, pb.link)};
+    if (std::find(out.begin(), out.end(), links) != out.end()) continue;  // another shape of the pair hit already
+    fcl::CollisionResultd res;
+    if (fcl::collide(lease.place(std::size_t(a), poses[std::size_t(pa.link)] * pa.local),
+                     lease.place(std::size_t(b), poses[std::size_t(pb.link)] * pb.local), req, res) > 0)
+      out.push_back(links);
+  }
+  return out;
+}
+
 double ExactChecker::link_distance(const Eigen::VectorXd& q, int link_a, int link_b) const {
   thread_local std::vector<Eigen::Isometry3d> poses;
   kin_->link_poses(q, poses);

@@ -5,7 +5,7 @@
 
 namespace dmgplace::tools {
 
-formats::RobotArtifact bake_robot(const RobotBakeOptions& o) {
+formats::RobotArtifact bake_robot(const RobotBakeOptions& o, AllowedCollisions* decided) {
   UrdfOptions urdf;
   urdf.package_paths = o.package_paths;
   formats::RobotArtifact robot;
@@ -29,6 +29,13 @@ formats::RobotArtifact bake_robot(const RobotBakeOptions& o) {
     m.joints.push_back(j);
   }
   set_arm_chain(robot.model, o.arm_base, tip, o.urdf.string());
+  // Without an SRDF nothing may touch, not even adjacent links: decide as MoveIt's setup
+  // assistant would (the caller reports and can write what was decided).
+  if (o.srdf.empty()) {
+    const AllowedCollisions allowed = compute_allowed_collisions(robot.model, o.allowed);
+    for (const auto& p : allowed.disabled) robot.model.allowed_pairs.emplace_back(p.a, p.b);
+    if (decided) *decided = allowed;
+  }
   for (std::size_t l = 0; l < robot.model.links.size(); ++l) {
     std::vector<Sphere> cover;
     try {

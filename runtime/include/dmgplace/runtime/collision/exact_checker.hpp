@@ -69,6 +69,9 @@ class ExactChecker {
   // Self-collision of just these link pairs (the ones the sphere layer flagged), links at `poses`.
   bool link_pairs_free(const std::vector<Eigen::Isometry3d>& poses, const std::pair<int, int>* pairs, int count) const;
   bool is_free(const Eigen::VectorXd& q) const { return check(q).free(); }
+  // Every pair of links (smaller index first) whose geometry collides at `poses`, among the pairs
+  // the model does not allow to touch and that move against each other.
+  std::vector<std::pair<int, int>> colliding_link_pairs(const std::vector<Eigen::Isometry3d>& poses) const;
   // Smallest distance between two links' collision geometry at q (0 when they touch).
   double link_distance(const Eigen::VectorXd& q, int link_a, int link_b) const;
 

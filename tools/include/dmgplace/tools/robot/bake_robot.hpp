@@ -1,12 +1,14 @@
 #pragma once
-// Everything `dmgplace bake-robot` computes, as a library call: model from URDF (+ SRDF), the
-// planning chain, and the sphere model of every link.
+// Everything `dmgplace bake-robot` computes, as a library call: model from URDF (+ SRDF, or the
+// allowed-collision pairs computed without one), the planning chain, and the sphere model of
+// every link.
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "dmgplace/formats/robot_artifact.hpp"
+#include "dmgplace/tools/robot/allowed_collisions.hpp"
 #include "dmgplace/tools/robot/self_distance_tables.hpp"
 #include "dmgplace/tools/robot/sphere_cover.hpp"
 
@@ -22,9 +24,12 @@ struct RobotBakeOptions {
   std::optional<Eigen::Isometry3d> tcp;
   SphereCoverOptions spheres;
   SelfTableOptions self_tables;
+  AllowedCollisionOptions allowed;  // used when there is no SRDF
 };
 
-// The artifact without its header (the caller records parameters and input hashes).
-formats::RobotArtifact bake_robot(const RobotBakeOptions& options);
+// The artifact without its header (the caller records parameters and input hashes). Without an
+// SRDF the allowed-collision pairs are computed (allowed_collisions.hpp) and, when `decided` is
+// given, returned there.
+formats::RobotArtifact bake_robot(const RobotBakeOptions& options, AllowedCollisions* decided = nullptr);
 
 }  // namespace dmgplace::tools
