@@ -1,5 +1,7 @@
 #include <chrono>
+#include <cmath>
 #include <iostream>
+#include <sstream>
 #include "dmgplace/formats/pose_input.hpp"
 
 #include "cli_util.hpp"
@@ -30,6 +32,22 @@ int run_bake_robot(const BakeRobotArgs& a) {
   if (o.self_tables.enabled) o.self_tables.step = a.self_table_step;
   if (a.tcp) {
     o.tcp = formats::pose_from_xyz_quaternion(*a.tcp, "--tcp", "");
+  }
+  // --fixed-joints name=value,name=value
+  std::stringstream list(a.fixed_joints);
+  for (std::string item; std::getline(list, item, ',');) {
+    const auto eq = item.find('=');
+    if (item.empty()) continue;
+    std::size_t used = 0;
+    double value = 0;
+    try {
+      if (eq == std::string::npos || eq == 0) throw std::invalid_argument("no name=value");
+      value = std::stod(item.substr(eq + 1), &used);
+    } catch (const std::exception&) {
+      throw Error("--fixed-joints", item, "expected name=value (a number in rad or m)");
+    }
+    if (used != item.size() - eq - 1 || !std::isfinite(value)) throw Error("--fixed-joints", item, "expected name=value (a finite number)");
+    o.fixed_joints.emplace_back(item.substr(0, eq), value);
   }
   if (!a.write_srdf.empty() && !a.srdf.empty())
     throw Error("--write-srdf", "", "writes the pairs computed without an SRDF; --srdf " + a.srdf + " was given");
@@ -62,7 +80,8 @@ int run_bake_robot(const BakeRobotArgs& a) {
                            {"sphere_max_excess", a.sphere_max_excess},
                            {"sphere_count", a.sphere_count},
                            {"self_table_step", a.self_table_step},
-                           {"collision_samples", a.srdf.empty() ? a.collision_samples : 0}};
+                           {"collision_samples", a.srdf.empty() ? a.collision_samples : 0},
+                           {"fixed_joints", a.fixed_joints}};
   if (a.tcp) params["tcp"] = *a.tcp;
   robot.header = make_header(params, inputs);
   formats::save_robot(std::move(robot), a.out);

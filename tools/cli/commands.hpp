@@ -66,6 +66,7 @@ struct BakeRobotArgs {
   std::vector<std::string> package_paths;
   int threads = 0;                  // 0: every CPU the process may use (its affinity mask)
   std::string write_srdf;           // without --srdf: write the computed allowed pairs here
+  std::string fixed_joints;         // name=value,... joints outside the chain frozen there
   int collision_samples = 2000;     // without --srdf: random configurations for the pairs
 };
 int run_bake_robot(const BakeRobotArgs& a);

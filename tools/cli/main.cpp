@@ -140,6 +140,8 @@ int main(int argc, char** argv) {
   auto* c_robot = app.add_subcommand("bake-robot", "Analyse a robot (URDF + SRDF) once into ROBOT.h5");
   c_robot->add_option("urdf", bake_robot.urdf, "Robot URDF")->required();
   c_robot->add_option("--srdf", bake_robot.srdf, "SRDF with disabled collision pairs (without one they are computed)");
+  c_robot->add_option("--fixed-joints", bake_robot.fixed_joints,
+                      "name=value,... joints outside the chain (another arm, a torso) frozen there (rad or m); default: their URDF zero");
   c_robot->add_option("--write-srdf", bake_robot.write_srdf, "Without --srdf: write the computed disabled pairs as an SRDF to review");
   c_robot->add_option("--collision-samples", bake_robot.collision_samples,
                       "Without --srdf: random configurations that decide always/never-colliding pairs")

@@ -126,6 +126,17 @@ TEST(PlacementQueryFile, StartsThatDoNotFitTheArmAreRejected) {
   write_text(path, kArtifacts + "start: [0, 0, 10, 0, 0, 0, 0]\n" + kGrasp);
   EXPECT_THAT(error_of([&] { resolve_start(read_placement_query(path), kin); }),
               AllOf(HasSubstr(path.string()), HasSubstr("outside the arm's joint limits")));
+  // Issue 21: a named joint outside the chain, or no joint at all, is not silently ignored.
+  const std::string arm = "dmgarm_joint1: 0, dmgarm_joint2: -0.785, dmgarm_joint3: 0, dmgarm_joint4: -2.356, "
+                          "dmgarm_joint5: 0, dmgarm_joint6: 1.571, dmgarm_joint7: 0.785";
+  write_text(path, kArtifacts + "start: {" + arm + "}\n" + kGrasp);
+  EXPECT_EQ(resolve_start(read_placement_query(path), kin).size(), 7);
+  write_text(path, kArtifacts + "start: {" + arm + ", dmgarm_finger_joint1: 0.02}\n" + kGrasp);
+  EXPECT_THAT(error_of([&] { resolve_start(read_placement_query(path), kin); }),
+              AllOf(HasSubstr(path.string()), HasSubstr("start.dmgarm_finger_joint1"), HasSubstr("--fixed-joints")));
+  write_text(path, kArtifacts + "start: {" + arm + ", elbow_of_the_other_arm: 1}\n" + kGrasp);
+  EXPECT_THAT(error_of([&] { resolve_start(read_placement_query(path), kin); }),
+              AllOf(HasSubstr(path.string()), HasSubstr("no joint of that name")));
 }
 
 // Issue 19: an artifact path may not lead out of the artifact folder (`..`, absolute, symlink).

@@ -216,6 +216,17 @@ Eigen::VectorXd resolve_start(const PlacementQueryFile& f, const runtime::Kinema
       if (it == f.start_named.end()) throw Error(file, "start", "no value for joint '" + name + "'");
       q[i] = it->second;
     }
+    // Every name must mean something: a joint outside the chain is not silently left where the
+    // robot artifact has it.
+    const auto& m = kin.model();
+    for (const auto& [name, value] : f.start_named) {
+      const int j = m.joint_index(name);
+      if (j < 0) throw Error(file, "start." + name, "no joint of that name in robot '" + m.name + "'");
+      if (kin.chain_slot(j) < 0)
+        throw Error(file, "start." + name,
+                    "not a joint of the planning chain; the rest of the robot is set when it is baked: bake-robot --fixed-joints " +
+                        name + "=VALUE (fingers follow each grasp's opening)");
+    }
   }
   if (!q.allFinite()) throw Error(file, "start", "not finite (NaN or infinity)");
   if (!kin.within_limits(q, 1e-6)) throw Error(file, "start", "outside the arm's joint limits");

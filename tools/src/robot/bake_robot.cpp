@@ -1,9 +1,43 @@
 #include "dmgplace/tools/robot/bake_robot.hpp"
 
+#include <cmath>
+
 #include "dmgplace/formats/error.hpp"
+#include "dmgplace/runtime/robot/kinematics.hpp"
 #include "dmgplace/tools/io/urdf_reader.hpp"
 
 namespace dmgplace::tools {
+
+namespace {
+// Each named joint becomes a fixed joint whose origin includes its motion at the value; mimic
+// joints that follow it are frozen with it.
+void freeze_joints(RobotModel& m, const std::vector<std::pair<std::string, double>>& values, const std::string& file) {
+  const runtime::Kinematics chain(m, m.arm_base, m.arm_tip);
+  auto freeze = [&](Joint& j, double v) {
+    Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
+    if (j.type == JointType::Prismatic) motion.translation() = j.axis * v;
+    else motion.linear() = Eigen::AngleAxisd(v, j.axis).toRotationMatrix();
+    j.origin = j.origin * motion;
+    j.type = JointType::Fixed;
+    j.mimic = -1;
+  };
+  for (const auto& [name, value] : values) {
+    const int idx = m.joint_index(name);
+    const std::string where = "--fixed-joints " + name;
+    if (idx < 0) throw Error(file, where, "no joint named '" + name + "' in robot '" + m.name + "'");
+    Joint& j = m.joints[std::size_t(idx)];
+    if (chain.chain_slot(idx) >= 0) throw Error(file, where, "is a joint of the planning chain --arm; only other joints can be frozen");
+    if (j.type == JointType::Fixed) throw Error(file, where, "is already a fixed joint");
+    if (j.mimic >= 0) throw Error(file, where, "follows '" + m.joints[std::size_t(j.mimic)].name + "' (mimic): freeze that one");
+    if (!std::isfinite(value) || (j.type != JointType::Continuous && (value < j.lower - 1e-9 || value > j.upper + 1e-9)))
+      throw Error(file, where, "value " + std::to_string(value) + " outside its limits [" + std::to_string(j.lower) + ", " +
+                                   std::to_string(j.upper) + "]");
+    for (auto& follower : m.joints)
+      if (follower.mimic == idx) freeze(follower, follower.mimic_multiplier * value + follower.mimic_offset);
+    freeze(j, value);
+  }
+}
+}  // namespace
 
 formats::RobotArtifact bake_robot(const RobotBakeOptions& o, AllowedCollisions* decided) {
   UrdfOptions urdf;
@@ -29,6 +63,7 @@ formats::RobotArtifact bake_robot(const RobotBakeOptions& o, AllowedCollisions* 
     m.joints.push_back(j);
   }
   set_arm_chain(robot.model, o.arm_base, tip, o.urdf.string());
+  freeze_joints(robot.model, o.fixed_joints, o.urdf.string());
   // Without an SRDF nothing may touch, not even adjacent links: decide as MoveIt's setup
   // assistant would (the caller reports and can write what was decided).
   if (o.srdf.empty()) {

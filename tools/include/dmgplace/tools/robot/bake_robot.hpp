@@ -22,6 +22,9 @@ struct RobotBakeOptions {
   // point: z approach, y closing) is added and becomes the chain's tip; the placement planner
   // needs the tip there (the Panda URDF, for one, has no such frame).
   std::optional<Eigen::Isometry3d> tcp;
+  // Joints outside the planning chain frozen at these values (rad or m): they become fixed
+  // joints, so the rest of the robot (another arm, a torso) stands where the user says.
+  std::vector<std::pair<std::string, double>> fixed_joints;
   SphereCoverOptions spheres;
   SelfTableOptions self_tables;
   AllowedCollisionOptions allowed;  // used when there is no SRDF
