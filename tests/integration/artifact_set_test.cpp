@@ -95,3 +95,27 @@ TEST_F(ArtifactSet, AnInputChangedSinceTheBakeIsReported) {
   // Without the flag the artifact is still sound on its own.
   EXPECT_EQ(test::run_cli({"validate", d / "mine.h5"}).exit_code, 0);
 }
+
+TEST_F(ArtifactSet, MeshesASceneNamesAreInputsToo) {
+  // A scene file naming a mesh: the environment's header lists the mesh with its hash, so a
+  // changed mesh makes the artifact stale though the scene file did not change.
+  const fs::path d = dir_->path() / "provenance";
+  fs::create_directories(d);
+  fs::copy_file(dir_->path() / "bottle.stl", d / "thing.stl", fs::copy_options::overwrite_existing);
+  test::write_text(d / "scene.yaml",
+                   "world:\n  collision_objects:\n"
+                   "    - {id: floor, primitives: [{type: box, dimensions: [2, 2, 0.02]}],\n"
+                   "       primitive_poses: [{position: [0.5, 0, -0.01], orientation: [0, 0, 0, 1]}]}\n"
+                   "    - {id: thing, meshes: [{resource: thing.stl}],\n"
+                   "       mesh_poses: [{position: [0.6, 0, 0], orientation: [0, 0, 0, 1]}]}\n");
+  const auto bake = test::run_cli({"bake-env", d / "scene.yaml", "--volume", "0.3,-0.3,0,0.9,0.3,0.4", "--out", d / "env.h5", "--json"});
+  ASSERT_EQ(bake.exit_code, 0) << bake.output;
+  EXPECT_NE(bake.output.find("thing.stl"), std::string::npos) << "the mesh is an input: " << bake.output;
+  EXPECT_EQ(test::run_cli({"validate", "--check-inputs", d / "env.h5"}).exit_code, 0);
+  std::string bytes = test::read_text(d / "thing.stl");
+  bytes[0] = bytes[0] == 'x' ? 'y' : 'x';
+  test::write_text(d / "thing.stl", bytes);
+  const auto stale = test::run_cli({"validate", "--check-inputs", d / "env.h5"});
+  EXPECT_EQ(stale.exit_code, 1) << stale.output;
+  EXPECT_NE(stale.output.find("thing.stl"), std::string::npos) << stale.output;
+}

@@ -1,5 +1,6 @@
 #include "cli_util.hpp"
 
+#include <algorithm>
 #include <iostream>
 
 #include "dmgplace/formats/artifact_kind.hpp"
@@ -7,12 +8,17 @@
 
 namespace dmgplace::cli {
 
-formats::ArtifactHeader make_header(const nlohmann::json& parameters, const std::vector<std::filesystem::path>& inputs) {
+formats::ArtifactHeader make_header(const nlohmann::json& parameters, const std::vector<std::filesystem::path>& inputs,
+                                    const std::vector<std::filesystem::path>& read) {
   formats::ArtifactHeader h;
   h.tool_version = formats::tool_version();
   h.created_utc = formats::utc_now_iso8601();
   h.parameters_json = parameters.dump();
   for (const auto& p : inputs) h.inputs.push_back({p.string(), formats::sha256_file(p)});
+  for (const auto& p : read) {
+    const bool listed = std::any_of(h.inputs.begin(), h.inputs.end(), [&](const formats::InputFile& f) { return f.path == p.string(); });
+    if (!listed) h.inputs.push_back({p.string(), formats::sha256_file(p)});
+  }
   return h;
 }
 

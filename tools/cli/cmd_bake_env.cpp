@@ -4,6 +4,7 @@
 
 #include "cli_util.hpp"
 #include "commands.hpp"
+#include "dmgplace/tools/io/input_log.hpp"
 #include "dmgplace/formats/environment_artifact.hpp"
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/tools/env/bake_environment.hpp"
@@ -13,6 +14,7 @@ namespace dmgplace::cli {
 
 int run_bake_env(const BakeEnvArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
+  tools::InputLog log;  // every file read below goes into the header
   formats::EnvironmentArtifact env;
   const auto& v = a.volume;
   env.volume = Eigen::AlignedBox3d(Eigen::Vector3d(v[0], v[1], v[2]), Eigen::Vector3d(v[3], v[4], v[5]));
@@ -41,7 +43,7 @@ int run_bake_env(const BakeEnvArgs& a) {
                            {"min_free_height", a.min_free_height}, {"margin", a.margin},
                            {"sdf_resolution", a.sdf_resolution > 0 ? a.sdf_resolution : a.resolution}};
   if (a.frame) params["frame"] = *a.frame;
-  env.header = make_header(params, {a.scene});
+  env.header = make_header(params, {a.scene}, log.files());
   formats::save_environment(std::move(env), a.out);
   report_written(a.out, a.json, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   return 0;

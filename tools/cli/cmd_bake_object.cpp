@@ -3,6 +3,7 @@
 
 #include "cli_util.hpp"
 #include "commands.hpp"
+#include "dmgplace/tools/io/input_log.hpp"
 #include "dmgplace/formats/object_artifact.hpp"
 #include "dmgplace/tools/io/mesh_reader.hpp"
 #include "dmgplace/tools/object/dmg_builder.hpp"
@@ -14,6 +15,7 @@ namespace dmgplace::cli {
 
 int run_bake_object(const BakeObjectArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
+  tools::InputLog log;  // every file read below goes into the header
   tools::MeshReadOptions opts;
   opts.scale = a.scale;
   tools::MeshReport report;
@@ -48,7 +50,7 @@ int run_bake_object(const BakeObjectArgs& a) {
   if (a.com) params["com"] = *a.com;
   std::vector<std::filesystem::path> inputs{a.mesh};
   if (!a.gripper.empty()) inputs.emplace_back(a.gripper);
-  obj.header = make_header(params, inputs);
+  obj.header = make_header(params, inputs, log.files());
   formats::save_object(std::move(obj), a.out);
   report_written(a.out, a.json, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   return 0;

@@ -6,6 +6,7 @@
 
 #include "cli_util.hpp"
 #include "commands.hpp"
+#include "dmgplace/tools/io/input_log.hpp"
 #include "dmgplace/formats/atomic_file.hpp"
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/tools/robot/bake_robot.hpp"
@@ -14,6 +15,7 @@ namespace dmgplace::cli {
 
 int run_bake_robot(const BakeRobotArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
+  tools::InputLog log;  // every file read below goes into the header
   auto colon = a.arm.find(':');
   if (colon == std::string::npos || colon == 0 || colon + 1 == a.arm.size())
     throw Error("--arm", "", "expected BASE_LINK:TIP_LINK, got '" + a.arm + "'");
@@ -83,7 +85,7 @@ int run_bake_robot(const BakeRobotArgs& a) {
                            {"collision_samples", a.srdf.empty() ? a.collision_samples : 0},
                            {"fixed_joints", a.fixed_joints}};
   if (a.tcp) params["tcp"] = *a.tcp;
-  robot.header = make_header(params, inputs);
+  robot.header = make_header(params, inputs, log.files());
   formats::save_robot(std::move(robot), a.out);
   report_written(a.out, a.json, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   return 0;

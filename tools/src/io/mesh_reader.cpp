@@ -1,5 +1,7 @@
 #include "dmgplace/tools/io/mesh_reader.hpp"
 
+#include "dmgplace/tools/io/input_log.hpp"
+
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
@@ -77,6 +79,7 @@ TriMesh read_mesh(const std::filesystem::path& path, const MeshReadOptions& opti
   const Eigen::Vector3d scale = options.scale * options.axis_scale;
   if (!scale.allFinite() || (scale.array() == 0).any()) throw Error(file, "scale", "scale must be finite and non-zero");
 
+  note_input(path);
   check_ply_header(path, file);
 
   Assimp::Importer importer;
