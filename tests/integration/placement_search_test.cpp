@@ -44,6 +44,9 @@ class PlacementSearch : public test::PlacementFixture {
   }
 };
 
+// A hand filter that lets every grasp through.
+bool always_free(int, const Eigen::Isometry3d&) { return true; }
+
 // 12 degrees about the approach axis and 1 cm along the bottle: a grasp the DMG does not have.
 Eigen::Isometry3d off_grid_side_grasp() {
   return side_grasp() * Eigen::Translation3d(0.01, 0, 0) * Eigen::AngleAxisd(0.21, Eigen::Vector3d::UnitZ());
@@ -129,7 +132,6 @@ TEST_F(PlacementSearch, AnEmptyCacheStillRollsPAccept) {
   std::mt19937_64 rng(1);
   const auto [a, b] = nodes_under_two_faces(p.tree, rng);
   ASSERT_GE(a, 0);
-  const auto always_free = [](int, const Eigen::Isometry3d&) { return true; };
   const Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   GraspSelector never(p.per_grasp, p.tree, PlacementVariant::Full, 0.0, 8, always_free);
   for (int k = 0; k < 50; ++k) {
@@ -150,7 +152,6 @@ TEST_F(PlacementSearch, CachedGraspsAreFoundFromTheNodeUpButNotThroughTheRoot) {
   std::mt19937_64 rng(2);
   const auto [a, b] = nodes_under_two_faces(p.tree, rng);
   ASSERT_GE(b, 0);
-  const auto always_free = [](int, const Eigen::Isometry3d&) { return true; };
   GraspSelector s(p.per_grasp, p.tree, PlacementVariant::Full, 1.0, 8, always_free);
   const int g = p.per_grasp.size() - 1;
   s.cache(a, g);

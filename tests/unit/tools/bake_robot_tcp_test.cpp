@@ -10,13 +10,21 @@
 
 using namespace dmgplace;
 
-TEST(BakeRobotTcp, AddedTcpMatchesTheUrdfTcpLink) {
+namespace {
+// The built-in dmgarm with its SRDF, chain base to TCP.
+tools::RobotBakeOptions dmgarm_options() {
   const auto dir = test::source_dir() / "datasets/robots/dmgarm";
   tools::RobotBakeOptions o;
   o.urdf = dir / "dmgarm.urdf";
   o.srdf = dir / "dmgarm.srdf";
   o.arm_base = "dmgarm_link0";
   o.arm_tip = "dmgarm_tcp";
+  return o;
+}
+}  // namespace
+
+TEST(BakeRobotTcp, AddedTcpMatchesTheUrdfTcpLink) {
+  tools::RobotBakeOptions o = dmgarm_options();
   const auto reference = tools::bake_robot(o);
   o.arm_tip = "dmgarm_hand";
   o.tcp = Eigen::Isometry3d(Eigen::Translation3d(0, 0, 0.1034));
@@ -38,12 +46,7 @@ TEST(BakeRobotTcp, AddedTcpMatchesTheUrdfTcpLink) {
 // bake-robot --fixed-joints: a joint outside the chain is frozen at the value given (its mimic
 // followers too); chain joints, unknown names and values beyond the limits are refused.
 TEST(BakeRobotFixedJoints, FreezesJointsOutsideTheChainWhereAsked) {
-  const auto dir = test::source_dir() / "datasets/robots/dmgarm";
-  tools::RobotBakeOptions o;
-  o.urdf = dir / "dmgarm.urdf";
-  o.srdf = dir / "dmgarm.srdf";
-  o.arm_base = "dmgarm_link0";
-  o.arm_tip = "dmgarm_tcp";
+  tools::RobotBakeOptions o = dmgarm_options();
   o.self_tables.enabled = false;
   const auto free = tools::bake_robot(o);
   o.fixed_joints = {{"dmgarm_finger_joint1", 0.03}};

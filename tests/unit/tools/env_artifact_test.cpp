@@ -13,13 +13,7 @@ namespace {
 
 formats::EnvironmentArtifact baked_box_on_floor() {
   formats::EnvironmentArtifact env;
-  auto box = [](Eigen::Vector3d size, Eigen::Vector3d at) {
-    Shape s;
-    s.type = ShapeType::Box;
-    s.size = size;
-    s.origin.translation() = at;
-    return s;
-  };
+  const auto box = test::box_shape;
   env.scene.objects.push_back({"floor", {box({1, 1, 0.02}, {0, 0, -0.01})}});
   env.scene.objects.push_back({"box", {box({0.1, 0.1, 0.1}, {0, 0, 0.05})}});
   env.volume = Eigen::AlignedBox3d(Eigen::Vector3d(-0.2, -0.2, 0), Eigen::Vector3d(0.2, 0.2, 0.3));
@@ -103,13 +97,7 @@ TEST(EnvArtifact, BadBakeOptionsNameTheOption) {
 // is clamped at V's diagonal, not at a fixed band that flattens it a few decimetres from a wall.
 TEST(EnvArtifact, ClearanceKeepsRisingAcrossTheWholeVolume) {
   formats::EnvironmentArtifact env;
-  auto box = [](Eigen::Vector3d size, Eigen::Vector3d at) {
-    Shape s;
-    s.type = ShapeType::Box;
-    s.size = size;
-    s.origin.translation() = at;
-    return s;
-  };
+  const auto box = test::box_shape;
   env.scene.objects.push_back({"floor", {box({3.2, 1, 0.02}, {0, 0, -0.01})}});
   env.scene.objects.push_back({"wall", {box({0.02, 1, 1}, {-1.5, 0, 0.5})}});  // its face at x = -1.49
   env.volume = Eigen::AlignedBox3d(Eigen::Vector3d(-1.45, -0.4, 0), Eigen::Vector3d(1.45, 0.4, 0.5));
