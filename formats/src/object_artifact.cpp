@@ -1,5 +1,6 @@
 #include "dmgplace/formats/object_artifact.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "dmgplace/formats/error.hpp"
@@ -121,6 +122,54 @@ Dmg read_dmg(const H5Reader& r) {
   return d;
 }
 
+void write_grasp_graph(H5Writer& w, const GraspGraphTable& t) {
+  const std::size_t n = t.state_node.size();
+  std::vector<std::int32_t> states;
+  for (std::size_t i = 0; i < n; ++i) states.insert(states.end(), {t.state_node[i], t.state_angle[i]});
+  w.write("grasp_graph/states", std::span<const std::int32_t>(states), {n, 2});
+  w.write("grasp_graph/offsets", std::span<const std::int32_t>(t.offsets), {t.offsets.size()});
+  w.write("grasp_graph/targets", std::span<const std::int32_t>(t.targets), {t.targets.size()});
+  w.write("grasp_graph/costs", std::span<const double>(t.costs), {t.costs.size()});
+  std::vector<std::uint8_t> moves(t.moves.size());
+  std::transform(t.moves.begin(), t.moves.end(), moves.begin(), [](GraspMoveKind m) { return std::uint8_t(m); });
+  w.write("grasp_graph/moves", std::span<const std::uint8_t>(moves), {moves.size()});
+  w.write("grasp_graph/tcp", std::span<const double>(t.tcp), {n, 7});
+  w.write("grasp_graph/opening", std::span<const double>(t.opening), {n});
+  const double settings[1] = {t.rotation_weight};
+  w.write("grasp_graph/settings", std::span<const double>(settings), {1});
+  w.attribute("grasp_graph", "schema_version", std::to_string(kGraspGraphSchemaVersion));
+}
+
+GraspGraphTable read_grasp_graph(const H5Reader& r) {
+  const auto version = r.attribute("grasp_graph", "schema_version");
+  if (version != std::to_string(kGraspGraphSchemaVersion))
+    throw Error(r.file(), "grasp_graph", "schema version is " + version.value_or("missing") + ", this build reads " +
+                                             std::to_string(kGraspGraphSchemaVersion) + " (re-bake the object)");
+  GraspGraphTable t;
+  t.rotation_weight = r.read_f64("grasp_graph/settings", {1}).data[0];
+  auto states = r.read_i32("grasp_graph/states", {-1, 2});
+  for (std::size_t i = 0; i < states.rows(); ++i) {
+    t.state_node.push_back(states(i, 0));
+    t.state_angle.push_back(states(i, 1));
+  }
+  t.offsets = r.read_i32("grasp_graph/offsets", {long(states.rows()) + 1}).data;
+  t.targets = r.read_i32("grasp_graph/targets", {-1}).data;
+  t.costs = r.read_f64("grasp_graph/costs", {long(t.targets.size())}).data;
+  for (auto m : r.read_u8("grasp_graph/moves", {long(t.targets.size())}).data) t.moves.push_back(GraspMoveKind(m));
+  t.tcp = r.read_f64("grasp_graph/tcp", {long(states.rows()), 7}).data;
+  t.opening = r.read_f64("grasp_graph/opening", {long(states.rows())}).data;
+  // Indices the runtime follows without a check of its own: refuse them here, as the DMG's.
+  const long n = long(states.rows());
+  for (std::size_t s = 0; s < t.offsets.size(); ++s)
+    if (t.offsets[s] < 0 || std::size_t(t.offsets[s]) > t.targets.size() || (s > 0 && t.offsets[s] < t.offsets[s - 1]))
+      throw Error(r.file(), "grasp_graph/offsets", "not a non-decreasing index into the edges at state " + std::to_string(s));
+  if (!t.offsets.empty() && std::size_t(t.offsets.back()) != t.targets.size())
+    throw Error(r.file(), "grasp_graph/offsets", "the last offset is not the edge count");
+  for (auto u : t.targets)
+    if (u < 0 || u >= n) throw Error(r.file(), "grasp_graph/targets", "state index " + std::to_string(u) + " out of range");
+  return t;
+}
+
 }  // namespace
 
 int Dmg::angle_count() const { return angle_step_deg > 0 ? int(std::lround(360.0 / angle_step_deg)) : 0; }
@@ -139,6 +188,8 @@ void save_object(ObjectArtifact a, const std::filesystem::path& path) {
   w.attribute("mass", "com_overridden", m.com_overridden ? "true" : "false");
   write_placement(w, a.placement);
   write_dmg(w, a.dmg);
+  if (a.grasp_graph.state_node.empty() && !a.dmg.nodes.empty()) a.grasp_graph = build_grasp_graph_table(a.dmg);
+  write_grasp_graph(w, a.grasp_graph);
   w.commit();
 }
 
@@ -165,6 +216,7 @@ ObjectArtifact read_object_unchecked(const std::filesystem::path& path) {
   a.mass.com_overridden = r.attribute("mass", "com_overridden").value_or("false") == "true";
   a.placement = read_placement(r);
   a.dmg = read_dmg(r);
+  a.grasp_graph = read_grasp_graph(r);
   return a;
 }
 
@@ -184,6 +236,8 @@ Summary summarize_object(const ObjectArtifact& a) {
   s.emplace_back("dmg_facets", std::to_string(a.dmg.facet_normals.size()));
   s.emplace_back("dmg_nodes", std::to_string(a.dmg.nodes.size()));
   s.emplace_back("dmg_edges", std::to_string(a.dmg.edges.size()));
+  s.emplace_back("grasp_states", std::to_string(a.grasp_graph.size()));
+  s.emplace_back("grasp_edges", std::to_string(a.grasp_graph.edge_count()));
   return s;
 }
 

@@ -133,7 +133,9 @@ std::vector<std::string> check_object(const ObjectArtifact& a) {
   const double scale = box.diagonal().norm();
   if (box.exteriorDistance(m.com) > 1e-6 + 1e-3 * scale) p.push_back("mass/com: outside the mesh's bounding box");
   check_placement(a, scale, p);
+  const std::size_t before = p.size();
   check_dmg(a, scale, p);
+  if (p.size() == before) detail::append(p, check_grasp_graph_table(a.dmg, a.grasp_graph));  // built on a sound DMG only
   return p;
 }
 

@@ -57,7 +57,7 @@ void exercise(const fs::path& p) {
     const std::string schema = formats::H5Reader(p).header().schema;
     if (schema == formats::kObjectSchema) {
       const auto o = formats::load_object(p);
-      const runtime::GraspGraph g(o.dmg);
+      const runtime::GraspGraph g(o);
       (void)runtime::reachable_grasps(g, Eigen::Isometry3d::Identity());
     } else if (schema == formats::kRobotSchema) {
       const auto r = formats::load_robot(p);

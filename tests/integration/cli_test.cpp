@@ -38,7 +38,7 @@ TEST(Cli, BakesValidatesAndInspectsTheBuiltInObjects) {
   CliRun j = run({"inspect", "--json", dir / "eraser.h5"});
   ASSERT_EQ(j.exit_code, 0) << j.output;
   auto doc = nlohmann::json::parse(j.output);
-  EXPECT_EQ(doc["schema"], "dmgplace.object v2");
+  EXPECT_EQ(doc["schema"], std::string("dmgplace.object v") + std::to_string(dmgplace::formats::kObjectSchemaVersion));
   ASSERT_EQ(doc["inputs"].size(), 1u);
   EXPECT_EQ(doc["inputs"][0]["sha256"].get<std::string>().size(), 64u);
   // Typed JSON: counts are numbers, bounds arrays of numbers.

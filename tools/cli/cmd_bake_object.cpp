@@ -37,6 +37,7 @@ int run_bake_object(const BakeObjectArgs& a) {
   dmg.angle_step_deg = a.angle_step;
   dmg.normal_threshold = a.normal_threshold;
   obj.dmg = tools::build_dmg(obj.mesh, gripper, dmg, a.mesh);
+  obj.grasp_graph = formats::build_grasp_graph_table(obj.dmg, a.rotation_weight);
 
   nlohmann::json params = {{"mesh", a.mesh},
                            {"scale", a.scale},
@@ -46,7 +47,8 @@ int run_bake_object(const BakeObjectArgs& a) {
                            {"angle_step", a.angle_step},
                            {"normal_threshold", a.normal_threshold},
                            {"face_merge_angle", a.face_merge_angle},
-                           {"stability_margin", a.stability_margin}};
+                           {"stability_margin", a.stability_margin},
+                           {"rotation_weight", a.rotation_weight}};
   if (a.com) params["com"] = *a.com;
   std::vector<std::filesystem::path> inputs{a.mesh};
   if (!a.gripper.empty()) inputs.emplace_back(a.gripper);

@@ -43,7 +43,7 @@ nlohmann::ordered_json action_json(const runtime::InHandAction& a) {
 int run_grasps(const GraspsArgs& a) {
   const auto obj = formats::load_object(a.object);
   const Eigen::Isometry3d initial = formats::pose_from_xyz_quaternion(a.initial, "--initial", "");
-  const runtime::GraspGraph graph(obj.dmg);
+  const runtime::GraspGraph graph(obj);
   const auto r = runtime::reachable_grasps(graph, initial, a.opening);
   if (r.initial_state < 0) throw Error(a.object, "dmg", "the object has no grasps for this gripper");
   const auto& g0 = graph.state(r.initial_state);

@@ -26,6 +26,7 @@ struct BakeObjectArgs {
   double normal_threshold = 0.07;   // DMG facets: |n_i - n_j|^2 below this
   double face_merge_angle = 0.2;    // placement faces (rad)
   double stability_margin = 0.01;   // placement faces (m), scaled down for small objects
+  double rotation_weight = 0.1;     // grasp graph: cost of in-hand rotation (m per rad)
 };
 int run_bake_object(const BakeObjectArgs& a);
 

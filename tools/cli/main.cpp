@@ -71,6 +71,7 @@ int main(int argc, char** argv) {
   c_obj->add_option("--normal-threshold", bake_object.normal_threshold, "DMG facets: |n_i - n_j|^2 below this")->check(CLI::Range(1e-6, 4.0));
   c_obj->add_option("--face-merge-angle", bake_object.face_merge_angle, "Placement faces: merge hull facets closer than this (rad)")->check(CLI::Range(0.0, 1.5));
   c_obj->add_option("--stability-margin", bake_object.stability_margin, "Placement faces: COM margin (m)")->check(CLI::Range(0.0, 1.0));
+  c_obj->add_option("--rotation-weight", bake_object.rotation_weight, "Grasp graph: cost of in-hand rotation against sliding (m per rad)")->check(CLI::Range(1e-6, 100.0));
   c_obj->add_option("--out", bake_object.out, "Output artifact")->required();
   c_obj->add_flag("--json", bake_object.json, "Print JSON: the file written, seconds taken, and the artifact's summary (as inspect --json)");
 

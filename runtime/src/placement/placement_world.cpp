@@ -84,7 +84,7 @@ PlacementWorld::PlacementWorld(formats::RobotArtifact robot, formats::ObjectArti
     for (const auto& e : fit_.errors) all += (all.empty() ? "" : "; ") + e;
     throw Error(names.robot, "artifact set", all);
   }
-  grasps_ = std::make_unique<GraspGraph>(object_.dmg);
+  grasps_ = std::make_unique<GraspGraph>(object_);
   exact_ = std::make_unique<ExactChecker>(*kin_, scene_);
   fast_ = std::make_unique<SphereFieldChecker>(*kin_, robot_.spheres, env_.sdf, env_.sdf_band);
   fast_->set_self_tables(robot_.self_tables);

@@ -58,8 +58,9 @@ TEST(ShortestPaths, DijkstraMatchesBellmanFordOnRandomGraphs) {
 }
 
 // 60 mm across x; 35 mm square in y-z, small enough for the palm to pass over at every angle.
-formats::Dmg cube_dmg() {
-  return tools::build_dmg(tools::make_box_mesh({0.06, 0.035, 0.035}), tools::default_gripper(), {}, "box");
+GraspGraph cube_graph() {
+  const auto dmg = tools::build_dmg(tools::make_box_mesh({0.06, 0.035, 0.035}), tools::default_gripper(), {}, "box");
+  return GraspGraph(dmg, formats::build_grasp_graph_table(dmg));
 }
 
 // The TCP pose of a grasp across the box's x sides at the face centres, approach angle a about x.
@@ -74,7 +75,7 @@ Eigen::Isometry3d across_x(double a) {
 }
 
 TEST(ReachableGrasps, AGraspAcrossABoxTurnsAllTheWayRound) {
-  const GraspGraph g(cube_dmg());
+  const GraspGraph g = cube_graph();
   const auto r = reachable_grasps(g, across_x(0.3), 0.06);
   ASSERT_GE(r.initial_state, 0);
   const int node = g.state(r.initial_state).node;
@@ -98,7 +99,7 @@ TEST(ReachableGrasps, AGraspAcrossABoxTurnsAllTheWayRound) {
 }
 
 TEST(ReachableGrasps, TranslationsCarryContactPathsAndCosts) {
-  const GraspGraph g(cube_dmg());
+  const GraspGraph g = cube_graph();
   const auto r = reachable_grasps(g, across_x(0), 0.06);
   ASSERT_GE(r.initial_state, 0);
   // The grasps on the same pair of sides are reachable by sliding; their costs are path lengths.
@@ -130,7 +131,7 @@ TEST(ReachableGrasps, TranslationsCarryContactPathsAndCosts) {
 }
 
 TEST(ReachableGrasps, SnapFindsTheExactStateAndItsFlip) {
-  const GraspGraph g(cube_dmg());
+  const GraspGraph g = cube_graph();
   ASSERT_GT(g.size(), 0);
   const Eigen::Matrix3d flip = Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   // The same gripper turned 180 degrees about its approach axis is the same grasp (the state with
@@ -154,7 +155,7 @@ TEST(ReachableGrasps, SnapFindsTheExactStateAndItsFlip) {
     EXPECT_LE(g.snap(off, -1, &d), g.size());
     EXPECT_LE(d, 0.02 + 1e-9);
   }
-  const GraspGraph empty(formats::Dmg{});
+  const GraspGraph empty(formats::Dmg{}, formats::GraspGraphTable{});
   EXPECT_EQ(reachable_grasps(empty, Eigen::Isometry3d::Identity()).initial_state, -1);
 }
 

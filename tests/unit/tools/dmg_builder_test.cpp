@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <queue>
 #include <set>
@@ -25,6 +27,7 @@ formats::ObjectArtifact bake(const TriMesh& mesh, const DmgOptions& o = {}) {
   a.mass = compute_mass_properties(mesh, 0, "test");
   a.placement = compute_placement_faces(mesh, a.mass.com, {}, "test");
   a.dmg = build_dmg(mesh, default_gripper(), o, "test");
+  a.grasp_graph = formats::build_grasp_graph_table(a.dmg);
   return a;
 }
 
@@ -152,6 +155,94 @@ TEST(Dmg, CheckObjectReportsBrokenGraphs) {
   auto face = a;
   face.placement.faces[0].normal *= 2;
   EXPECT_FALSE(check_object(face).empty());
+}
+
+// The baked grasp graph, as properties over every state and edge of real DMGs.
+TEST(GraspGraphTable, EdgesAreReversibleMovesOfTheDmgWithTheirCosts) {
+  for (const auto& mesh : {make_box_mesh({0.05, 0.07, 0.09}), make_cylinder_mesh(0.03, 0.1, 32)}) {
+    const auto a = bake(mesh);
+    const auto& t = a.grasp_graph;
+    const auto& d = a.dmg;
+    ASSERT_GT(t.size(), 0);
+    const int k = d.angle_count();
+    const double step = d.angle_step_deg * std::numbers::pi / 180;
+    std::map<std::pair<int, int>, double> cost;
+    for (int s = 0; s < t.size(); ++s)
+      for (int e = t.offsets[s]; e < t.offsets[s + 1]; ++e) {
+        const int u = t.targets[e], na = t.state_node[s], nb = t.state_node[u];
+        if (t.moves[e] == formats::GraspMoveKind::Rotation) {
+          EXPECT_EQ(na, nb);
+          const int da = ((t.state_angle[u] - t.state_angle[s]) % k + k) % k;
+          EXPECT_TRUE(da == 1 || da == k - 1);
+          EXPECT_NEAR(t.costs[e], step * t.rotation_weight, 1e-12);
+        } else {
+          EXPECT_EQ(t.state_angle[s], t.state_angle[u]);
+          EXPECT_TRUE(std::find(d.edges.begin(), d.edges.end(), std::array<int, 2>{na, nb}) != d.edges.end());
+          EXPECT_NEAR(t.costs[e], (d.nodes[na].position - d.nodes[nb].position).norm(), 1e-12);
+        }
+        EXPECT_GT(t.costs[e], 0);
+        cost[{s, u}] = t.costs[e];
+      }
+    for (const auto& [e, c] : cost) {
+      ASSERT_TRUE(cost.contains({e.second, e.first})) << e.first << " -> " << e.second;
+      EXPECT_DOUBLE_EQ(cost.at({e.second, e.first}), c);
+    }
+    // The snap index: each state's TCP sits between its contacts with y along the node's normal.
+    for (int s = 0; s < t.size(); ++s) {
+      const auto& n = d.nodes[t.state_node[s]];
+      const double* c = &t.tcp[7 * std::size_t(s)];
+      EXPECT_NEAR((Eigen::Vector3d(c[0], c[1], c[2]) - 0.5 * (n.position + n.opposite_point)).norm(), 0, 1e-12);
+      const Eigen::Matrix3d r = Eigen::Quaterniond(c[6], c[3], c[4], c[5]).toRotationMatrix();
+      EXPECT_NEAR(r.col(1).dot(n.normal), 1, 1e-9);
+      EXPECT_NEAR(t.opening[s], (n.position - n.opposite_point).norm(), 1e-12);
+    }
+    EXPECT_TRUE(check_object(a).empty()) << check_object(a).front();
+  }
+}
+
+TEST(GraspGraphTable, CheckObjectRefusesAGraphThatDisagreesWithTheDmg) {
+  const auto a = bake(make_box_mesh({0.05, 0.07, 0.09}));
+  ASSERT_TRUE(check_object(a).empty());
+  auto expect_refused = [&](const formats::ObjectArtifact& b, const std::string& what) {
+    const auto p = check_object(b);
+    ASSERT_FALSE(p.empty()) << what;
+    EXPECT_NE(p.front().find("grasp_graph"), std::string::npos) << p.front();
+  };
+  int translation = -1;
+  for (std::size_t e = 0; e < a.grasp_graph.moves.size() && translation < 0; ++e)
+    if (a.grasp_graph.moves[e] == formats::GraspMoveKind::Translation) translation = int(e);
+  ASSERT_GE(translation, 0);
+  auto b = a;
+  b.grasp_graph.costs[translation] *= 1.5;
+  expect_refused(b, "a cost changed");
+  b = a;
+  b.grasp_graph.moves[translation] = formats::GraspMoveKind::Rotation;
+  expect_refused(b, "a translation called a rotation");
+  b = a;
+  b.grasp_graph.targets[0] = b.grasp_graph.targets[0] == 0 ? 1 : 0;
+  expect_refused(b, "an edge retargeted");
+  b = a;
+  b.grasp_graph.tcp[0] += 0.001;
+  expect_refused(b, "the snap index moved");
+  b = a;
+  b.grasp_graph.state_angle[0] = (b.grasp_graph.state_angle[0] + 1) % a.dmg.angle_count();
+  expect_refused(b, "a state's angle");
+  b = a;
+  b.grasp_graph.rotation_weight = 0;
+  expect_refused(b, "zero rotation weight");
+  // Drop the last state's edges (and their reverses elsewhere would dangle): missing edges.
+  b = a;
+  const int s = b.grasp_graph.size() - 1;
+  const int drop = b.grasp_graph.offsets[s + 1] - b.grasp_graph.offsets[s];
+  ASSERT_GT(drop, 0);
+  b.grasp_graph.targets.resize(b.grasp_graph.targets.size() - drop);
+  b.grasp_graph.costs.resize(b.grasp_graph.targets.size());
+  b.grasp_graph.moves.resize(b.grasp_graph.targets.size());
+  b.grasp_graph.offsets.back() = b.grasp_graph.offsets[s];
+  expect_refused(b, "a state's edges dropped");
+  b = a;
+  b.grasp_graph = {};
+  expect_refused(b, "no graph");
 }
 
 }  // namespace

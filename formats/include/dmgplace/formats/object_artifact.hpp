@@ -1,6 +1,7 @@
 #pragma once
 // OBJECT.h5: everything the runtime needs about one rigid object: mesh, mass properties, the
-// faces it can rest on, and its Dexterous Manipulation Graph (DMG) for in-hand regrasping.
+// faces it can rest on, its Dexterous Manipulation Graph (DMG) for in-hand regrasping and the grasp
+// graph derived from the DMG.
 #include <array>
 #include <filesystem>
 #include <string>
@@ -9,11 +10,12 @@
 #include "dmgplace/formats/artifact_header.hpp"
 #include "dmgplace/formats/artifact_kind.hpp"
 #include "dmgplace/formats/geometry_types.hpp"
+#include "dmgplace/formats/grasp_graph_table.hpp"
 
 namespace dmgplace::formats {
 
 inline constexpr const char* kObjectSchema = "dmgplace.object";
-inline constexpr int kObjectSchemaVersion = 2;
+inline constexpr int kObjectSchemaVersion = 3;  // 3: the grasp graph is stored
 
 struct MassProperties {
   double volume = 0;                                    // m^3, from the closed mesh
@@ -87,6 +89,7 @@ struct ObjectArtifact {
   MassProperties mass;
   PlacementFaces placement;
   Dmg dmg;
+  GraspGraphTable grasp_graph;  // save_object derives it from the DMG when it has no states
 };
 
 void save_object(ObjectArtifact artifact, const std::filesystem::path& path);

@@ -1,11 +1,8 @@
 #pragma once
-// The grasp graph of an object, derived at load time from its DMG (no CGAL / PCL / Embree).
-// A grasp state is (DMG node, finger angle index): finger 1 on the node's contact, finger 2 on its
-// opposite contact, the gripper turned by angle * step about the grasp axis. The bake already
-// checked the whole gripper (both fingers and palm) at every angle of a node's interval, so every
-// state is collision-free with the object.
-// Moves: rotation to the neighbouring angle of the same node (cost = step x rotation_weight), and
-// translation along a DMG edge keeping the angle (cost = distance between finger-1 contacts).
+// The grasp graph of an object, read as baked into OBJECT.h5 (formats/grasp_graph_table.hpp holds
+// its definition); the runtime only indexes it. A grasp state is (DMG node, finger angle index).
+// The bake already checked the whole gripper (both fingers and palm) at every angle of a node's
+// interval, so every state is collision-free with the object.
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <span>
@@ -25,8 +22,9 @@ enum class GraspMove : std::uint8_t { Translation, Rotation };
 
 class GraspGraph {
  public:
-  // rotation_weight: cost per radian of in-hand rotation (the original used 0.1).
-  explicit GraspGraph(const formats::Dmg& dmg, double rotation_weight = 0.1);
+  // The object's stored graph (load_object has checked it against the DMG).
+  explicit GraspGraph(const formats::ObjectArtifact& object);
+  GraspGraph(formats::Dmg dmg, const formats::GraspGraphTable& table);
 
   int size() const { return int(states_.size()); }
   const GraspState& state(int s) const { return states_[s]; }
@@ -38,8 +36,8 @@ class GraspGraph {
   int find(int node, int angle) const;
 
   // Gripper TCP frame in the object frame: y = grasp axis (towards finger 1), z = approach.
-  Eigen::Isometry3d tcp_pose(int s) const;
-  double opening(int s) const;
+  Eigen::Isometry3d tcp_pose(int s) const;  // from the stored snap index
+  double opening(int s) const { return opening_[s]; }
   const Eigen::Vector3d& contact1(int s) const { return dmg_.nodes[states_[s].node].position; }
   const Eigen::Vector3d& contact2(int s) const { return dmg_.nodes[states_[s].node].opposite_point; }
 
@@ -56,6 +54,8 @@ class GraspGraph {
   std::vector<int> first_state_;  // per node
   WeightedGraph graph_;
   std::vector<GraspMove> moves_;
+  std::vector<Eigen::Isometry3d> tcp_;
+  std::vector<double> opening_;
 };
 
 }  // namespace dmgplace::runtime
