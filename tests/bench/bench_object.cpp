@@ -13,6 +13,7 @@
 #include "dmgplace/tools/object/gripper_model.hpp"
 #include "dmgplace/tools/object/mass_properties.hpp"
 #include "dmgplace/tools/object/placement_faces.hpp"
+#include "dmgplace/tools/scan/scan_object.hpp"
 #include "test_support.hpp"
 
 using namespace dmgplace;
@@ -132,6 +133,36 @@ void BM_LoadObjectWithGraspGraph(benchmark::State& state) {
   std::filesystem::remove(file);
 }
 BENCHMARK(BM_LoadObjectWithGraspGraph)->Unit(benchmark::kMillisecond);
+
+// Scan to object (issue 21's target: < 3 s for a 300k-point scan): segmentation, reconstruction,
+// mass, placement faces, DMG and grasp graph, as `bake-object SCAN.pcd` does them.
+void BM_ScanToObject(benchmark::State& state, const char* file, bool crop, tools::Reconstruction method) {
+  tools::ScanObjectOptions o;
+  o.reconstruct.method = method;
+  if (crop) {
+    o.segment.crop = Eigen::AlignedBox3d(Eigen::Vector3d(-1, -1, 0), Eigen::Vector3d(1, 1, 1.5));
+    o.segment.cluster = 0;
+  }
+  const auto path = test::shared_datasets() / "scans/pcl" / file;
+  std::size_t points = 0;
+  for (auto _ : state) {
+    const auto scan = tools::object_from_scans({path}, o);
+    formats::ObjectArtifact a;
+    a.mesh = scan.mesh;
+    a.mass = tools::compute_mass_properties(a.mesh, 0, file);
+    a.placement = tools::compute_placement_faces(a.mesh, a.mass.com, {}, file);
+    a.dmg = tools::build_dmg(a.mesh, tools::default_gripper(), {}, file);
+    a.grasp_graph = formats::build_grasp_graph_table(a.dmg);
+    points = scan.segmented.input_points;
+    benchmark::DoNotOptimize(a.grasp_graph.targets.data());
+  }
+  state.counters["scan_points"] = double(points);
+}
+BENCHMARK_CAPTURE(BM_ScanToObject, milk_poisson, "milk.pcd", false, tools::Reconstruction::Poisson)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK_CAPTURE(BM_ScanToObject, milk_hull, "milk.pcd", false, tools::Reconstruction::Hull)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK_CAPTURE(BM_ScanToObject, table_scene_mug_hull, "table_scene_mug_stereo_textured.pcd", true, tools::Reconstruction::Hull)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
 
 }  // namespace
 

@@ -1,7 +1,11 @@
 #include "cli_util.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <iostream>
+#include <sstream>
+
+#include "dmgplace/formats/error.hpp"
 
 #include "dmgplace/formats/artifact_kind.hpp"
 #include "dmgplace/formats/sha256.hpp"
@@ -42,10 +46,12 @@ nlohmann::ordered_json artifact_json(const std::filesystem::path& path) {
   return j;
 }
 
-void report_written(const std::filesystem::path& path, bool json, double seconds) {
+void report_written(const std::filesystem::path& path, bool json, double seconds, const nlohmann::ordered_json& extra) {
   if (json) {
-    std::cout << nlohmann::ordered_json{{"written", path.string()}, {"seconds", seconds}, {"artifact", artifact_json(path)}}.dump(2)
-              << "\n";
+    nlohmann::ordered_json j{{"written", path.string()}, {"seconds", seconds}};
+    for (const auto& [k, v] : extra.items()) j[k] = v;
+    j["artifact"] = artifact_json(path);
+    std::cout << j.dump(2) << "\n";
     return;
   }
   std::cout << "wrote " << path.string();
@@ -57,6 +63,24 @@ void report_written(const std::filesystem::path& path, bool json, double seconds
     sep = ", ";
   }
   std::cout << ")\n";
+}
+
+std::vector<double> parse_numbers(const std::string& text, std::size_t n, const std::string& flag) {
+  std::vector<double> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    try {
+      std::size_t used = 0;
+      const double v = std::stod(item, &used);
+      if (used != item.size() || !std::isfinite(v)) throw std::invalid_argument(item);
+      out.push_back(v);
+    } catch (const std::exception&) {
+      throw Error(flag, "", "'" + item + "' is not a finite number");
+    }
+  }
+  if (out.size() != n) throw Error(flag, "", "expected " + std::to_string(n) + " comma-separated numbers, got '" + text + "'");
+  return out;
 }
 
 }  // namespace dmgplace::cli

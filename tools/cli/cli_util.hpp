@@ -1,5 +1,7 @@
 #pragma once
 // Helpers shared by the subcommands: creation-parameter JSON, input hashing, what was written.
+#include <algorithm>
+#include <array>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -18,6 +20,17 @@ formats::ArtifactHeader make_header(const nlohmann::json& parameters, const std:
 nlohmann::ordered_json artifact_json(const std::filesystem::path& path);
 // Prints "wrote PATH" plus the artifact's one-line summary; with `json`, one JSON object:
 // {"written", "seconds", "artifact": artifact_json}.
-void report_written(const std::filesystem::path& path, bool json = false, double seconds = 0);
+// `extra` (JSON only) adds keys before "artifact".
+void report_written(const std::filesystem::path& path, bool json = false, double seconds = 0,
+                    const nlohmann::ordered_json& extra = nlohmann::ordered_json::object());
+// "a,b,c" -> exactly n finite numbers, or dmgplace::Error naming the flag.
+std::vector<double> parse_numbers(const std::string& text, std::size_t n, const std::string& flag);
+template <std::size_t N>
+std::array<double, N> parse_numbers(const std::string& text, const std::string& flag) {
+  const auto v = parse_numbers(text, N, flag);
+  std::array<double, N> out{};
+  std::copy(v.begin(), v.end(), out.begin());
+  return out;
+}
 
 }  // namespace dmgplace::cli

@@ -6,6 +6,12 @@
 #include <string>
 #include <vector>
 
+#include "dmgplace/tools/object/dmg_builder.hpp"
+#include "dmgplace/tools/object/placement_faces.hpp"
+#include "dmgplace/tools/scan/scan_segmentation.hpp"
+#include "dmgplace/tools/scan/surface_reconstruction.hpp"
+#include "option_table.hpp"
+
 namespace dmgplace::cli {
 
 struct ValidateArgs { std::vector<std::string> files; bool quiet = false, json = false, set = false, check_inputs = false; };
@@ -15,18 +21,25 @@ struct InspectArgs { std::string file; bool json = false; };
 int run_inspect(const InspectArgs& a);
 
 struct BakeObjectArgs {
-  std::string mesh, out;
+  std::vector<std::string> inputs;  // one mesh, or one or more PCD scans of the object
+  std::string out;
   bool json = false;
   double scale = 1.0;
-  std::optional<std::array<double, 3>> com;
-  double mass = 0;  // <= 0: from volume at 1000 kg/m^3
+  std::string com_text;             // "x,y,z": overrides the computed centre of mass
+  double mass = 0;                  // <= 0: from volume at 1000 kg/m^3
   std::string gripper;              // YAML; empty: the built-in dmgarm hand
-  double seed_resolution = 0.01;    // DMG patch size (m)
-  double angle_step = 10;           // DMG finger angle step (deg)
-  double normal_threshold = 0.07;   // DMG facets: |n_i - n_j|^2 below this
-  double face_merge_angle = 0.2;    // placement faces (rad)
-  double stability_margin = 0.01;   // placement faces (m), scaled down for small objects
+  tools::DmgOptions dmg;
+  tools::FaceOptions faces;
   double rotation_weight = 0.1;     // grasp graph: cost of in-hand rotation (m per rad)
+  // Scans only.
+  std::string crop_text, near_text; // "x0,y0,z0,x1,y1,z1" / "x,y,z"
+  tools::ScanSegmentOptions segment;
+  std::string support_plane = "auto";
+  tools::ReconstructOptions reconstruct;
+  std::string reconstruct_method = "poisson";
+  std::string dmg_from = "mesh";    // mesh: patches of the reconstructed surface; points: supervoxels of the scan
+  // Every option above as a row (option_table.hpp): CLI binding and header parameters in one place.
+  OptionTable options();
 };
 int run_bake_object(const BakeObjectArgs& a);
 

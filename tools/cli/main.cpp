@@ -4,34 +4,35 @@
 #include <cmath>
 #include <iostream>
 #include <sstream>
+#include <type_traits>
+#include <variant>
 
+#include "cli_util.hpp"
 #include "commands.hpp"
 #include "dmgplace/formats/artifact_header.hpp"
 #include "dmgplace/formats/error.hpp"
 
+
 namespace {
 
-// "a,b,c" -> exactly N finite numbers, or an error naming the flag.
-template <std::size_t N>
-std::array<double, N> parse_numbers(const std::string& text, const std::string& flag) {
-  std::array<double, N> out{};
-  std::stringstream ss(text);
-  std::string item;
-  std::size_t i = 0;
-  while (std::getline(ss, item, ',')) {
-    if (i >= N) break;
-    try {
-      std::size_t used = 0;
-      out[i] = std::stod(item, &used);
-      if (used != item.size() || !std::isfinite(out[i])) throw std::invalid_argument(item);
-    } catch (const std::exception&) {
-      throw dmgplace::Error(flag, "", "'" + item + "' is not a finite number");
-    }
-    ++i;
+// Binds an option table (option_table.hpp): numbers with their range checked at parse time, help
+// with unit and default, text options limited to their choices, flags.
+void bind_options(CLI::App* app, const dmgplace::cli::OptionTable& table) {
+  for (const auto& row : table) {
+    const std::string help = row.unit.empty() ? row.help : row.help + " (" + row.unit + ")";
+    std::visit(
+        [&](auto* v) {
+          using T = std::remove_pointer_t<decltype(v)>;
+          if constexpr (std::is_same_v<T, bool>) {
+            app->add_flag(row.flag, *v, help);
+          } else {
+            auto* o = app->add_option(row.flag, *v, help)->capture_default_str();
+            if constexpr (std::is_arithmetic_v<T>) o->check(CLI::Range(T(row.lo), T(row.hi)));
+            else if (!row.choices.empty()) o->check(CLI::IsMember(row.choices));
+          }
+        },
+        row.value);
   }
-  if (i != N || std::getline(ss, item, ','))
-    throw dmgplace::Error(flag, "", "expected " + std::to_string(N) + " comma-separated numbers, got '" + text + "'");
-  return out;
 }
 
 }  // namespace
@@ -59,21 +60,13 @@ int main(int argc, char** argv) {
   c_inspect->add_flag("--json", inspect.json, "Print JSON");
 
   BakeObjectArgs bake_object;
-  std::string com_text;
   auto* c_obj = app.add_subcommand("bake-object", "Analyse a rigid object mesh once into OBJECT.h5");
-  c_obj->add_option("mesh", bake_object.mesh, "Mesh file (STL, OBJ, PLY, DAE)")->required();
-  c_obj->add_option("--scale", bake_object.scale, "Unit scale (0.001 for millimetre files)")->check(CLI::Range(1e-6, 1e6));
-  c_obj->add_option("--com", com_text, "Centre of mass x,y,z in the mesh frame (metres), overrides the computed one");
-  c_obj->add_option("--mass", bake_object.mass, "Mass in kg (default: volume x 1000 kg/m^3)")->check(CLI::Range(1e-6, 1e5));
-  c_obj->add_option("--gripper", bake_object.gripper, "Gripper YAML (default: the built-in dmgarm hand)");
-  c_obj->add_option("--seed-resolution", bake_object.seed_resolution, "DMG patch size (m)")->check(CLI::Range(1e-4, 1.0));
-  c_obj->add_option("--angle-step", bake_object.angle_step, "DMG finger angle step (deg, divides 360)")->check(CLI::Range(0.1, 180.0));
-  c_obj->add_option("--normal-threshold", bake_object.normal_threshold, "DMG facets: |n_i - n_j|^2 below this")->check(CLI::Range(1e-6, 4.0));
-  c_obj->add_option("--face-merge-angle", bake_object.face_merge_angle, "Placement faces: merge hull facets closer than this (rad)")->check(CLI::Range(0.0, 1.5));
-  c_obj->add_option("--stability-margin", bake_object.stability_margin, "Placement faces: COM margin (m)")->check(CLI::Range(0.0, 1.0));
-  c_obj->add_option("--rotation-weight", bake_object.rotation_weight, "Grasp graph: cost of in-hand rotation against sliding (m per rad)")->check(CLI::Range(1e-6, 100.0));
-  c_obj->add_option("--out", bake_object.out, "Output artifact")->required();
-  c_obj->add_flag("--json", bake_object.json, "Print JSON: the file written, seconds taken, and the artifact's summary (as inspect --json)");
+  c_obj->add_option("inputs", bake_object.inputs, "One mesh (STL, OBJ, PLY, DAE), or PCD scans of the object (each with its sensor VIEWPOINT)")->required();
+  bind_options(c_obj, bake_object.options());
+  c_obj->get_option("--out")->required();
+  c_obj->add_option("--com", bake_object.com_text, "Centre of mass x,y,z (m, mesh frame; object frame for scans), overrides the computed one");
+  c_obj->add_option("--crop", bake_object.crop_text, "Scans: keep points in the box xmin,ymin,zmin,xmax,ymax,zmax (m, scan frame)");
+  c_obj->add_option("--cluster-near", bake_object.near_text, "Scans: take the cluster nearest x,y,z (m, scan frame)");
 
   PlaceArgs place;
   auto* c_place = app.add_subcommand("place", "Plan a placement (anytime): in-hand regrasp, arm path, best pose so far");
@@ -228,10 +221,7 @@ int main(int argc, char** argv) {
   try {
     if (*c_validate) return run_validate(validate);
     if (*c_inspect) return run_inspect(inspect);
-    if (*c_obj) {
-      if (!com_text.empty()) bake_object.com = parse_numbers<3>(com_text, "--com");
-      return run_bake_object(bake_object);
-    }
+    if (*c_obj) return run_bake_object(bake_object);
     if (*c_place) return run_place(place);
     if (*c_exp) return run_experiment(experiment);
     if (*c_plot) return run_plot(plot);

@@ -11,21 +11,28 @@
 #include <system_error>
 
 #include "dmgplace/formats/error.hpp"
+#include "dmgplace/tools/io/input_log.hpp"
 #include "pcd_layout.hpp"
 
 namespace dmgplace::tools {
 
-RowMatrixX3d read_pcd(const std::filesystem::path& pcd) {
+RowMatrixX3d read_pcd(const std::filesystem::path& pcd) { return read_scan(pcd).points; }
+
+ScanCloud read_scan(const std::filesystem::path& pcd) {
   const std::string file = pcd.string();
   std::error_code ec;
   if (!std::filesystem::is_regular_file(pcd, ec)) throw Error(file, "", "file not found");
 
+  note_input(pcd);
   detail::check_pcd_layout(file);  // PCL would crash or read garbage on some broken files
   pcl::PCLPointCloud2 blob;
   pcl::PointCloud<pcl::PointXYZ> cloud;
+  Eigen::Vector4f origin = Eigen::Vector4f::Zero();
+  Eigen::Quaternionf orientation = Eigen::Quaternionf::Identity();
   try {
     pcl::PCDReader reader;
-    if (reader.read(file, blob) < 0)
+    int version = 0;
+    if (reader.read(file, blob, origin, orientation, version) < 0)
       throw Error(file, "", "PCL cannot read it (bad header, or data shorter than the header says)");
     const auto has = [&](const char* name) {
       return std::any_of(blob.fields.begin(), blob.fields.end(), [&](const auto& f) { return f.name == name; });
@@ -46,13 +53,20 @@ RowMatrixX3d read_pcd(const std::filesystem::path& pcd) {
     throw Error(file, "", std::string("PCL cannot read it: ") + e.what());
   }
 
-  RowMatrixX3d out(Eigen::Index(cloud.size()), 3);
+  ScanCloud scan;
+  RowMatrixX3d& out = scan.points;
+  out.resize(Eigen::Index(cloud.size()), 3);
   Eigen::Index n = 0;
   for (const auto& p : cloud.points)
     if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) out.row(n++) << p.x, p.y, p.z;
   if (n == 0) throw Error(file, "", "no finite point among " + std::to_string(cloud.size()));
   out.conservativeResize(n, 3);
-  return out;
+  scan.viewpoint = origin.head<3>().cast<double>();
+  scan.orientation = orientation.cast<double>();
+  if (!scan.viewpoint.allFinite() || !scan.orientation.coeffs().allFinite() || scan.orientation.norm() < 1e-6)
+    throw Error(file, "VIEWPOINT", "not a finite position and a non-zero quaternion");
+  scan.orientation.normalize();
+  return scan;
 }
 
 Scene read_scan_scene(const std::filesystem::path& pcd, const Eigen::Isometry3d& frame) {

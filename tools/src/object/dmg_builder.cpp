@@ -52,22 +52,16 @@ bool intervals_meet(const formats::DmgNode& a, const formats::DmgNode& b, int k)
   return false;
 }
 
+formats::Dmg assemble(const TriMesh& mesh, const formats::GripperModel& gripper, const DmgOptions& o,
+                      const detail::SurfaceSamples& samples, const detail::SampleGrid& grid, const detail::Patches& patches);
+
 }  // namespace
 
 formats::Dmg build_dmg(const TriMesh& mesh, const formats::GripperModel& gripper, const DmgOptions& o,
                        const std::string& file) {
   check_options(o, file);
   if (mesh.empty()) throw Error(file, "mesh", "empty");
-  formats::Dmg dmg;
-  dmg.angle_step_deg = o.angle_step_deg;
-  dmg.seed_resolution = o.seed_resolution;
-  dmg.normal_threshold = o.normal_threshold;
-  dmg.gripper = gripper;
-  const int k = dmg.angle_count();
-
-  Eigen::AlignedBox3d box;
   double area = 0;
-  for (Eigen::Index i = 0; i < mesh.vertices.rows(); ++i) box.extend(mesh.vertices.row(i).transpose());
   for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
     const Eigen::Vector3d a = mesh.vertices.row(mesh.triangles(t, 0)).transpose();
     area += 0.5 * (mesh.vertices.row(mesh.triangles(t, 1)).transpose() - a)
@@ -81,6 +75,36 @@ formats::Dmg build_dmg(const TriMesh& mesh, const formats::GripperModel& gripper
   if (samples.position.empty()) throw Error(file, "mesh", "no surface area to sample");
   const detail::SampleGrid grid(samples.position, 2 * spacing);
   const auto patches = detail::segment_patches(mesh, samples, grid, o.seed_resolution, o.crease_angle);
+  return assemble(mesh, gripper, o, samples, grid, patches);
+}
+
+formats::Dmg build_dmg_from_points(const TriMesh& mesh, const std::vector<Eigen::Vector3d>& points,
+                                   const std::vector<Eigen::Vector3d>& normals, const formats::GripperModel& gripper,
+                                   const DmgOptions& o, const std::string& file) {
+  check_options(o, file);
+  if (mesh.empty()) throw Error(file, "mesh", "empty");
+  if (points.size() != normals.size() || points.empty()) throw Error(file, "points", "no points, or not one normal per point");
+  detail::SurfaceSamples samples;
+  const auto patches = detail::supervoxel_patches(mesh, points, normals, o.seed_resolution, samples);
+  if (patches.size.empty()) throw Error(file, "points", "no supervoxel: too few points for --seed-resolution");
+  const detail::SampleGrid grid(samples.position, 2 * samples.spacing);
+  return assemble(mesh, gripper, o, samples, grid, patches);
+}
+
+namespace {
+
+formats::Dmg assemble(const TriMesh& mesh, const formats::GripperModel& gripper, const DmgOptions& o,
+                      const detail::SurfaceSamples& samples, const detail::SampleGrid& grid, const detail::Patches& patches) {
+  const double spacing = samples.spacing;
+  formats::Dmg dmg;
+  dmg.angle_step_deg = o.angle_step_deg;
+  dmg.seed_resolution = o.seed_resolution;
+  dmg.normal_threshold = o.normal_threshold;
+  dmg.gripper = gripper;
+  const int k = dmg.angle_count();
+
+  Eigen::AlignedBox3d box;
+  for (Eigen::Index i = 0; i < mesh.vertices.rows(); ++i) box.extend(mesh.vertices.row(i).transpose());
   const auto facets = detail::find_facets(patches, o.normal_threshold);
   dmg.patch_count = int(patches.size.size());
   dmg.facet_normals = facets.normal;
@@ -158,4 +182,5 @@ formats::Dmg build_dmg(const TriMesh& mesh, const formats::GripperModel& gripper
   return dmg;
 }
 
+}  // namespace
 }  // namespace dmgplace::tools

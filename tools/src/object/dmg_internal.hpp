@@ -49,6 +49,14 @@ struct Patches {
 Patches segment_patches(const TriMesh& mesh, const SurfaceSamples& s, const SampleGrid& grid, double seed,
                         double crease_angle);
 
+// The original DMG's segmentation (Cruciani et al.): PCL supervoxels of scan points (voxel =
+// seed x 8/13, the original's 8 mm for 13 mm; colour ignored, space and normals equally weighted).
+// `samples` receives the labelled points (spacing: their median gap, at least seed / 5); a patch's
+// position is its point nearest the supervoxel centroid, moved onto `mesh` (the reconstructed
+// surface the fingers are checked against); its normal the mean of its points' normals.
+Patches supervoxel_patches(const TriMesh& mesh, const std::vector<Eigen::Vector3d>& points,
+                           const std::vector<Eigen::Vector3d>& normals, double seed, SurfaceSamples& samples);
+
 struct Facets {
   std::vector<int> of_patch;
   std::vector<Eigen::Vector3d> normal, zero_axis;

@@ -7,6 +7,16 @@
 
 namespace dmgplace::tools {
 
+// A scan as the sensor saw it: points in the cloud frame and the sensor pose stored in the PCD
+// header (VIEWPOINT: origin and orientation), which says which way each surface faced the sensor.
+struct ScanCloud {
+  RowMatrixX3d points;
+  Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+};
+// read_pcd's points plus the header's viewpoint.
+ScanCloud read_scan(const std::filesystem::path& pcd);
+
 // The x, y, z of every finite point (NaN/Inf points, e.g. holes of organized clouds, dropped).
 // Missing file, malformed or truncated data, no x/y/z fields, or no finite point: dmgplace::Error.
 RowMatrixX3d read_pcd(const std::filesystem::path& pcd);

@@ -3,6 +3,7 @@
 // gripper: surface patches, facets of agreeing normals, valid finger angles per patch checked
 // exactly against the mesh (Embree), opposite contacts and sliding edges. See docs/dmg.md.
 #include <string>
+#include <vector>
 
 #include "dmgplace/formats/geometry_types.hpp"
 #include "dmgplace/formats/object_artifact.hpp"
@@ -21,5 +22,12 @@ struct DmgOptions {
 // positive) or an unusable mesh.
 formats::Dmg build_dmg(const TriMesh& mesh, const formats::GripperModel& gripper, const DmgOptions& options,
                        const std::string& file);
+
+// The same graph with the original's patches: supervoxels of scan points (outward unit normals)
+// instead of cells of the mesh; fingers, opposite contacts and angles are checked against `mesh`,
+// the surface reconstructed from those points.
+formats::Dmg build_dmg_from_points(const TriMesh& mesh, const std::vector<Eigen::Vector3d>& points,
+                                   const std::vector<Eigen::Vector3d>& normals, const formats::GripperModel& gripper,
+                                   const DmgOptions& options, const std::string& file);
 
 }  // namespace dmgplace::tools
