@@ -161,8 +161,11 @@ PYBIND11_MODULE(dmgplace, m) {
       .def_static(
           "load",
           [](const std::filesystem::path& robot, const std::filesystem::path& object, const std::filesystem::path& env,
-             double finger_opening) { return std::const_pointer_cast<World>(World::load(robot, object, env, finger_opening)); },
+             double finger_opening, const std::map<std::string, double>& joint_values) {
+            return std::const_pointer_cast<World>(World::load(robot, object, env, finger_opening, joint_values));
+          },
           py::arg("robot"), py::arg("object"), py::arg("environment"), py::arg("finger_opening") = -1.0,
+          py::arg("joint_values") = std::map<std::string, double>{},
           py::call_guard<py::gil_scoped_release>())
       .def_property_readonly("dof", &World::dof)
       .def_property_readonly("joint_names", &World::joint_names)

@@ -83,6 +83,15 @@ def test_a_bad_artifact_raises_an_error_naming_the_file(artifacts, tmp_path):
         dmgplace.read_query(q, artifacts)
 
 
+def test_joints_outside_the_arm_are_set_by_name_or_refused(artifacts):
+    with pytest.raises(dmgplace.Error, match="no joint of that name"):
+        dmgplace.World.load(artifacts / "arm.h5", artifacts / "eraser.h5", artifacts / "table.h5",
+                            joint_values={"elbow_of_another_arm": 1.0})
+    with pytest.raises(dmgplace.Error, match="planning chain"):
+        dmgplace.World.load(artifacts / "arm.h5", artifacts / "eraser.h5", artifacts / "table.h5",
+                            joint_values={"dmgarm_joint1": 0.0})
+
+
 def test_a_stop_callable_ends_place_promptly(artifacts, world):
     # Without the stop the search would run its 60 s and poll many more times.
     calls = []

@@ -23,8 +23,10 @@ int run_place(const PlaceArgs& a) {
     q.query.variant = *v;
   }
   const auto t_load = std::chrono::steady_clock::now();
-  runtime::PlacementWorld world(formats::load_robot(q.robot), formats::load_object(q.object),
-                                formats::load_environment(q.environment), q.query.g0_opening);
+  auto robot = formats::load_robot(q.robot);
+  const auto joints = tools::world_joint_values(q, robot.model);
+  runtime::PlacementWorld world(std::move(robot), formats::load_object(q.object), formats::load_environment(q.environment),
+                                q.query.g0_opening, joints);
   q.query.q0 = tools::resolve_start(q, world.kin());
   const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
   std::cerr << "loaded " << q.robot.filename().string() << ", " << q.object.filename().string() << ", "

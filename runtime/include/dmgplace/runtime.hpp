@@ -26,6 +26,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -49,9 +50,11 @@ class DMGPLACE_RUNTIME_EXPORT World {
  public:
   // Loads the three artifacts through the semantic gate (dmgplace::Error naming the file when one
   // is unsound) and builds every structure queries share. `finger_opening` (m, < 0: the gripper's
-  // maximum) is the finger joints' setting for the whole world.
+  // maximum) is the finger joints' setting for the whole world; `joint_values` sets joints outside
+  // the arm chain (another arm, a torso) by name, refusing names that are no such joint.
   static std::shared_ptr<const World> load(const std::filesystem::path& robot, const std::filesystem::path& object,
-                                           const std::filesystem::path& environment, double finger_opening = -1);
+                                           const std::filesystem::path& environment, double finger_opening = -1,
+                                           const std::map<std::string, double>& joint_values = {});
   ~World();
   World(const World&) = delete;
   World& operator=(const World&) = delete;

@@ -23,10 +23,12 @@ World::World() : impl_(std::make_unique<Impl>()) {}
 World::~World() = default;
 
 std::shared_ptr<const World> World::load(const std::filesystem::path& robot, const std::filesystem::path& object,
-                                         const std::filesystem::path& environment, double finger_opening) {
+                                         const std::filesystem::path& environment, double finger_opening,
+                                         const std::map<std::string, double>& joint_values) {
   std::shared_ptr<World> w(new World());
   w->impl_->world = std::make_unique<runtime::PlacementWorld>(formats::load_robot(robot), formats::load_object(object),
-                                                              formats::load_environment(environment), finger_opening);
+                                                              formats::load_environment(environment), finger_opening,
+                                                              joint_values);
   return w;
 }
 

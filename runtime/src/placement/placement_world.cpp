@@ -39,7 +39,8 @@ bool in_chain(const Kinematics& kin, const std::string& joint) {
 }  // namespace
 
 PlacementWorld::PlacementWorld(formats::RobotArtifact robot, formats::ObjectArtifact object,
-                               formats::EnvironmentArtifact env, double finger_opening)
+                               formats::EnvironmentArtifact env, double finger_opening,
+                               const std::map<std::string, double>& joint_values)
     : robot_(std::move(robot)), object_(std::move(object)) {
   // Artifacts built in memory have no file name: say which kind instead.
   const auto name = [](const formats::ArtifactHeader& h, const char* kind) {
@@ -77,6 +78,7 @@ PlacementWorld::PlacementWorld(formats::RobotArtifact robot, formats::ObjectArti
     }
     if (finger) hand_.fingers.push_back(l);
   }
+  set_robot_joints(joint_values, names.robot);
   hand_.in_tcp = hand_in_tcp(*kin_);
   fit_ = check_fit(object_, env_.regions, *kin_, finger_travel(), int(hand_.fingers.size()), names);
   if (!fit_.ok()) {
@@ -100,6 +102,25 @@ void PlacementWorld::set_fingers(Kinematics& kin, double opening) const {
     if (j.type == JointType::Fixed || in_chain(kin, j.name)) continue;
     if (std::find(hand_.links.begin(), hand_.links.end(), j.child) == hand_.links.end()) continue;
     if (j.mimic < 0) kin.set_joint_value(j.name, std::clamp(0.5 * opening, j.lower, j.upper));
+  }
+}
+
+void PlacementWorld::set_robot_joints(const std::map<std::string, double>& values, const std::string& file) {
+  const auto& m = robot_.model;
+  for (const auto& [name, value] : values) {
+    const int j = m.joint_index(name);
+    const std::string where = "joint '" + name + "'";
+    if (j < 0) throw Error(file, where, "no joint of that name in robot '" + m.name + "'");
+    const Joint& jt = m.joints[std::size_t(j)];
+    if (kin_->chain_slot(j) >= 0) throw Error(file, where, "is a joint of the planning chain: it belongs in the start configuration");
+    if (jt.type == JointType::Fixed) throw Error(file, where, "is fixed (in the URDF, or frozen by bake-robot --fixed-joints)");
+    if (jt.mimic >= 0) throw Error(file, where, "follows '" + m.joints[std::size_t(jt.mimic)].name + "' (mimic): set that one");
+    if (std::find(hand_.links.begin(), hand_.links.end(), jt.child) != hand_.links.end())
+      throw Error(file, where, "moves a finger: fingers follow each grasp's opening");
+    if (!std::isfinite(value) || (jt.type != JointType::Continuous && (value < jt.lower - 1e-9 || value > jt.upper + 1e-9)))
+      throw Error(file, where, "value " + std::to_string(value) + " outside its limits [" + std::to_string(jt.lower) + ", " +
+                                   std::to_string(jt.upper) + "]");
+    kin_->set_joint_value(name, value);
   }
 }
 

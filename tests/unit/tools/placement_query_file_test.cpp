@@ -131,12 +131,23 @@ TEST(PlacementQueryFile, StartsThatDoNotFitTheArmAreRejected) {
                           "dmgarm_joint5: 0, dmgarm_joint6: 1.571, dmgarm_joint7: 0.785";
   write_text(path, kArtifacts + "start: {" + arm + "}\n" + kGrasp);
   EXPECT_EQ(resolve_start(read_placement_query(path), kin).size(), 7);
+  // A joint outside the chain goes to the world (world_joint_values); a world without it is refused.
   write_text(path, kArtifacts + "start: {" + arm + ", dmgarm_finger_joint1: 0.02}\n" + kGrasp);
-  EXPECT_THAT(error_of([&] { resolve_start(read_placement_query(path), kin); }),
-              AllOf(HasSubstr(path.string()), HasSubstr("start.dmgarm_finger_joint1"), HasSubstr("--fixed-joints")));
+  const auto q = read_placement_query(path);
+  RobotModel model = kin.model();  // as a robot artifact has it: with its arm chain named
+  model.arm_base = "dmgarm_link0";
+  model.arm_tip = "dmgarm_tcp";
+  EXPECT_EQ(world_joint_values(q, model), (std::map<std::string, double>{{"dmgarm_finger_joint1", 0.02}}));
+  EXPECT_THAT(error_of([&] { resolve_start(q, kin); }),
+              AllOf(HasSubstr(path.string()), HasSubstr("start.dmgarm_finger_joint1"), HasSubstr("world was built without it")));
+  runtime::Kinematics set = kin;
+  set.set_joint_value("dmgarm_finger_joint1", 0.02);
+  EXPECT_EQ(resolve_start(q, set).size(), 7);
   write_text(path, kArtifacts + "start: {" + arm + ", elbow_of_the_other_arm: 1}\n" + kGrasp);
   EXPECT_THAT(error_of([&] { resolve_start(read_placement_query(path), kin); }),
               AllOf(HasSubstr(path.string()), HasSubstr("no joint of that name")));
+  EXPECT_THAT(error_of([&] { world_joint_values(read_placement_query(path), model); }),
+              AllOf(HasSubstr(path.string()), HasSubstr("start.elbow_of_the_other_arm")));
 }
 
 // Issue 19: an artifact path may not lead out of the artifact folder (`..`, absolute, symlink).

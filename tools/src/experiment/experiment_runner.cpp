@@ -31,13 +31,17 @@ struct Task {
 class WorldCache {
  public:
   std::shared_ptr<const runtime::PlacementWorld> get(const PlacementQueryFile& q) {
-    const std::string key = q.robot.string() + "|" + q.object.string() + "|" + q.environment.string() + "|" +
-                            std::to_string(q.query.g0_opening);
+    std::string key = q.robot.string() + "|" + q.object.string() + "|" + q.environment.string() + "|" +
+                      std::to_string(q.query.g0_opening);
+    for (const auto& [name, value] : q.start_named) key += "|" + name + "=" + std::to_string(value);
     std::lock_guard<std::mutex> lock(mutex_);
     auto& w = worlds_[key];
-    if (!w)
-      w = std::make_shared<const runtime::PlacementWorld>(formats::load_robot(q.robot), formats::load_object(q.object),
-                                                          formats::load_environment(q.environment), q.query.g0_opening);
+    if (!w) {
+      auto robot = formats::load_robot(q.robot);
+      const auto joints = world_joint_values(q, robot.model);
+      w = std::make_shared<const runtime::PlacementWorld>(std::move(robot), formats::load_object(q.object),
+                                                          formats::load_environment(q.environment), q.query.g0_opening, joints);
+    }
     return w;
   }
 

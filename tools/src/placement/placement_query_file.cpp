@@ -201,6 +201,18 @@ PlacementQueryFile read_placement_query(const std::filesystem::path& path, const
   return f;
 }
 
+std::map<std::string, double> world_joint_values(const PlacementQueryFile& f, const RobotModel& robot) {
+  std::map<std::string, double> out;
+  if (f.start_named.empty()) return out;
+  const runtime::Kinematics chain(robot, robot.arm_base, robot.arm_tip);
+  for (const auto& [name, value] : f.start_named) {
+    const int j = robot.joint_index(name);
+    if (j < 0) throw Error(f.path.string(), "start." + name, "no joint of that name in robot '" + robot.name + "'");
+    if (chain.chain_slot(j) < 0) out[name] = value;
+  }
+  return out;
+}
+
 Eigen::VectorXd resolve_start(const PlacementQueryFile& f, const runtime::Kinematics& kin) {
   const std::string file = f.path.string();
   Eigen::VectorXd q(kin.dof());
@@ -216,16 +228,16 @@ Eigen::VectorXd resolve_start(const PlacementQueryFile& f, const runtime::Kinema
       if (it == f.start_named.end()) throw Error(file, "start", "no value for joint '" + name + "'");
       q[i] = it->second;
     }
-    // Every name must mean something: a joint outside the chain is not silently left where the
-    // robot artifact has it.
+    // Every name must mean something: a joint outside the chain is set in the world, never
+    // silently left where the robot artifact has it.
     const auto& m = kin.model();
     for (const auto& [name, value] : f.start_named) {
       const int j = m.joint_index(name);
       if (j < 0) throw Error(file, "start." + name, "no joint of that name in robot '" + m.name + "'");
-      if (kin.chain_slot(j) < 0)
+      if (kin.chain_slot(j) < 0 && !(std::abs(kin.joint_value(j, q) - value) <= 1e-12))
         throw Error(file, "start." + name,
-                    "not a joint of the planning chain; the rest of the robot is set when it is baked: bake-robot --fixed-joints " +
-                        name + "=VALUE (fingers follow each grasp's opening)");
+                    "is outside the planning chain and the world was built without it (PlacementWorld's joint_values, "
+                    "tools::world_joint_values)");
     }
   }
   if (!q.allFinite()) throw Error(file, "start", "not finite (NaN or infinity)");

@@ -5,6 +5,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <vector>
 
 #include "dmgplace/formats/environment_artifact.hpp"
@@ -31,8 +32,11 @@ class PlacementWorld {
   // The arm chain is the robot artifact's; its tip must be the gripper's TCP (z approach, y
   // closing). Finger joints are set to half of `finger_opening` (< 0: the gripper's maximum).
   // Refuses (dmgplace::Error naming the files) a set that does not fit together (artifact_fit.hpp).
+  // `joint_values` sets joints outside the arm chain (another arm, a torso, a mobile base's lift)
+  // for this world; the rest stay at the robot artifact's values. A name that is not such a joint
+  // (unknown, in the chain, fixed, a mimic, a finger) or a value outside its limits is refused.
   PlacementWorld(formats::RobotArtifact robot, formats::ObjectArtifact object, formats::EnvironmentArtifact env,
-                 double finger_opening = -1);
+                 double finger_opening = -1, const std::map<std::string, double>& joint_values = {});
   PlacementWorld(const PlacementWorld&) = delete;
   PlacementWorld& operator=(const PlacementWorld&) = delete;
 
@@ -91,6 +95,7 @@ class PlacementWorld {
   const FingerSetting& fingers_at(double opening) const;  // opening >= 0
   const Kinematics& kin_at(double opening) const;          // < 0: kin()
   void set_fingers(Kinematics& kin, double opening) const;
+  void set_robot_joints(const std::map<std::string, double>& values, const std::string& file);
   std::vector<std::pair<int, Eigen::Isometry3d>> hand_in_tcp(const Kinematics& kin) const;
   mutable std::mutex fingers_mutex_;
   mutable std::map<double, std::unique_ptr<FingerSetting>> fingers_;

@@ -33,6 +33,8 @@ class Kinematics {
 
   // Values of joints that are not part of the chain (e.g. the gripper fingers); default 0.
   void set_joint_value(const std::string& joint, double value);
+  // A model joint's value at chain configuration q (chain, mimic or set value).
+  double joint_value(int joint, const Eigen::VectorXd& q) const;
 
   // Pose of every link in the base link's frame; links not below the base stay identity-relative
   // to it through their ancestors (the whole tree is expressed in the base frame).
@@ -60,7 +62,6 @@ class Kinematics {
   };
   std::vector<JointMotionTerms> terms_;
   std::vector<int> roots_;  // links without a parent joint
-  double joint_value(int joint, const Eigen::VectorXd& q) const;
 
   std::shared_ptr<const RobotModel> model_;  // shared by copies (e.g. one per finger opening)
   int base_ = -1, tip_ = -1;

@@ -43,7 +43,12 @@ PlacementQueryFile read_placement_query(const std::filesystem::path& path, const
 // `text` resolved against `root`; throws (naming file and element) when it escapes root, unless allowed.
 std::filesystem::path resolve_artifact_path(const std::string& text, const std::filesystem::path& root, bool allow_outside,
                                             const std::string& file, const std::string& element);
-// The start configuration in the arm chain's joint order; errors name the query file.
+// The named start entries for joints outside the robot's arm chain (another arm, a torso): pass
+// them to the PlacementWorld, which sets and checks them. A name that is no joint of the robot is
+// refused here, naming the query file.
+std::map<std::string, double> world_joint_values(const PlacementQueryFile& f, const RobotModel& robot);
+// The start configuration in the arm chain's joint order; errors name the query file. Named
+// entries outside the chain must hold in `kin` (a world built with world_joint_values).
 Eigen::VectorXd resolve_start(const PlacementQueryFile& f, const runtime::Kinematics& kin);
 
 }  // namespace dmgplace::tools
