@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <random>
+#include <sstream>
 #include <thread>
 
 #include <nlohmann/json.hpp>
@@ -69,6 +70,32 @@ TEST(Cli, BakesValidatesAndInspectsTheBuiltInObjects) {
   EXPECT_DOUBLE_EQ(bottle.mass.mass, 0.2);
 }
 
+// Issue 22: one table per bake binds each option and writes the header, so every numeric option
+// shows its default, range and (where it has one) unit, and the header records what ran.
+TEST(Cli, EveryBakeOptionShowsItsDefaultAndTheHeaderRecordsIt) {
+  for (const char* cmd : {"bake-object", "bake-env", "bake-robot"}) {
+    const CliRun help = run({cmd, "--help"});
+    ASSERT_EQ(help.exit_code, 0) << help.output;
+    std::istringstream lines(help.output);
+    int numeric = 0;
+    for (std::string line; std::getline(lines, line);)
+      if (line.rfind("  --", 0) == 0 && (line.find(" FLOAT") != std::string::npos || line.find(" INT") != std::string::npos)) {
+        ++numeric;
+        EXPECT_NE(line.find(" in ["), std::string::npos) << cmd << ": no range: " << line;
+        EXPECT_NE(line.find("]="), std::string::npos) << cmd << ": no default: " << line;
+      }
+    EXPECT_GE(numeric, 5) << cmd;
+  }
+  TempDir dir;
+  ASSERT_EQ(run({"make-objects", "--out", dir.path()}).exit_code, 0);
+  ASSERT_EQ(run({"bake-object", dir / "eraser.stl", "--angle-step", "20", "--out", dir / "e.h5"}).exit_code, 0);
+  const auto params = nlohmann::json::parse(dmgplace::formats::load_object(dir / "e.h5").header.parameters_json);
+  EXPECT_DOUBLE_EQ(params["angle_step"].get<double>(), 20);        // given
+  EXPECT_DOUBLE_EQ(params["seed_resolution"].get<double>(), 0.01);  // default, still recorded
+  EXPECT_DOUBLE_EQ(params["rotation_weight"].get<double>(), 0.1);
+  EXPECT_EQ(params["reconstruct"], "poisson");
+}
+
 TEST(Cli, BakesTheBuiltInRobotAndScenes) {
   TempDir dir;
   CliRun r = run({"bake-robot", data() / "robots/dmgarm/dmgarm.urdf", "--srdf", data() / "robots/dmgarm/dmgarm.srdf", "--arm",
@@ -80,9 +107,10 @@ TEST(Cli, BakesTheBuiltInRobotAndScenes) {
     CliRun e = run({"bake-env", data() / "scenes" / (std::string(scene) + ".yaml"), "--volume", volume, "--out",
                     dir / (std::string(scene) + ".h5"), "--json"});
     ASSERT_EQ(e.exit_code, 0) << e.output;
-    // The header records the clearance band that was used (0 asks for V's diagonal).
+    // The header records the option as given (0 asks for V's diagonal) and the band that was used.
     const auto baked = nlohmann::json::parse(e.output);
-    EXPECT_GT(baked["artifact"]["parameters"]["clearance_band"].get<double>(), 0.5) << e.output;
+    EXPECT_EQ(baked["artifact"]["parameters"]["clearance_band"].get<double>(), 0.0) << e.output;
+    EXPECT_GT(baked["artifact"]["parameters"]["clearance_band_used"].get<double>(), 0.5) << e.output;
   }
   CliRun v = run({"validate", dir / "arm.h5", dir / "cabinet.h5", dir / "table.h5"});
   EXPECT_EQ(v.exit_code, 0) << v.output;

@@ -13,9 +13,33 @@
 
 namespace dmgplace::cli {
 
-int run_bake_robot(const BakeRobotArgs& a) {
+OptionTable BakeRobotArgs::options() {
+  return {
+      {"--srdf", "srdf", &srdf, 0, 0, "", "SRDF with disabled collision pairs (without one they are computed)"},
+      {"--fixed-joints", "fixed_joints", &fixed_joints, 0, 0, "",
+       "name=value,... joints outside the chain (another arm, a torso) frozen there (rad or m); default: their URDF zero"},
+      {"--write-srdf", "", &write_srdf, 0, 0, "", "Without --srdf: write the computed disabled pairs as an SRDF to review"},
+      {"--collision-samples", "collision_samples", &allowed.samples, 1, 1e6, "", "Without --srdf: random configurations that decide always/never-colliding pairs"},
+      {"--package-path", "package_paths", &package_paths, 0, 0, "", "Where package:// resources are found"},
+      {"--arm", "arm", &arm, 0, 0, "", "Planning chain BASE_LINK:TIP_LINK"},
+      {"--sphere-max-radius", "sphere_max_radius", &spheres.max_radius, 1e-3, 10, "m", "Sphere model: split spheres larger than this"},
+      {"--sphere-spacing", "sphere_spacing", &spheres.sample_spacing, 1e-4, 1, "m", "Sphere model: sample spacing on and inside the links"},
+      {"--sphere-count", "sphere_count", &spheres.max_spheres, 1, 10000, "", "Sphere model: most spheres per link"},
+      {"--sphere-max-excess", "sphere_max_excess", &spheres.max_excess, 1e-4, 1, "m", "Sphere model: how far a radius may exceed half its cluster's median extent"},
+      {"--self-table-step", "self_table_step", &self_table_step, 0, 1, "rad", "Self-distance table grid step; 0: no tables"},
+      {"--threads", "", &threads, 0, 256, "", "Worker threads; 0: every CPU the process may use"},
+      {"--out", "", &out, 0, 0, "", "Output artifact"},
+      {"--json", "", &json, 0, 0, "", "Print JSON: the file written, seconds taken, and the artifact's summary (as inspect --json)"},
+  };
+}
+
+int run_bake_robot(const BakeRobotArgs& a_in) {
+  BakeRobotArgs a = a_in;
   const auto t0 = std::chrono::steady_clock::now();
   tools::InputLog log;  // every file read below goes into the header
+  nlohmann::ordered_json params = option_parameters(a.options());
+  params["urdf"] = a.urdf;
+  if (!a.srdf.empty()) params["collision_samples"] = 0;  // not used with an SRDF
   auto colon = a.arm.find(':');
   if (colon == std::string::npos || colon == 0 || colon + 1 == a.arm.size())
     throw Error("--arm", "", "expected BASE_LINK:TIP_LINK, got '" + a.arm + "'");
@@ -25,15 +49,15 @@ int run_bake_robot(const BakeRobotArgs& a) {
   for (const auto& p : a.package_paths) o.package_paths.emplace_back(p);
   o.arm_base = a.arm.substr(0, colon);
   o.arm_tip = a.arm.substr(colon + 1);
-  o.spheres.max_radius = a.sphere_max_radius;
-  o.spheres.sample_spacing = a.sphere_spacing;
-  o.spheres.max_excess = a.sphere_max_excess;
-  o.spheres.max_spheres = a.sphere_count;
+  o.spheres = a.spheres;
   o.self_tables.enabled = a.self_table_step > 0;
   o.self_tables.threads = a.threads;
   if (o.self_tables.enabled) o.self_tables.step = a.self_table_step;
-  if (a.tcp) {
-    o.tcp = formats::pose_from_xyz_quaternion(*a.tcp, "--tcp", "");
+  o.allowed = a.allowed;
+  if (!a.tcp_text.empty()) {
+    const auto t = parse_numbers<7>(a.tcp_text, "--tcp");
+    o.tcp = formats::pose_from_xyz_quaternion(t, "--tcp", "");
+    params["tcp"] = t;
   }
   // --fixed-joints name=value,name=value
   std::stringstream list(a.fixed_joints);
@@ -53,7 +77,6 @@ int run_bake_robot(const BakeRobotArgs& a) {
   }
   if (!a.write_srdf.empty() && !a.srdf.empty())
     throw Error("--write-srdf", "", "writes the pairs computed without an SRDF; --srdf " + a.srdf + " was given");
-  o.allowed.samples = a.collision_samples;
   tools::AllowedCollisions decided;
   formats::RobotArtifact robot = tools::bake_robot(o, &decided);
   if (a.srdf.empty()) {
@@ -73,18 +96,6 @@ int run_bake_robot(const BakeRobotArgs& a) {
   }
   std::vector<std::filesystem::path> inputs{a.urdf};
   if (!a.srdf.empty()) inputs.emplace_back(a.srdf);
-  nlohmann::json params = {{"urdf", a.urdf},
-                           {"srdf", a.srdf},
-                           {"arm", a.arm},
-                           {"package_paths", a.package_paths},
-                           {"sphere_max_radius", a.sphere_max_radius},
-                           {"sphere_spacing", a.sphere_spacing},
-                           {"sphere_max_excess", a.sphere_max_excess},
-                           {"sphere_count", a.sphere_count},
-                           {"self_table_step", a.self_table_step},
-                           {"collision_samples", a.srdf.empty() ? a.collision_samples : 0},
-                           {"fixed_joints", a.fixed_joints}};
-  if (a.tcp) params["tcp"] = *a.tcp;
   robot.header = make_header(params, inputs, log.files());
   formats::save_robot(std::move(robot), a.out);
   report_written(a.out, a.json, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());

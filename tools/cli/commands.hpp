@@ -6,7 +6,10 @@
 #include <string>
 #include <vector>
 
+#include "dmgplace/tools/env/bake_environment.hpp"
 #include "dmgplace/tools/object/dmg_builder.hpp"
+#include "dmgplace/tools/robot/allowed_collisions.hpp"
+#include "dmgplace/tools/robot/sphere_cover.hpp"
 #include "dmgplace/tools/object/placement_faces.hpp"
 #include "dmgplace/tools/scan/scan_segmentation.hpp"
 #include "dmgplace/tools/scan/surface_reconstruction.hpp"
@@ -54,34 +57,25 @@ int run_grasps(const GraspsArgs& a);
 struct BakeEnvArgs {
   std::string scene, out;
   bool json = false;
-  std::array<double, 6> volume{};
-  std::optional<std::array<double, 6>> frame;  // x y z roll pitch yaw for scans
+  std::string volume_text, frame_text;  // "xmin,...,zmax" / "x,y,z,roll,pitch,yaw"
   std::vector<std::string> package_paths;
-  double resolution = 0.01;      // distance grid and region cells (m)
-  double band = 0.10;            // distance field clamp (m)
-  double clearance_band = 0;     // clearance field clamp (m); 0: the volume's diagonal
-  double region_split = 0.30;    // split regions longer than this (m)
-  double min_free_height = 0.02; // least free space above a region cell (m)
-  double margin = 0.05;          // the distance grid covers V grown by this (m)
-  double sdf_resolution = 0;     // distance grid cell (m); <= 0: --resolution
-  int threads = 0;               // 0: every CPU the process may use (its affinity mask)
+  tools::EnvBakeOptions bake;
+  OptionTable options();  // every option as a row (option_table.hpp)
 };
 int run_bake_env(const BakeEnvArgs& a);
 
 struct BakeRobotArgs {
   std::string urdf, srdf, arm, out;
   bool json = false;
-  double sphere_max_radius = 0.08;  // metres (SphereCoverOptions default)
-  double sphere_spacing = 0.005;    // metres between coverage samples
-  double sphere_max_excess = 0.015; // metres a sphere may exceed half its median extent
-  int sphere_count = 12;            // most spheres per link
-  double self_table_step = 0.02;    // radians between self-distance table nodes (0: none)
-  std::optional<std::array<double, 7>> tcp;  // TCP pose on the tip: x y z qx qy qz qw
+  std::string tcp_text;             // TCP pose on the tip: x,y,z,qx,qy,qz,qw
   std::vector<std::string> package_paths;
-  int threads = 0;                  // 0: every CPU the process may use (its affinity mask)
   std::string write_srdf;           // without --srdf: write the computed allowed pairs here
   std::string fixed_joints;         // name=value,... joints outside the chain frozen there
-  int collision_samples = 2000;     // without --srdf: random configurations for the pairs
+  tools::SphereCoverOptions spheres;
+  double self_table_step = 0.02;    // radians between self-distance table nodes (0: none)
+  int threads = 0;                  // 0: every CPU the process may use (its affinity mask)
+  tools::AllowedCollisionOptions allowed;
+  OptionTable options();  // every option as a row (option_table.hpp)
 };
 int run_bake_robot(const BakeRobotArgs& a);
 

@@ -112,50 +112,20 @@ int main(int argc, char** argv) {
   c_grasps->add_flag("--json", grasps.json, "Print JSON");
 
   BakeEnvArgs bake_env;
-  std::string volume_text, frame_text;
   auto* c_env = app.add_subcommand("bake-env", "Analyse an environment once into ENV.h5");
   c_env->add_option("scene", bake_env.scene, "Scene: URDF of fixed links, PlanningScene YAML, mesh or PCD scan")->required();
-  c_env->add_option("--volume", volume_text, "Target volume xmin,ymin,zmin,xmax,ymax,zmax (metres)")->required();
-  c_env->add_option("--frame", frame_text, "Pose of the scene file in the world (robot base) frame: x,y,z,roll,pitch,yaw; a scan's camera pose, a scene's offset");
-  c_env->add_option("--package-path", bake_env.package_paths, "Where package:// resources are found");
-  c_env->add_option("--resolution", bake_env.resolution, "Distance grid and region cell size (m)")->check(CLI::Range(1e-4, 1.0));
-  c_env->add_option("--band", bake_env.band, "Distance field clamp (m)")->check(CLI::Range(1e-3, 100.0));
-  c_env->add_option("--margin", bake_env.margin, "The distance grid covers the volume grown by this (m); make it reach the arm for fast checks")->check(CLI::Range(0.0, 10.0));
-  c_env->add_option("--sdf-resolution", bake_env.sdf_resolution, "Distance grid cell (m); default: --resolution")->check(CLI::Range(0.0, 1.0));
-  c_env->add_option("--clearance-band", bake_env.clearance_band, "Clearance field clamp (m); 0: the target volume's diagonal")
-      ->check(CLI::Range(0.0, 100.0));
-  c_env->add_option("--region-split", bake_env.region_split, "Split regions longer than this (m)")->check(CLI::Range(1e-3, 1000.0));
-  c_env->add_option("--min-free-height", bake_env.min_free_height, "Least free space above a region cell (m)")->check(CLI::Range(0.0, 100.0));
-  c_env->add_option("--threads", bake_env.threads, "Worker threads; 0: every CPU the process may use")->check(CLI::Range(0, 256));
-  c_env->add_option("--out", bake_env.out, "Output artifact")->required();
-  c_env->add_flag("--json", bake_env.json, "Print JSON: the file written, seconds taken, and the artifact's summary (as inspect --json)");
+  c_env->add_option("--volume", bake_env.volume_text, "Target volume xmin,ymin,zmin,xmax,ymax,zmax (metres)")->required();
+  c_env->add_option("--frame", bake_env.frame_text, "Pose of the scene file in the world (robot base) frame: x,y,z,roll,pitch,yaw; a scan's camera pose, a scene's offset");
+  bind_options(c_env, bake_env.options());
+  c_env->get_option("--out")->required();
 
   BakeRobotArgs bake_robot;
   auto* c_robot = app.add_subcommand("bake-robot", "Analyse a robot (URDF + SRDF) once into ROBOT.h5");
   c_robot->add_option("urdf", bake_robot.urdf, "Robot URDF")->required();
-  c_robot->add_option("--srdf", bake_robot.srdf, "SRDF with disabled collision pairs (without one they are computed)");
-  c_robot->add_option("--fixed-joints", bake_robot.fixed_joints,
-                      "name=value,... joints outside the chain (another arm, a torso) frozen there (rad or m); default: their URDF zero");
-  c_robot->add_option("--write-srdf", bake_robot.write_srdf, "Without --srdf: write the computed disabled pairs as an SRDF to review");
-  c_robot->add_option("--collision-samples", bake_robot.collision_samples,
-                      "Without --srdf: random configurations that decide always/never-colliding pairs")
-      ->check(CLI::Range(1, 1000000));
-  c_robot->add_option("--package-path", bake_robot.package_paths, "Where package:// resources are found");
-  c_robot->add_option("--arm", bake_robot.arm, "Planning chain BASE_LINK:TIP_LINK")->required();
-  c_robot->add_option("--sphere-max-radius", bake_robot.sphere_max_radius,
-                      "Split a link's spheres until none is larger (m)")->check(CLI::Range(1e-3, 10.0));
-  c_robot->add_option("--sphere-spacing", bake_robot.sphere_spacing,
-                      "Sample spacing that the sphere cover is checked on (m)")->check(CLI::Range(1e-4, 1.0));
-  c_robot->add_option("--sphere-max-excess", bake_robot.sphere_max_excess,
-                      "Split spheres that exceed half their cluster's median extent by more (m)")->check(CLI::Range(1e-4, 1.0));
-  c_robot->add_option("--sphere-count", bake_robot.sphere_count, "Most spheres per link")->check(CLI::Range(1, 10000));
-  c_robot->add_option("--self-table-step", bake_robot.self_table_step,
-                      "Joint step (rad) of the exact self-distance tables; 0 bakes none")->check(CLI::Range(0.0, 1.0));
-  std::string tcp_text;
-  c_robot->add_option("--tcp", tcp_text, "Tool centre point on the tip link x,y,z,qx,qy,qz,qw; becomes the chain's tip (<tip>_tcp)");
-  c_robot->add_option("--threads", bake_robot.threads, "Worker threads; 0: every CPU the process may use")->check(CLI::Range(0, 256));
-  c_robot->add_option("--out", bake_robot.out, "Output artifact")->required();
-  c_robot->add_flag("--json", bake_robot.json, "Print JSON: the file written, seconds taken, and the artifact's summary (as inspect --json)");
+  c_robot->add_option("--tcp", bake_robot.tcp_text, "Tool centre point on the tip link x,y,z,qx,qy,qz,qw; becomes the chain's tip (<tip>_tcp)");
+  bind_options(c_robot, bake_robot.options());
+  c_robot->get_option("--out")->required();
+  c_robot->get_option("--arm")->required();
 
   PlanArgs plan;
   auto* c_plan = app.add_subcommand("plan", "Plan one MoveIt/MotionBenchMaker problem (scene + joint-space request)");
@@ -230,15 +200,8 @@ int main(int argc, char** argv) {
       grasps.initial = parse_numbers<7>(initial_text, "--initial");
       return run_grasps(grasps);
     }
-    if (*c_env) {
-      bake_env.volume = parse_numbers<6>(volume_text, "--volume");
-      if (!frame_text.empty()) bake_env.frame = parse_numbers<6>(frame_text, "--frame");
-      return run_bake_env(bake_env);
-    }
-    if (*c_robot) {
-      if (!tcp_text.empty()) bake_robot.tcp = parse_numbers<7>(tcp_text, "--tcp");
-      return run_bake_robot(bake_robot);
-    }
+    if (*c_env) return run_bake_env(bake_env);
+    if (*c_robot) return run_bake_robot(bake_robot);
     if (*c_make) return run_make_objects(make_objects);
     if (*c_batch) return run_batch(batch);
     if (*c_bstatus) return run_batch_status(batch_status);

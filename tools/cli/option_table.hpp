@@ -14,7 +14,7 @@ namespace dmgplace::cli {
 struct OptionRow {
   std::string flag;   // "--seed-resolution"
   std::string param;  // key in the header's parameters ("" : not recorded, e.g. --json)
-  std::variant<double*, int*, bool*, std::string*> value;
+  std::variant<double*, int*, bool*, std::string*, std::vector<std::string>*> value;
   double lo = 0, hi = 0;              // range of a number, checked at parse time
   std::string unit;                   // "m", "deg", "rad", ... ("" for none)
   std::string help;
