@@ -2,6 +2,8 @@
 #include <cmath>
 #include <iostream>
 #include <sstream>
+#include <unistd.h>
+#include <cstdio>
 #include "dmgplace/formats/pose_input.hpp"
 
 #include "cli_util.hpp"
@@ -27,6 +29,8 @@ OptionTable BakeRobotArgs::options() {
       {"--sphere-count", "sphere_count", &spheres.max_spheres, 1, 10000, "", "Sphere model: most spheres per link"},
       {"--sphere-max-excess", "sphere_max_excess", &spheres.max_excess, 1e-4, 1, "m", "Sphere model: how far a radius may exceed half its cluster's median extent"},
       {"--self-table-step", "self_table_step", &self_table_step, 0, 1, "rad", "Self-distance table grid step; 0: no tables"},
+      {"--self-table-stride", "self_table_stride", &self_tables.coarse_stride, 1, 64, "", "Self-distance tables: exact distances every Nth node first, others bounded from them when far from contact"},
+      {"--self-table-exact-below", "self_table_exact_below", &self_tables.exact_below, 0, 10, "m", "Self-distance tables: nodes bounded below this are computed exactly"},
       {"--threads", "", &threads, 0, 256, "", "Worker threads; 0: every CPU the process may use"},
       {"--out", "", &out, 0, 0, "", "Output artifact"},
       {"--json", "", &json, 0, 0, "", "Print JSON: the file written, seconds taken, and the artifact's summary (as inspect --json)"},
@@ -50,6 +54,7 @@ int run_bake_robot(const BakeRobotArgs& a_in) {
   o.arm_base = a.arm.substr(0, colon);
   o.arm_tip = a.arm.substr(colon + 1);
   o.spheres = a.spheres;
+  o.self_tables = a.self_tables;
   o.self_tables.enabled = a.self_table_step > 0;
   o.self_tables.threads = a.threads;
   if (o.self_tables.enabled) o.self_tables.step = a.self_table_step;
@@ -77,6 +82,12 @@ int run_bake_robot(const BakeRobotArgs& a_in) {
   }
   if (!a.write_srdf.empty() && !a.srdf.empty())
     throw Error("--write-srdf", "", "writes the pairs computed without an SRDF; --srdf " + a.srdf + " was given");
+  // A progress line on a terminal: the tables take from seconds to minutes.
+  if (isatty(STDERR_FILENO))
+    o.self_tables.progress = [](std::size_t done, std::size_t total) {
+      std::fprintf(stderr, "\rself-distance tables: %zu of %zu nodes (%.0f%%)%s", done, total, total ? 100.0 * double(done) / double(total) : 100.0,
+                   done == total ? "\n" : "");
+    };
   tools::AllowedCollisions decided;
   formats::RobotArtifact robot = tools::bake_robot(o, &decided);
   if (a.srdf.empty()) {

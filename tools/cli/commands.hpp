@@ -9,6 +9,7 @@
 #include "dmgplace/tools/env/bake_environment.hpp"
 #include "dmgplace/tools/object/dmg_builder.hpp"
 #include "dmgplace/tools/robot/allowed_collisions.hpp"
+#include "dmgplace/tools/robot/self_distance_tables.hpp"
 #include "dmgplace/tools/robot/sphere_cover.hpp"
 #include "dmgplace/tools/object/placement_faces.hpp"
 #include "dmgplace/tools/scan/scan_segmentation.hpp"
@@ -73,6 +74,7 @@ struct BakeRobotArgs {
   std::string fixed_joints;         // name=value,... joints outside the chain frozen there
   tools::SphereCoverOptions spheres;
   double self_table_step = 0.02;    // radians between self-distance table nodes (0: none)
+  tools::SelfTableOptions self_tables;
   int threads = 0;                  // 0: every CPU the process may use (its affinity mask)
   tools::AllowedCollisionOptions allowed;
   OptionTable options();  // every option as a row (option_table.hpp)

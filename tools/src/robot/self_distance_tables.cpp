@@ -1,11 +1,15 @@
 #include "dmgplace/tools/robot/self_distance_tables.hpp"
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <random>
 
 #include "../env/parallel_for.hpp"
+#include "dmgplace/formats/error.hpp"
 #include "dmgplace/runtime/collision/exact_checker.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
 
@@ -59,10 +63,95 @@ bool spheres_overlap(const std::vector<formats::LinkSphere>& a, const std::vecto
   return false;
 }
 
+// Serialises and throttles progress reports from worker threads.
+class Progress {
+ public:
+  explicit Progress(std::function<void(std::size_t, std::size_t)> f) : f_(std::move(f)) {}
+  void add_total(std::size_t n) { total_ += n; }
+  void done(std::size_t n) {
+    const std::size_t d = done_ += n;
+    if (!f_) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto now = std::chrono::steady_clock::now();
+    if (d < total_ && now - last_ < std::chrono::milliseconds(200)) return;
+    last_ = now;
+    f_(d, total_);
+  }
+
+ private:
+  std::function<void(std::size_t, std::size_t)> f_;
+  std::atomic<std::size_t> done_{0}, total_{0};
+  std::mutex mutex_;
+  std::chrono::steady_clock::time_point last_{};
+};
+
 float round_down(double d) {
   float f = float(d);
   if (double(f) > d) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
   return std::max(f, 0.0f);
+}
+
+// The distances of table t (grid already sized): exact on the coarse lattice, then each other node
+// from its coarse cell's Lipschitz bound when that is far from contact, exactly otherwise.
+void fill_table(formats::SelfDistanceTable& t, const runtime::Kinematics& kin, const runtime::ExactChecker& exact, int a, int b,
+                const Eigen::VectorXd& mid, const SelfTableOptions& o, Progress& progress) {
+  const std::size_t c0 = std::size_t(t.count[0]), c1 = std::size_t(t.count[1]);
+  t.distance.assign(c0 * c1, 0.0f);
+  progress.add_total(c0 * c1);
+  auto exact_at = [&](std::size_t i0, std::size_t i1) {
+    Eigen::VectorXd qn = mid;
+    qn[kin.chain_slot(t.joints[0])] = t.lower[0] + double(i0) * t.step[0];
+    if (t.joints[1] >= 0) qn[kin.chain_slot(t.joints[1])] = t.lower[1] + double(i1) * t.step[1];
+    t.distance[i0 * c1 + i1] = round_down(exact.link_distance(qn, a, b));
+  };
+  const std::size_t s = std::size_t(o.coarse_stride);
+  auto lattice = [&](std::size_t count) {
+    std::vector<std::size_t> v;
+    for (std::size_t i = 0; i < count; i += s) v.push_back(i);
+    if (v.back() != count - 1) v.push_back(count - 1);
+    return v;
+  };
+  const auto l0 = lattice(c0), l1 = lattice(c1);
+  detail::parallel_for(l0.size() * l1.size(), o.threads, [&](std::size_t n) {
+    exact_at(l0[n / l1.size()], l1[n % l1.size()]);
+    progress.done(1);
+  });
+  std::vector<char> coarse(c0 * c1, 0);
+  for (auto i0 : l0)
+    for (auto i1 : l1) coarse[i0 * c1 + i1] = 1;
+  // Per node: the enclosing lattice cell's corners bound it (each corner's distance minus what the
+  // joints can change it by on the way).
+  std::vector<std::size_t> refine;
+  std::size_t bounded = 0;
+  const auto cell = [](const std::vector<std::size_t>& l, std::size_t i) {
+    const auto hi = std::lower_bound(l.begin(), l.end(), i);
+    return std::pair<std::size_t, std::size_t>(*hi == i || hi == l.begin() ? *hi : *(hi - 1), *hi);
+  };
+  for (std::size_t i0 = 0; i0 < c0; ++i0)
+    for (std::size_t i1 = 0; i1 < c1; ++i1) {
+      const std::size_t n = i0 * c1 + i1;
+      if (coarse[n]) continue;
+      const auto [a0, b0] = cell(l0, i0);
+      const auto [a1, b1] = cell(l1, i1);
+      double lb = -std::numeric_limits<double>::infinity();
+      for (auto k0 : {a0, b0})
+        for (auto k1 : {a1, b1}) {
+          const double loss = t.slope[0] * t.step[0] * std::abs(double(k0) - double(i0)) +
+                              (t.joints[1] >= 0 ? t.slope[1] * t.step[1] * std::abs(double(k1) - double(i1)) : 0.0);
+          lb = std::max(lb, double(t.distance[k0 * c1 + k1]) - loss);
+        }
+      if (lb >= o.exact_below) {
+        t.distance[n] = round_down(lb);
+        ++bounded;
+      } else {
+        refine.push_back(n);
+      }
+    }
+  progress.done(bounded);
+  detail::parallel_for(refine.size(), o.threads, [&](std::size_t k) {
+    exact_at(refine[k] / c1, refine[k] % c1);
+    progress.done(1);
+  });
 }
 }  // namespace
 
@@ -71,6 +160,8 @@ std::vector<formats::SelfDistanceTable> build_self_distance_tables(const runtime
                                                                    const SelfTableOptions& o) {
   std::vector<formats::SelfDistanceTable> out;
   if (!o.enabled) return out;
+  if (o.coarse_stride < 1 || !(o.exact_below >= 0)) throw Error("self-distance tables", "options", "coarse stride >= 1, exact_below >= 0");
+  Progress progress(o.progress);
   const RobotModel& m = kin.model();
   runtime::ExactChecker exact(kin, Scene{});
   const auto moving = kin.moving_links();
@@ -130,14 +221,7 @@ std::vector<formats::SelfDistanceTable> build_self_distance_tables(const runtime
         t.step[k] = (j.upper - j.lower) / (t.count[k] - 1);
         t.slope[k] = slope_bound(m, parent_joint, moves_a[k] ? a : b, joints[k], by_link[std::size_t(moves_a[k] ? a : b)]);
       }
-      t.distance.resize(std::size_t(t.count[0]) * std::size_t(t.count[1]));
-      detail::parallel_for(t.distance.size(), o.threads, [&](std::size_t n) {
-        Eigen::VectorXd qn = mid;
-        const std::size_t i0 = n / std::size_t(t.count[1]), i1 = n % std::size_t(t.count[1]);
-        qn[kin.chain_slot(t.joints[0])] = t.lower[0] + double(i0) * t.step[0];
-        if (t.joints[1] >= 0) qn[kin.chain_slot(t.joints[1])] = t.lower[1] + double(i1) * t.step[1];
-        t.distance[n] = round_down(exact.link_distance(qn, a, b));
-      });
+      fill_table(t, kin, exact, a, b, mid, o, progress);
       out.push_back(std::move(t));
     }
   return out;

@@ -3,6 +3,13 @@
 // themselves (they overlap somewhere in the joints' ranges) and whose relative pose depends on
 // one or two revolute chain joints: the fast layer then reads a proven lower bound instead of
 // calling FCL (see formats::SelfDistanceTable).
+//
+// Bound first, refine near contact: the exact distance is computed on every `coarse_stride`-th
+// node; any other node whose Lipschitz bound from the corners of its coarse cell (distance minus
+// slope x joint offset) is at least `exact_below` stores that bound, which is a lower bound as
+// every stored value must be; the rest, near contact, are computed exactly.
+#include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "dmgplace/formats/robot_artifact.hpp"
@@ -15,6 +22,11 @@ struct SelfTableOptions {
   int overlap_samples = 2000;  // random joint values tried to see whether the spheres overlap
   int threads = 0;           // <= 0: all cores
   bool enabled = true;
+  int coarse_stride = 4;     // 1: every node exact
+  double exact_below = 0.05; // m: nodes bounded below this are computed exactly
+  // Called now and then from worker threads (serialised): nodes settled and all nodes, so far
+  // known (the tables are found one by one).
+  std::function<void(std::size_t done, std::size_t total)> progress;
 };
 
 // For the pairs the chain of `kin` moves; `spheres` cover every link.
