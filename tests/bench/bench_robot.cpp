@@ -15,6 +15,7 @@
 #include "dmgplace/runtime/collision/sphere_field_checker.hpp"
 #include "dmgplace/runtime/collision/two_layer_checker.hpp"
 #include "dmgplace/runtime/robot/ik.hpp"
+#include "dmgplace/runtime/system/simd_dispatch.hpp"
 #include "dmgplace/tools/io/scene_loader.hpp"
 #include "dmgplace/tools/io/urdf_reader.hpp"
 #include "dmgplace/tools/robot/self_distance_tables.hpp"
@@ -83,6 +84,55 @@ void BM_FkPlusFastSphereCheck(benchmark::State& st) {
   st.counters["free_fraction"] = double(free) / double(st.iterations());
 }
 BENCHMARK(BM_FkPlusFastSphereCheck);
+
+// Issue 20: the same configurations 8 per call (SphereFieldChecker::free_lanes); items are
+// configurations. Arg 0: the portable path, 1: AVX2 where the CPU has it.
+void BM_FkPlusFastSphereCheckBatch8(benchmark::State& st) {
+  auto& w = world();
+  runtime::force_simd_path(st.range(0) ? runtime::SimdPath::Avx2 : runtime::SimdPath::Portable);
+  std::size_t i = 0;
+  long free = 0;
+  const double* q[runtime::PoseBatch::kLanes];
+  for (auto _ : st) {
+    for (int k = 0; k < runtime::PoseBatch::kLanes; ++k) q[k] = w.configs[i++ & 4095].data();
+    free += __builtin_popcount(w.fast->free_lanes(q));
+  }
+  st.SetItemsProcessed(st.iterations() * runtime::PoseBatch::kLanes);
+  st.counters["free_fraction"] = double(free) / double(st.iterations() * runtime::PoseBatch::kLanes);
+  st.SetLabel(runtime::to_string(runtime::simd_path()));
+  runtime::force_simd_path(runtime::SimdPath::Avx2);
+}
+BENCHMARK(BM_FkPlusFastSphereCheckBatch8)->Arg(0)->Arg(1);
+
+// Forward kinematics alone: one configuration per call against 8 per call.
+void BM_Fk(benchmark::State& st) {
+  auto& w = world();
+  std::vector<Eigen::Isometry3d> poses;
+  std::size_t i = 0;
+  for (auto _ : st) {
+    w.kin->link_poses(w.configs[i++ & 4095], poses);
+    benchmark::DoNotOptimize(poses.data());
+  }
+  st.SetItemsProcessed(st.iterations());
+}
+BENCHMARK(BM_Fk);
+
+void BM_FkBatch8(benchmark::State& st) {
+  auto& w = world();
+  runtime::force_simd_path(st.range(0) ? runtime::SimdPath::Avx2 : runtime::SimdPath::Portable);
+  runtime::PoseBatch poses;
+  std::size_t i = 0;
+  const double* q[runtime::PoseBatch::kLanes];
+  for (auto _ : st) {
+    for (int k = 0; k < runtime::PoseBatch::kLanes; ++k) q[k] = w.configs[i++ & 4095].data();
+    w.kin->link_poses_batch(q, poses);
+    benchmark::DoNotOptimize(poses.pose.data());
+  }
+  st.SetItemsProcessed(st.iterations() * runtime::PoseBatch::kLanes);
+  st.SetLabel(runtime::to_string(runtime::simd_path()));
+  runtime::force_simd_path(runtime::SimdPath::Avx2);
+}
+BENCHMARK(BM_FkBatch8)->Arg(0)->Arg(1);
 
 // check_along on the configurations the fast layer proves free (a planner's motions are mostly
 // free), unit random directions; the argument is `enough` in mrad (0: unlimited).

@@ -72,6 +72,7 @@ Kinematics::Kinematics(const RobotModel& model, const std::string& base, const s
     m.Oa = jt.origin.linear() * jt.axis;
   }
   base_is_root_ = parent_joint[std::size_t(base_)] < 0;
+  build_batch_plan();
 }
 
 void Kinematics::set_joint_value(const std::string& joint, double value) {
@@ -79,6 +80,7 @@ void Kinematics::set_joint_value(const std::string& joint, double value) {
   if (j < 0) throw Error(model_->name, "joint", "no joint named '" + joint + "'");
   if (chain_slot_[std::size_t(j)] >= 0) throw Error(model_->name, "joint '" + joint + "'", "is driven by the chain");
   fixed_values_[std::size_t(j)] = value;
+  build_batch_plan();
 }
 
 double Kinematics::joint_value(int j, const Eigen::VectorXd& q) const {

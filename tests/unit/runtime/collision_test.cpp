@@ -8,6 +8,7 @@
 #include "dmgplace/runtime/collision/exact_checker.hpp"
 #include "dmgplace/runtime/collision/sphere_field_checker.hpp"
 #include "dmgplace/runtime/collision/two_layer_checker.hpp"
+#include "dmgplace/runtime/system/simd_dispatch.hpp"
 #include "dmgplace/tools/io/scene_loader.hpp"
 #include "dmgplace/tools/io/urdf_reader.hpp"
 #include "dmgplace/tools/robot/self_distance_tables.hpp"
@@ -130,6 +131,83 @@ TEST_P(FastLayer, NeverSaysFreeWhereExactLayerCollides) {
   RecordProperty("fast_free", fast_free);
   RecordProperty("exact_full", int(full));
   RecordProperty("exact_free", exact_free);
+}
+
+// Issue 20: 8 configurations per call. Batch forward kinematics equals the scalar one, on the
+// AVX2 path (where the CPU has it) and on the portable one, with the base at the root and not.
+TEST(Batch, ForwardKinematicsEqualsTheScalarOneOnEveryPath) {
+  Arm arm = built_in_arm();
+  for (const char* base : {"dmgarm_link0", "dmgarm_link2"}) {
+    Kinematics kin(arm.model, base, "dmgarm_tcp");
+    kin.set_joint_value("dmgarm_finger_joint1", 0.021);  // a mimic follows it
+    std::mt19937_64 rng(3);
+    for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
+      force_simd_path(path);
+      for (int round = 0; round < 50; ++round) {
+        std::vector<Eigen::VectorXd> qs;
+        const double* ptr[PoseBatch::kLanes];
+        for (int k = 0; k < PoseBatch::kLanes; ++k) qs.push_back(random_q(kin, rng));
+        for (int k = 0; k < PoseBatch::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
+        PoseBatch batch;
+        kin.link_poses_batch(ptr, batch);
+        std::vector<Eigen::Isometry3d> poses;
+        for (int k = 0; k < PoseBatch::kLanes; ++k) {
+          kin.link_poses(qs[std::size_t(k)], poses);
+          for (std::size_t l = 0; l < poses.size(); ++l)
+            for (int e = 0; e < 12; ++e) {
+              const double want = e < 9 ? poses[l].linear()(e / 3, e % 3) : poses[l].translation()[e - 9];
+              ASSERT_NEAR(batch.pose[l][std::size_t(e)][std::size_t(k)], want, 1e-12)
+                  << base << " " << to_string(simd_path()) << " link " << l << " element " << e;
+            }
+        }
+      }
+    }
+    force_simd_path(SimdPath::Avx2);  // back to what the CPU has
+  }
+}
+
+// A lane the batch proves free is free for the scalar fast layer (hence for FCL, by the test
+// above), and the batch proves most of what the scalar layer proves: on both paths, with the
+// self-distance tables and with a held object.
+TEST(Batch, FreeLanesAreFreeForTheScalarLayerAndFclAndMostAreProven) {
+  ShelfWorld w;
+  SphereFieldChecker fast(w.kin, w.arm.spheres, w.sdf, 0.3);
+  fast.set_self_tables(tools::build_self_distance_tables(w.kin, w.arm.spheres));
+  const int tcp = w.arm.model.link_index("dmgarm_tcp");
+  AttachedSpheres object;
+  object.link = tcp;
+  object.centers = {Eigen::Vector3d(0, 0, 0.02), Eigen::Vector3d(0, 0, 0.06)};
+  object.radii = {0.025, 0.025};
+  object.touching_links = {w.arm.model.link_index("dmgarm_leftfinger"), w.arm.model.link_index("dmgarm_rightfinger")};
+  const SphereFieldChecker held = fast.with_attached(object);
+  ExactChecker exact(w.kin, w.scene);
+  for (const SphereFieldChecker* checker : std::initializer_list<const SphereFieldChecker*>{&fast, &held})
+    for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
+      force_simd_path(path);
+      std::mt19937_64 rng(11);
+      int scalar_free = 0, batch_free = 0;
+      for (int round = 0; round < 1500; ++round) {
+        std::vector<Eigen::VectorXd> qs;
+        const double* ptr[PoseBatch::kLanes];
+        for (int k = 0; k < PoseBatch::kLanes; ++k) qs.push_back(random_q(w.kin, rng));
+        for (int k = 0; k < PoseBatch::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
+        const int count = 1 + round % PoseBatch::kLanes;  // partial batches too
+        const std::uint32_t mask = checker->free_lanes(ptr, count);
+        EXPECT_EQ(mask >> count, 0u);
+        for (int k = 0; k < count; ++k) {
+          const bool scalar = checker->check(qs[std::size_t(k)]).free(), batch = mask >> k & 1u;
+          scalar_free += scalar;
+          batch_free += batch;
+          ASSERT_FALSE(batch && !scalar) << "batch said free where the scalar layer does not: " << qs[std::size_t(k)].transpose();
+          if (checker == &fast) {
+            ASSERT_FALSE(batch && !exact.is_free(qs[std::size_t(k)])) << qs[std::size_t(k)].transpose();
+          }
+        }
+      }
+      EXPECT_GT(scalar_free, 100);
+      EXPECT_GE(batch_free, scalar_free * 9 / 10) << "the batch proves " << batch_free << " of " << scalar_free;
+    }
+  force_simd_path(SimdPath::Avx2);
 }
 
 TEST(Collision, HomePoseIsFreeAndObstaclesAtTheHandAreCaught) {

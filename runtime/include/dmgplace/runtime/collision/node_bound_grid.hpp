@@ -4,6 +4,7 @@
 // (half the memory of floats, so more of it stays in cache), which only lowers the bound.
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -29,6 +30,26 @@ class NodeBoundGrid {
     __builtin_prefetch(values_.data() + node(p, c));
   }
   double resolution() const { return res_; }
+  // lower_bound of 8 points (structure of arrays x[8], y[8], z[8]) into out[8]; the index and
+  // distance arithmetic runs in SIMD lanes, the loads are one per point.
+  template <int N>
+  inline __attribute__((always_inline)) void lower_bound_lanes(const double* x, const double* y, const double* z, double* out) const {
+    alignas(64) int idx[N];
+    alignas(64) double dx[N], dy[N], dz[N];
+    const double hx = double(dims_[0] - 1), hy = double(dims_[1] - 1), hz = double(dims_[2] - 1);
+    for (int k = 0; k < N; ++k) {
+      double u = (x[k] - origin_[0]) * inv_, v = (y[k] - origin_[1]) * inv_, w = (z[k] - origin_[2]) * inv_;
+      u = u > 0 ? (u < hx ? u : hx) : 0.0;
+      v = v > 0 ? (v < hy ? v : hy) : 0.0;
+      w = w > 0 ? (w < hz ? w : hz) : 0.0;
+      const int cx = int(u + 0.5), cy = int(v + 0.5), cz = int(w + 0.5);
+      idx[k] = cx + dims_[0] * (cy + dims_[1] * cz);
+      dx[k] = x[k] - (origin_[0] + res_ * cx);
+      dy[k] = y[k] - (origin_[1] + res_ * cy);
+      dz[k] = z[k] - (origin_[2] + res_ * cz);
+    }
+    for (int k = 0; k < N; ++k) out[k] = double(values_[std::size_t(idx[k])]) * kUnit - std::sqrt(dx[k] * dx[k] + dy[k] * dy[k] + dz[k] * dz[k]);
+  }
 
  private:
   // Index of the node nearest p, clamped to the grid; its integer coordinates in c.

@@ -96,6 +96,13 @@ class SphereFieldChecker {
                           const Eigen::VectorXd& direction, double enough = std::numeric_limits<double>::infinity()) const;
   bool is_free(const Eigen::VectorXd& q) const { return check(q).free(); }
 
+  // Which of `count` (<= PoseBatch::kLanes) configurations q[0..count) the spheres alone prove
+  // free, in one pass over all of them (batch forward kinematics, sphere centres in SIMD lanes):
+  // bit k for q[k]. Proven means every body clear of the field inside the grid and every checked
+  // pair apart (spheres, or its self-distance table's bound). An unset bit is undecided, never
+  // "in collision": check() that configuration. Exact primitives and certificates stay with check().
+  std::uint32_t free_lanes(const double* const* q, int count = PoseBatch::kLanes) const;
+
   std::size_t sphere_count() const { return spheres_.size(); }
   const Kinematics& kinematics() const { return *kin_; }
 
@@ -166,6 +173,10 @@ class SphereFieldChecker {
   bool certifiable_ = true;  // false when a mimic joint follows a chain joint (speeds unknown)
   const Kinematics* kin_;
   std::vector<formats::LinkSphere> spheres_;  // robot + attached, link frames, grouped by body
+  // free_lanes' body, compiled for AVX2 + FMA and for the portable baseline (one per path).
+  static std::uint32_t free_lanes_avx2(const SphereFieldChecker& c, const double* const* q, int count);
+  static std::uint32_t free_lanes_portable(const SphereFieldChecker& c, const double* const* q, int count);
+  static std::uint32_t free_lanes_body(const SphereFieldChecker& c, const double* const* q, int count);
   std::vector<Body> bodies_;
   std::vector<Pair> pairs_;                   // body pairs checked for self-collision
   std::vector<PairMoves> pair_moves_;         // per pair

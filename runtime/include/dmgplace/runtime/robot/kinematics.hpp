@@ -3,6 +3,7 @@
 // geometric Jacobian. Our own Eigen code (no KDL: see docs). Hot-path calls do not allocate once
 // the output containers have their size.
 #include <Eigen/Geometry>
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -12,6 +13,15 @@
 namespace dmgplace::runtime {
 
 using Jacobian = Eigen::Matrix<double, 6, Eigen::Dynamic>;  // rows: linear velocity, angular velocity
+
+// Link poses of kLanes configurations at once, structure of arrays: element e of link l's pose in
+// lane k is pose[l][e][k], e = 0..8 the rotation row-major, 9..11 the translation. One lane per
+// configuration, so each arithmetic step runs over all lanes in SIMD registers.
+struct PoseBatch {
+  static constexpr int kLanes = 8;
+  using Lanes = std::array<double, kLanes>;
+  std::vector<std::array<Lanes, 12>> pose;
+};
 
 class Kinematics {
  public:
@@ -40,6 +50,9 @@ class Kinematics {
   // to it through their ancestors (the whole tree is expressed in the base frame).
   void link_poses(const Eigen::VectorXd& q, std::vector<Eigen::Isometry3d>& poses) const;
   Eigen::Isometry3d tip_pose(const Eigen::VectorXd& q) const;
+  // link_poses for PoseBatch::kLanes configurations q[0..kLanes) (each dof() values) in one pass:
+  // AVX2 + FMA where the CPU has them (system/simd_dispatch.hpp).
+  void link_poses_batch(const double* const* q, PoseBatch& out) const;
   // Geometric Jacobian of the tip origin in the base frame.
   void jacobian(const Eigen::VectorXd& q, Jacobian& J) const;
   // Tip pose and Jacobian in one pass.
@@ -62,6 +75,20 @@ class Kinematics {
   };
   std::vector<JointMotionTerms> terms_;
   std::vector<int> roots_;  // links without a parent joint
+
+ public:
+  // link_poses_batch's view of each joint in topological order, rebuilt when a set value changes:
+  // value = mult * q[slot] + offset (slot < 0: offset alone), mimic chains folded in.
+  struct BatchJoint {
+    int type = 0;  // 0 fixed, 1 revolute, 2 prismatic
+    int parent = 0, child = 0, slot = -1;
+    double mult = 1, offset = 0;
+    double O[9], OK[9], OKK[9], t[3], a[3];  // origin rotation (row-major), Rodrigues terms, translation, O * axis
+  };
+
+ private:
+  std::vector<BatchJoint> batch_plan_;
+  void build_batch_plan();
 
   std::shared_ptr<const RobotModel> model_;  // shared by copies (e.g. one per finger opening)
   int base_ = -1, tip_ = -1;

@@ -1,0 +1,143 @@
+// SphereFieldChecker::free_lanes: the fast layer's "proven free" for 8 configurations at once.
+// Forward kinematics runs in SIMD lanes (Kinematics::link_poses_batch); every step after it takes
+// one body or sphere across all lanes (centres, grid indices, bounds, pair distances), so the
+// arithmetic vectorises; only the field loads are one per lane. Compiled for AVX2 + FMA and for
+// the portable baseline, chosen at run time (system/simd_dispatch).
+#include <array>
+
+#include "dmgplace/runtime/collision/sphere_field_checker.hpp"
+#include "dmgplace/runtime/system/simd_dispatch.hpp"
+
+namespace dmgplace::runtime {
+namespace {
+
+constexpr int N = PoseBatch::kLanes;
+struct alignas(64) Xyz {
+  double x[N], y[N], z[N];
+};
+
+// c = R p + t in every lane.
+inline __attribute__((always_inline)) void transform(const std::array<PoseBatch::Lanes, 12>& T, const Eigen::Vector3d& p, Xyz& c) {
+  for (int k = 0; k < N; ++k) {
+    c.x[k] = T[0][std::size_t(k)] * p.x() + T[1][std::size_t(k)] * p.y() + T[2][std::size_t(k)] * p.z() + T[9][std::size_t(k)];
+    c.y[k] = T[3][std::size_t(k)] * p.x() + T[4][std::size_t(k)] * p.y() + T[5][std::size_t(k)] * p.z() + T[10][std::size_t(k)];
+    c.z[k] = T[6][std::size_t(k)] * p.x() + T[7][std::size_t(k)] * p.y() + T[8][std::size_t(k)] * p.z() + T[11][std::size_t(k)];
+  }
+}
+
+// Lanes whose point p is at least `need` from the scene by the field (inside the grid only): the
+// coarse bound where there is one, else the fine one. `alive`: lanes still worth the fine loads.
+inline __attribute__((always_inline)) std::uint32_t clear_of_field(const Xyz& p, double need, std::uint32_t alive,
+                                                                  const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                                                                  const NodeBoundGrid* coarse, const NodeBoundGrid& fine) {
+  alignas(64) double b[N];
+  std::uint32_t in_grid = 0, ok = 0;
+  for (int k = 0; k < N; ++k)
+    in_grid |= std::uint32_t(p.x[k] >= lo.x() && p.y[k] >= lo.y() && p.z[k] >= lo.z() && p.x[k] <= hi.x() && p.y[k] <= hi.y() &&
+                             p.z[k] <= hi.z())
+               << k;
+  if (coarse) {
+    coarse->lower_bound_lanes<N>(p.x, p.y, p.z, b);
+    for (int k = 0; k < N; ++k) ok |= std::uint32_t(b[k] >= need) << k;
+  }
+  if ((ok & in_grid & alive) != (in_grid & alive)) {
+    fine.lower_bound_lanes<N>(p.x, p.y, p.z, b);
+    for (int k = 0; k < N; ++k) ok |= std::uint32_t(b[k] >= need) << k;
+  }
+  return ok & in_grid;
+}
+
+}  // namespace
+
+inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lanes_body(const SphereFieldChecker& c,
+                                                                                        const double* const* q, int count) {
+  const double* in[N];
+  for (int k = 0; k < N; ++k) in[k] = q[k < count ? k : 0];  // idle lanes repeat the first
+  thread_local PoseBatch poses;
+  c.kin_->link_poses_batch(in, poses);
+  const std::uint32_t all = (1u << count) - 1;
+  std::uint32_t alive = all;
+  thread_local std::vector<Xyz> world, centre;
+  thread_local std::vector<char> done;
+  world.resize(c.spheres_.size());
+  centre.resize(c.bodies_.size());
+  done.assign(c.bodies_.size(), 0);
+  auto spheres_of = [&](std::size_t bi) {
+    if (done[bi]) return;
+    const Body& b = c.bodies_[bi];
+    const auto& T = poses.pose[std::size_t(b.link)];
+    for (int i = b.begin; i < b.end; ++i) transform(T, c.spheres_[std::size_t(i)].center, world[std::size_t(i)]);
+    done[bi] = 1;
+  };
+  auto clear_lanes = [&](const Xyz& p, double r) __attribute__((always_inline)) {
+    return clear_of_field(p, r + c.padding_, alive, c.lo_, c.hi_, c.coarse_.get(), *c.fine_);
+  };
+  for (std::size_t bi = 0; bi < c.bodies_.size(); ++bi) {
+    const Body& b = c.bodies_[bi];
+    transform(poses.pose[std::size_t(b.link)], b.center, centre[bi]);
+    if (!b.moving && !b.attached) continue;
+    std::uint32_t open = alive & ~clear_lanes(centre[bi], b.radius);
+    if (!open) continue;
+    spheres_of(bi);
+    for (int i = b.begin; i < b.end && open; ++i) {
+      const std::uint32_t ok = clear_lanes(world[std::size_t(i)], c.spheres_[std::size_t(i)].radius);
+      alive &= ~(open & ~ok);
+      open &= ok;
+    }
+    if (!alive) return 0;
+  }
+  thread_local Eigen::VectorXd qk;
+  for (const Pair& p : c.pairs_) {
+    const Xyz &ca = centre[std::size_t(p.a)], &cb = centre[std::size_t(p.b)];
+    std::uint32_t near = 0;
+    for (int k = 0; k < N; ++k) {
+      const double dx = ca.x[k] - cb.x[k], dy = ca.y[k] - cb.y[k], dz = ca.z[k] - cb.z[k];
+      near |= std::uint32_t(dx * dx + dy * dy + dz * dz < p.reach * p.reach) << k;
+    }
+    near &= alive;
+    if (!near) continue;
+    if (p.table >= 0)
+      for (int k = 0; k < count; ++k)
+        if (near >> k & 1u) {
+          qk = Eigen::Map<const Eigen::VectorXd>(in[k], c.kin_->dof());
+          if ((*c.tables_)[std::size_t(p.table)].lower_bound(qk) - c.padding_ > 0) near &= ~(1u << k);
+        }
+    if (!near) continue;
+    const Body &a = c.bodies_[std::size_t(p.a)], &b = c.bodies_[std::size_t(p.b)];
+    spheres_of(std::size_t(p.a));
+    spheres_of(std::size_t(p.b));
+    std::uint32_t hit = 0;
+    for (int i = a.begin; i < a.end; ++i) {
+      const Xyz& wa = world[std::size_t(i)];
+      for (int j = b.begin; j < b.end; ++j) {
+        const Xyz& wb = world[std::size_t(j)];
+        const double r = c.spheres_[std::size_t(i)].radius + c.spheres_[std::size_t(j)].radius + c.padding_;
+        for (int k = 0; k < N; ++k) {
+          const double dx = wa.x[k] - wb.x[k], dy = wa.y[k] - wb.y[k], dz = wa.z[k] - wb.z[k];
+          hit |= std::uint32_t(dx * dx + dy * dy + dz * dz < r * r) << k;
+        }
+      }
+      if ((hit & near) == near) break;
+    }
+    alive &= ~(hit & near);
+    if (!alive) return 0;
+  }
+  return alive & all;
+}
+
+__attribute__((target("avx2,fma"))) std::uint32_t SphereFieldChecker::free_lanes_avx2(const SphereFieldChecker& c,
+                                                                                      const double* const* q, int count) {
+  return free_lanes_body(c, q, count);
+}
+
+std::uint32_t SphereFieldChecker::free_lanes_portable(const SphereFieldChecker& c, const double* const* q, int count) {
+  return free_lanes_body(c, q, count);
+}
+
+std::uint32_t SphereFieldChecker::free_lanes(const double* const* q, int count) const {
+  if (count <= 0) return 0;
+  count = std::min(count, N);
+  return simd_path() == SimdPath::Avx2 ? free_lanes_avx2(*this, q, count) : free_lanes_portable(*this, q, count);
+}
+
+}  // namespace dmgplace::runtime

@@ -1,0 +1,160 @@
+// Forward kinematics of 8 configurations at once (Kinematics::link_poses_batch): every step is a
+// loop over the lanes, which the compiler turns into SIMD arithmetic; compiled twice, for AVX2 +
+// FMA and for the portable x86-64 baseline, and chosen at run time (system/simd_dispatch).
+#include <cmath>
+
+#include "dmgplace/runtime/geometry/fast_sincos.hpp"
+#include "dmgplace/runtime/robot/kinematics.hpp"
+#include "dmgplace/runtime/system/simd_dispatch.hpp"
+
+namespace dmgplace::runtime {
+namespace {
+
+constexpr int N = PoseBatch::kLanes;
+using Lanes = PoseBatch::Lanes;
+
+using JointPlan = Kinematics::BatchJoint;
+
+// sin and cos of every lane, branch-free (fast_sincos' reduction and polynomials, the quadrant
+// chosen by selects); lanes beyond +-1e5 rad take libm.
+inline __attribute__((always_inline)) void sincos_lanes(const double* x, double* s, double* c) {
+  constexpr double kTwoOverPi = 6.36619772367581382433e-01;
+  constexpr double kPio2Hi = 1.57079632673412561417e+00, kPio2Lo = 6.07710050650619224932e-11;
+  bool wild = false;
+  for (int k = 0; k < N; ++k) wild |= !(std::abs(x[k]) < 1e5);
+  if (wild) {
+    for (int k = 0; k < N; ++k) fast_sincos(x[k], s[k], c[k]);
+    return;
+  }
+  for (int k = 0; k < N; ++k) {
+    const double j = std::nearbyint(x[k] * kTwoOverPi);
+    const double y = (x[k] - j * kPio2Hi) - j * kPio2Lo;
+    const double z = y * y;
+    const double sy = y + y * z * (-1.66666666666666307295e-1 +
+                                   z * (8.33333333332211858878e-3 +
+                                        z * (-1.98412698295895385996e-4 +
+                                             z * (2.75573136213857245213e-6 +
+                                                  z * (-2.50507477628578072866e-8 + z * 1.58962301576546568060e-10)))));
+    const double cy = 1.0 - 0.5 * z + z * z * (4.16666666666665929218e-2 +
+                                               z * (-1.38888888888730564116e-3 +
+                                                    z * (2.48015872888517045348e-5 +
+                                                         z * (-2.75573141792967388112e-7 +
+                                                              z * (2.08757008419747316778e-9 + z * -1.13585365213876817300e-11)))));
+    const int q = static_cast<int>(j) & 3;  // int: converts in SIMD lanes, long would not
+    const double ss = (q & 1) ? cy : sy, cc = (q & 1) ? sy : cy;
+    s[k] = (q & 2) ? -ss : ss;
+    c[k] = ((q + 1) & 2) ? -cc : cc;
+  }
+}
+
+inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>& plan, const std::vector<int>& roots, int base,
+                                                   bool base_is_root, const double* const* q, PoseBatch& out) {
+  auto& P = out.pose;
+  for (int r : roots)
+    for (int e = 0; e < 12; ++e) P[std::size_t(r)][std::size_t(e)].fill(e == 0 || e == 4 || e == 8 ? 1.0 : 0.0);
+  alignas(64) double v[N], s[N], c[N], R[9][N];
+  for (const JointPlan& j : plan) {
+    const auto& A = P[std::size_t(j.parent)];
+    auto& C = P[std::size_t(j.child)];
+    for (int k = 0; k < N; ++k) v[k] = j.slot >= 0 ? j.mult * q[k][j.slot] + j.offset : j.offset;
+    if (j.type == 1) {
+      sincos_lanes(v, s, c);
+      for (int e = 0; e < 9; ++e)
+        for (int k = 0; k < N; ++k) R[e][k] = j.O[e] + s[k] * j.OK[e] + (1 - c[k]) * j.OKK[e];
+    } else {
+      for (int e = 0; e < 9; ++e)
+        for (int k = 0; k < N; ++k) R[e][k] = j.O[e];
+    }
+    // Child rotation = parent rotation x joint rotation; translation = parent R x (t + v a) + parent t.
+    for (int r = 0; r < 3; ++r)
+      for (int col = 0; col < 3; ++col)
+        for (int k = 0; k < N; ++k)
+          C[std::size_t(3 * r + col)][std::size_t(k)] =
+              A[std::size_t(3 * r)][std::size_t(k)] * R[col][k] + A[std::size_t(3 * r + 1)][std::size_t(k)] * R[3 + col][k] +
+              A[std::size_t(3 * r + 2)][std::size_t(k)] * R[6 + col][k];
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < N; ++k) {
+        const double m = j.type == 2 ? v[k] : 0.0;
+        const double tx = j.t[0] + m * j.a[0], ty = j.t[1] + m * j.a[1], tz = j.t[2] + m * j.a[2];
+        C[std::size_t(9 + r)][std::size_t(k)] = A[std::size_t(3 * r)][std::size_t(k)] * tx + A[std::size_t(3 * r + 1)][std::size_t(k)] * ty +
+                                                A[std::size_t(3 * r + 2)][std::size_t(k)] * tz + A[std::size_t(9 + r)][std::size_t(k)];
+      }
+  }
+  if (base_is_root) return;
+  // Express every link in the base frame: pose = inverse(base) x pose, per lane.
+  alignas(64) double Bi[12][N];
+  const auto& B = P[std::size_t(base)];
+  for (int r = 0; r < 3; ++r)
+    for (int col = 0; col < 3; ++col)
+      for (int k = 0; k < N; ++k) Bi[3 * r + col][k] = B[std::size_t(3 * col + r)][std::size_t(k)];  // transpose
+  for (int r = 0; r < 3; ++r)
+    for (int k = 0; k < N; ++k)
+      Bi[9 + r][k] = -(Bi[3 * r][k] * B[9][std::size_t(k)] + Bi[3 * r + 1][k] * B[10][std::size_t(k)] + Bi[3 * r + 2][k] * B[11][std::size_t(k)]);
+  alignas(64) double T[12][N];
+  for (auto& L : P) {
+    for (int r = 0; r < 3; ++r)
+      for (int col = 0; col < 4; ++col)
+        for (int k = 0; k < N; ++k) {
+          const int e = col < 3 ? 3 * r + col : 9 + r;
+          const int x = col < 3 ? col : 9;  // column col of L's rotation, or its translation
+          const double dot = Bi[3 * r][k] * L[std::size_t(col < 3 ? x : 9)][std::size_t(k)] +
+                             Bi[3 * r + 1][k] * L[std::size_t(col < 3 ? 3 + x : 10)][std::size_t(k)] +
+                             Bi[3 * r + 2][k] * L[std::size_t(col < 3 ? 6 + x : 11)][std::size_t(k)];
+          T[e][k] = dot + (col < 3 ? 0.0 : Bi[9 + r][k]);
+        }
+    for (int e = 0; e < 12; ++e)
+      for (int k = 0; k < N; ++k) L[std::size_t(e)][std::size_t(k)] = T[e][k];
+  }
+}
+
+__attribute__((target("avx2,fma"))) void fk_avx2(const std::vector<JointPlan>& plan, const std::vector<int>& roots, int base,
+                                                 bool base_is_root, const double* const* q, PoseBatch& out) {
+  fk_body(plan, roots, base, base_is_root, q, out);
+}
+
+void fk_portable(const std::vector<JointPlan>& plan, const std::vector<int>& roots, int base, bool base_is_root,
+                 const double* const* q, PoseBatch& out) {
+  fk_body(plan, roots, base, base_is_root, q, out);
+}
+
+}  // namespace
+
+void Kinematics::build_batch_plan() {
+  const auto& m = *model_;
+  batch_plan_.assign(order_.size(), {});
+  for (std::size_t i = 0; i < order_.size(); ++i) {
+    const int j = order_[i];
+    const auto& jt = m.joints[std::size_t(j)];
+    BatchJoint& p = batch_plan_[i];
+    p.type = jt.type == JointType::Fixed ? 0 : jt.type == JointType::Prismatic ? 2 : 1;
+    p.parent = jt.parent;
+    p.child = jt.child;
+    // Resolve mimic chains to one driving joint: value = mult * driver + offset.
+    int d = j;
+    while (m.joints[std::size_t(d)].mimic >= 0) {
+      const auto& mj = m.joints[std::size_t(d)];
+      p.offset += p.mult * mj.mimic_offset;
+      p.mult *= mj.mimic_multiplier;
+      d = mj.mimic;
+    }
+    p.slot = chain_slot_[std::size_t(d)];
+    if (p.slot < 0) p.offset += p.mult * fixed_values_[std::size_t(d)], p.mult = 0;
+    const Eigen::Matrix3d O = jt.origin.linear();
+    const auto& terms = terms_[std::size_t(j)];
+    for (int r = 0; r < 3; ++r)
+      for (int col = 0; col < 3; ++col) {
+        p.O[3 * r + col] = O(r, col);
+        p.OK[3 * r + col] = terms.OK(r, col);
+        p.OKK[3 * r + col] = terms.OKK(r, col);
+      }
+    for (int r = 0; r < 3; ++r) p.t[r] = jt.origin.translation()[r], p.a[r] = terms.Oa[r];
+  }
+}
+
+void Kinematics::link_poses_batch(const double* const* q, PoseBatch& out) const {
+  out.pose.resize(model_->links.size());
+  if (simd_path() == SimdPath::Avx2) fk_avx2(batch_plan_, roots_, base_, base_is_root_, q, out);
+  else fk_portable(batch_plan_, roots_, base_, base_is_root_, q, out);
+}
+
+}  // namespace dmgplace::runtime
