@@ -96,6 +96,34 @@ TEST(Cli, EveryBakeOptionShowsItsDefaultAndTheHeaderRecordsIt) {
   EXPECT_EQ(params["reconstruct"], "poisson");
 }
 
+// Issue 22: every command takes --log-level, -v and -q; -q keeps warnings and errors only.
+TEST(Cli, LogLevelsGovernWhatGoesToStderr) {
+  TempDir dir;
+  const auto urdf = data() / "robots/dmgarm/dmgarm.urdf";
+  // Without an SRDF the bake says (info) what it decided about the link pairs.
+  const auto chatty = dmgplace::test::run_cli({"bake-robot", urdf, "--arm", "dmgarm_link0:dmgarm_tcp", "--out", dir / "a.h5"});
+  ASSERT_EQ(chatty.exit_code, 0) << chatty.output;
+  EXPECT_NE(chatty.output.find("no --srdf:"), std::string::npos) << chatty.output;
+  for (const std::vector<dmgplace::test::Arg>& quiet :
+       {std::vector<dmgplace::test::Arg>{"-q", "bake-robot"}, {"bake-robot", "-q"}, {"--log-level", "error", "bake-robot"}}) {
+    std::vector<dmgplace::test::Arg> args = quiet;
+    for (const dmgplace::test::Arg& a : {dmgplace::test::Arg(urdf), dmgplace::test::Arg("--arm"), dmgplace::test::Arg("dmgarm_link0:dmgarm_tcp"),
+                                        dmgplace::test::Arg("--out"), dmgplace::test::Arg(dir / "b.h5")})
+      args.push_back(a);
+    const auto r = dmgplace::test::run_cli(args);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(r.output.find("no --srdf:"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("wrote"), std::string::npos) << "results stay on stdout: " << r.output;
+  }
+  // Errors still show under -q; an unknown level is a usage error.
+  const auto missing = run({"-q", "validate", dir / "none.h5"});
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.output.find("none.h5"), std::string::npos) << missing.output;
+  const auto bad = run({"--log-level", "chatty", "validate", dir / "a.h5"});
+  EXPECT_GE(bad.exit_code, 100) << bad.output;
+  EXPECT_EQ(run({"-v", "validate", dir / "a.h5"}).exit_code, 0);
+}
+
 TEST(Cli, BakesTheBuiltInRobotAndScenes) {
   TempDir dir;
   CliRun r = run({"bake-robot", data() / "robots/dmgarm/dmgarm.urdf", "--srdf", data() / "robots/dmgarm/dmgarm.srdf", "--arm",

@@ -2,6 +2,7 @@
 #include <chrono>
 #include <iostream>
 
+#include "cli_log.hpp"
 #include "cli_util.hpp"
 #include "commands.hpp"
 #include "dmgplace/formats/error.hpp"
@@ -119,20 +120,20 @@ int run_bake_object(const BakeObjectArgs& a_in) {
     obj.mesh = scan->mesh;
     params["object_origin_in_scan"] = {scan->origin_in_scan.x(), scan->origin_in_scan.y(), scan->origin_in_scan.z()};
     extra["scan"] = scan_report(*scan);
-    for (const auto& w : scan->reconstruction.warnings) std::cerr << "warning: " << name << ": " << w << "\n";
-    if (!a.json) {
-      for (const auto& n : scan->segmented.notes) std::cout << name << ": " << n << "\n";
-      std::printf("%s: %zu object points, surface %.0f%% seen (within %.1f mm of a point), object frame at (%.3f, %.3f, %.3f) in the scan\n",
-                  name.c_str(), scan->points.size(), 100 * scan->reconstruction.seen_fraction, 1e3 * scan->reconstruction.seen_distance,
+    for (const auto& w : scan->reconstruction.warnings) log_warning(name + ": " + w);
+    for (const auto& n : scan->segmented.notes) log_info(name + ": " + n);
+    char line[256];
+    std::snprintf(line, sizeof line, "%zu object points, surface %.0f%% seen (within %.1f mm of a point), object frame at (%.3f, %.3f, %.3f) in the scan",
+                  scan->points.size(), 100 * scan->reconstruction.seen_fraction, 1e3 * scan->reconstruction.seen_distance,
                   scan->origin_in_scan.x(), scan->origin_in_scan.y(), scan->origin_in_scan.z());
-    }
+    log_info(name + ": " + line);
   } else {
     if (a.dmg_from == "points") throw Error("--dmg-from", "", "points needs PCD scans");
     tools::MeshReadOptions opts;
     opts.scale = a.scale;
     tools::MeshReport report;
     obj.mesh = tools::read_mesh(name, opts, &report);
-    for (const auto& w : report.warnings) std::cerr << "warning: " << name << ": " << w << "\n";
+    for (const auto& w : report.warnings) log_warning(name + ": " + w);
   }
   obj.mass = tools::compute_mass_properties(obj.mesh, a.mass, name);
   if (!a.com_text.empty()) {

@@ -2,10 +2,10 @@
 #include <cmath>
 #include <iostream>
 #include <sstream>
-#include <unistd.h>
 #include <cstdio>
 #include "dmgplace/formats/pose_input.hpp"
 
+#include "cli_log.hpp"
 #include "cli_util.hpp"
 #include "commands.hpp"
 #include "dmgplace/tools/io/input_log.hpp"
@@ -83,7 +83,7 @@ int run_bake_robot(const BakeRobotArgs& a_in) {
   if (!a.write_srdf.empty() && !a.srdf.empty())
     throw Error("--write-srdf", "", "writes the pairs computed without an SRDF; --srdf " + a.srdf + " was given");
   // A progress line on a terminal: the tables take from seconds to minutes.
-  if (isatty(STDERR_FILENO))
+  if (show_progress())
     o.self_tables.progress = [](std::size_t done, std::size_t total) {
       std::fprintf(stderr, "\rself-distance tables: %zu of %zu nodes (%.0f%%)%s", done, total, total ? 100.0 * double(done) / double(total) : 100.0,
                    done == total ? "\n" : "");
@@ -92,18 +92,18 @@ int run_bake_robot(const BakeRobotArgs& a_in) {
   formats::RobotArtifact robot = tools::bake_robot(o, &decided);
   if (a.srdf.empty()) {
     // Say what was decided (stderr: stdout may carry --json).
-    std::cerr << "no --srdf: " << decided.disabled.size() << " of " << decided.checked_pairs << " link pairs may touch ("
-              << decided.count(tools::DisableReason::Adjacent) << " adjacent, " << decided.count(tools::DisableReason::Default)
-              << " touching in the default pose, " << decided.count(tools::DisableReason::Always) << " always and "
-              << decided.count(tools::DisableReason::Never) << " never colliding in " << decided.samples
-              << " random configurations)";
+    std::ostringstream m;
+    m << "no --srdf: " << decided.disabled.size() << " of " << decided.checked_pairs << " link pairs may touch ("
+      << decided.count(tools::DisableReason::Adjacent) << " adjacent, " << decided.count(tools::DisableReason::Default)
+      << " touching in the default pose, " << decided.count(tools::DisableReason::Always) << " always and "
+      << decided.count(tools::DisableReason::Never) << " never colliding in " << decided.samples << " random configurations)";
     if (!a.write_srdf.empty()) {
       formats::write_file_atomically(a.write_srdf, tools::srdf_text(robot.model, decided.disabled));
-      std::cerr << "; written to " << a.write_srdf << " for review (pass it back with --srdf)";
+      m << "; written to " << a.write_srdf << " for review (pass it back with --srdf)";
     } else {
-      std::cerr << "; --write-srdf FILE writes them for review";
+      m << "; --write-srdf FILE writes them for review";
     }
-    std::cerr << "\n";
+    log_info(m.str());
   }
   std::vector<std::filesystem::path> inputs{a.urdf};
   if (!a.srdf.empty()) inputs.emplace_back(a.srdf);

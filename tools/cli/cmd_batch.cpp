@@ -1,6 +1,9 @@
 #include <iostream>
 #include <regex>
 
+#include <sstream>
+
+#include "cli_log.hpp"
 #include "commands.hpp"
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/tools/batch/batch_manifest.hpp"
@@ -34,9 +37,11 @@ int run_batch(const BatchArgs& a) {
   o.phase = a.phase;
   o.dry_run = a.dry_run;
   o.json = a.json;
-  const auto t = tools::run_batch(plan, o, std::cout, std::cerr);
-  std::cerr << t.ran << " ran, " << t.failed << " failed, " << t.done_before << " were done; `dmgplace batch-status "
-            << out.string() << "` lists the failures\n";
+  const auto t = tools::run_batch(plan, o, std::cout, progress_stream());
+  std::ostringstream summary;
+  summary << t.ran << " ran, " << t.failed << " failed, " << t.done_before << " were done; `dmgplace batch-status "
+          << out.string() << "` lists the failures";
+  log_info(summary.str());
   return t.failed ? 1 : 0;
 }
 

@@ -4,6 +4,7 @@
 #include <iomanip>
 #include <iostream>
 
+#include "cli_log.hpp"
 #include "commands.hpp"
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/tools/motion/arm_problem.hpp"
@@ -80,9 +81,9 @@ int run_bench_mbm(const BenchMbmArgs& a) {
         if (run_stock)
           record("ompl_rrtconnect_fcl", r, tools::plan_stock(problem, a.time_limit, a.resolution, seed), stock, stock_all);
       }
-      std::cerr << "\r" << set << ": " << (i + 1) << "/" << requests.size() << std::flush;
+      if (show_progress()) std::cerr << "\r" << set << ": " << (i + 1) << "/" << requests.size() << std::flush;
     }
-    std::cerr << "\n";
+    if (show_progress()) std::cerr << "\n";
     print(set + " ours", ours);
     print(set + " OMPL RRTConnect+FCL " + a.stock_bvh, stock);
   }

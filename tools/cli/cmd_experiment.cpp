@@ -2,6 +2,7 @@
 
 #include <iostream>
 
+#include "cli_log.hpp"
 #include "commands.hpp"
 #include "dmgplace/tools/experiment/experiment_plots.hpp"
 #include "dmgplace/tools/experiment/experiment_runner.hpp"
@@ -18,7 +19,7 @@ int run_experiment(const ExperimentArgs& a) {
   o.quick = a.quick;
   if (a.time_limit) o.time_limit = *a.time_limit;
   o.redraw_progress = isatty(2);
-  const auto t = tools::run_experiment(spec, o, std::cerr);
+  const auto t = tools::run_experiment(spec, o, progress_stream());
   std::cout << spec.name << ": " << t.planned << " runs (" << t.ran << " run now, " << t.skipped << " done before), " << t.solved
             << " with a solution; summary in " << (std::filesystem::path(a.out) / "summary.csv").string() << "\n";
   return 0;

@@ -1,7 +1,9 @@
 #include <chrono>
 #include <cmath>
 #include <iostream>
+#include <sstream>
 
+#include "cli_log.hpp"
 #include "commands.hpp"
 #include "dmgplace/formats/environment_artifact.hpp"
 #include "dmgplace/formats/error.hpp"
@@ -29,9 +31,11 @@ int run_place(const PlaceArgs& a) {
                                 q.query.g0_opening, joints);
   q.query.q0 = tools::resolve_start(q, world.kin());
   const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
-  std::cerr << "loaded " << q.robot.filename().string() << ", " << q.object.filename().string() << ", "
-            << q.environment.filename().string() << " in " << load_s << " s; variant " << runtime::to_string(q.query.variant)
-            << ", seed " << q.query.seed << ", " << q.time_limit << " s\n";
+  std::ostringstream loaded;
+  loaded << "loaded " << q.robot.filename().string() << ", " << q.object.filename().string() << ", "
+         << q.environment.filename().string() << " in " << load_s << " s; variant " << runtime::to_string(q.query.variant)
+         << ", seed " << q.query.seed << ", " << q.time_limit << " s";
+  log_info(loaded.str());
   runtime::PlacementPlanner planner(world, q.query);
   const auto timer = runtime::stop_after_seconds(q.time_limit);
   const auto rounds = a.iterations > 0 ? runtime::stop_after_iterations(a.iterations) : runtime::PlacementPlanner::Stop();
@@ -42,7 +46,7 @@ int run_place(const PlaceArgs& a) {
     const auto now = std::chrono::steady_clock::now();
     if (std::chrono::duration<double>(now - last).count() >= 5) {
       last = now;
-      std::cerr << "  ... still searching\n";
+      log_info("  ... still searching");
     }
     return deadline();
   };
@@ -68,7 +72,7 @@ int run_place(const PlaceArgs& a) {
   const std::filesystem::path out = a.out.empty() ? std::filesystem::path("place-" + q.path.stem().string()) : std::filesystem::path(a.out);
   tools::write_placement_result(out, q, result, world.kin());
   if (a.json) std::cout << tools::result_json(q, result, world.kin());
-  std::cerr << "wrote " << (out / "result.json").string() << ", trace.csv, path.csv\n";
+  log_info("wrote " + (out / "result.json").string() + ", trace.csv, path.csv");
   return result.solved() ? 0 : 3;
 }
 

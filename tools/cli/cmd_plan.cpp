@@ -3,6 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_log.hpp"
 #include "commands.hpp"
 #include "dmgplace/formats/atomic_file.hpp"
 #include "dmgplace/formats/error.hpp"
@@ -14,7 +15,7 @@ int run_plan(const PlanArgs& a) {
   tools::ArmProblemOptions opt;
   opt.sdf_resolution = a.sdf_resolution;
   auto problem = tools::load_arm_problem(a.robot, a.scene, a.request, opt);
-  std::cerr << "distance field: " << problem.bake_seconds << " s\n";
+  log_info("distance field: " + std::to_string(problem.bake_seconds) + " s");
   auto ours = tools::plan_ours(problem, a.time_limit, a.resolution, a.seed);
   nlohmann::ordered_json j;
   j["solved"] = ours.solved;

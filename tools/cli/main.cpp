@@ -7,6 +7,7 @@
 #include <type_traits>
 #include <variant>
 
+#include "cli_log.hpp"
 #include "cli_util.hpp"
 #include "commands.hpp"
 #include "dmgplace/formats/artifact_header.hpp"
@@ -42,6 +43,15 @@ int main(int argc, char** argv) {
   CLI::App app{"dmgplace: placement planning with in-hand regrasping (Dexterous Manipulation Graphs)"};
   app.set_version_flag("--version", dmgplace::formats::tool_version());
   app.require_subcommand(1);
+  // Messages on stderr for every command (results stay on stdout): cli_log.hpp.
+  std::string log_level = "info";
+  bool verbose = false, quiet = false;
+  app.add_option("--log-level", log_level, "Messages on stderr: trace, debug, info, warning, error, off")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warning", "warn", "error", "off"}))
+      ->capture_default_str();
+  app.add_flag("-v,--verbose", verbose, "Debug messages too (--log-level debug)");
+  app.add_flag("-q,--quiet", quiet, "Warnings and errors only (--log-level warning)");
+  app.fallthrough();
   app.footer("Exit codes: 0 done; 1 bad input or failure (the message names the file, element and reason); "
              "3 no solution (place, plan); 103-114 a malformed command line (CLI11).");
 
@@ -187,6 +197,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
+  init_logging(quiet ? "warning" : verbose ? "debug" : log_level);
 
   try {
     if (*c_validate) return run_validate(validate);
@@ -209,10 +220,10 @@ int main(int argc, char** argv) {
     if (*c_plan) return run_plan(plan);
     if (*c_bench) return run_bench_mbm(bench_mbm);
   } catch (const dmgplace::Error& e) {
-    std::cerr << "error: " << e.what() << "\n";
+    log_error(e.what());
     return 1;
   } catch (const std::exception& e) {
-    std::cerr << "error: unexpected failure: " << e.what() << "\n";
+    log_error(std::string("unexpected failure: ") + e.what());
     return 1;
   }
   return 0;
