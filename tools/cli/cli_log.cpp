@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <iostream>
 
 namespace dmgplace::cli {
@@ -40,6 +41,14 @@ void log_warning(const std::string& m) { logger()->warn("warning: " + m); }
 void log_error(const std::string& m) { logger()->error("error: " + m); }
 
 bool show_progress() { return logging_enabled_for_info() && isatty(STDERR_FILENO); }
+
+std::function<void(const std::string&, std::size_t, std::size_t)> progress_line() {
+  if (!show_progress()) return {};
+  return [](const std::string& stage, std::size_t done, std::size_t total) {
+    std::fprintf(stderr, "\r%s: %zu of %zu (%.0f%%)%s", stage.c_str(), done, total, total ? 100.0 * double(done) / double(total) : 100.0,
+                 done >= total ? "\n" : "");
+  };
+}
 
 std::ostream& progress_stream() {
   static NullBuffer null_buffer;

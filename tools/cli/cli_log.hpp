@@ -2,6 +2,8 @@
 // The command line's messages on stderr, through spdlog: `--log-level`, `-v` (debug) and `-q`
 // (warnings and errors only) on every command. Results go to stdout, never through here. The
 // libraries print nothing; they report through return values and callbacks.
+#include <cstddef>
+#include <functional>
 #include <ostream>
 #include <string>
 
@@ -18,6 +20,9 @@ void log_error(const std::string& message);    // printed as "error: MESSAGE"
 
 // Progress lines redrawn in place: only on a terminal and at info level or below.
 bool show_progress();
+// A tools::ProgressFn drawing "STAGE: N of M (P%)" in place on stderr when show_progress(), else
+// nothing (include "dmgplace/tools/system/progress.hpp" to name the type).
+std::function<void(const std::string&, std::size_t, std::size_t)> progress_line();
 // Where progress reports written as text go: stderr at info level, a sink that drops them below.
 std::ostream& progress_stream();
 

@@ -2,6 +2,7 @@
 #include <iostream>
 #include "dmgplace/formats/pose_input.hpp"
 
+#include "cli_log.hpp"
 #include "cli_util.hpp"
 #include "commands.hpp"
 #include "dmgplace/tools/io/input_log.hpp"
@@ -52,6 +53,7 @@ int run_bake_env(const BakeEnvArgs& a_in) {
     params["frame"] = f;
   }
   env.scene = tools::load_scene(a.scene, opts);
+  a.bake.progress = progress_line();
   tools::bake_environment(env, a.bake);
   // What the defaults resolved to, beside what was asked.
   params["clearance_band_used"] = env.clearance.band;

@@ -144,6 +144,7 @@ int run_bake_object(const BakeObjectArgs& a_in) {
   }
   obj.placement = tools::compute_placement_faces(obj.mesh, obj.mass.com, a.faces, name);
   const auto gripper = a.gripper.empty() ? tools::default_gripper() : tools::load_gripper_yaml(a.gripper);
+  a.dmg.progress = progress_line();
   obj.dmg = scan && a.dmg_from == "points" ? tools::build_dmg_from_points(obj.mesh, scan->points, scan->normals, gripper, a.dmg, name)
                                            : tools::build_dmg(obj.mesh, gripper, a.dmg, name);
   obj.grasp_graph = formats::build_grasp_graph_table(obj.dmg, a.rotation_weight);

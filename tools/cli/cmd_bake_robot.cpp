@@ -82,12 +82,7 @@ int run_bake_robot(const BakeRobotArgs& a_in) {
   }
   if (!a.write_srdf.empty() && !a.srdf.empty())
     throw Error("--write-srdf", "", "writes the pairs computed without an SRDF; --srdf " + a.srdf + " was given");
-  // A progress line on a terminal: the tables take from seconds to minutes.
-  if (show_progress())
-    o.self_tables.progress = [](std::size_t done, std::size_t total) {
-      std::fprintf(stderr, "\rself-distance tables: %zu of %zu nodes (%.0f%%)%s", done, total, total ? 100.0 * double(done) / double(total) : 100.0,
-                   done == total ? "\n" : "");
-    };
+  o.self_tables.progress = progress_line();  // on a terminal: the tables take seconds to minutes
   tools::AllowedCollisions decided;
   formats::RobotArtifact robot = tools::bake_robot(o, &decided);
   if (a.srdf.empty()) {

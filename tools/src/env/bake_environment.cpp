@@ -43,12 +43,12 @@ void bake_environment(formats::EnvironmentArtifact& env, const EnvBakeOptions& o
   grown.max().array() += o.margin;
   // A coarser, wider grid serves the arm's fast collision layer beyond V (--margin, --sdf-resolution).
   const double sdf_resolution = o.sdf_resolution > 0 ? o.sdf_resolution : o.resolution;
-  env.sdf = distance_field(scene, grid_covering(grown, sdf_resolution), o.band, o.threads);
+  env.sdf = distance_field(scene, grid_covering(grown, sdf_resolution), o.band, o.threads, o.progress);
   env.sdf_signed = geometry.any_closed();
   // Clamped no lower than V's diagonal by default, so the clearance objective keeps rising
   // wherever a placement really is farther from everything (a band would flatten it there).
   const double clearance_band = o.clearance_band > 0 ? o.clearance_band : v.diagonal().norm();
-  env.clearance = clearance_field(scene, grid_covering(v, o.clearance_resolution), clearance_band, o.threads);
+  env.clearance = clearance_field(scene, grid_covering(v, o.clearance_resolution), clearance_band, o.threads, o.progress);
 
   RegionOptions ro = o.regions;
   ro.resolution = o.resolution;

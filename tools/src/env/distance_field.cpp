@@ -45,13 +45,16 @@ void require_band(double band, const char* what) {
 
 // Calls fn(block, centre, half_diagonal) for every block, in parallel.
 template <class Fn>
-void for_blocks(const GridSpec& g, int threads, Fn&& fn) {
+void for_blocks(const GridSpec& g, int threads, const ProgressFn& progress, const char* stage, Fn&& fn) {
   const auto blocks = blocks_of(g);
+  ProgressReporter report(progress, stage);
+  report.add_total(blocks.size());
   detail::parallel_for(blocks.size(), threads, [&](std::size_t b) {
     const Block& bl = blocks[b];
     const Eigen::Vector3d lo = g.point(bl.lo[0], bl.lo[1], bl.lo[2]);
     const Eigen::Vector3d hi = g.point(bl.hi[0] - 1, bl.hi[1] - 1, bl.hi[2] - 1);
     fn(bl, Eigen::Vector3d(0.5 * (lo + hi)), 0.5 * (hi - lo).norm(), lo.z());
+    report.done();
   });
 }
 
@@ -101,12 +104,12 @@ std::vector<std::uint8_t> inside_mask(const EmbreeScene& scene, const GridSpec& 
   return inside;
 }
 
-formats::FieldGrid distance_field(const EmbreeScene& scene, const GridSpec& g, double band, int threads) {
+formats::FieldGrid distance_field(const EmbreeScene& scene, const GridSpec& g, double band, int threads, const ProgressFn& progress) {
   require_band(band, "--band");
   const auto inside = inside_mask(scene, g);
   formats::FieldGrid f = empty_field(g, band);
   const std::size_t nx = std::size_t(g.dims[0]), nxy = nx * std::size_t(g.dims[1]);
-  for_blocks(g, threads, [&](const Block& b, const Eigen::Vector3d& c, double half_diag, double) {
+  for_blocks(g, threads, progress, "distance field", [&](const Block& b, const Eigen::Vector3d& c, double half_diag, double) {
     // Every sample of the block is within half_diag of c: if c is that much beyond the band,
     // so is the whole block.
     const double dc = scene.distance(c, band + half_diag);
@@ -127,12 +130,12 @@ formats::FieldGrid distance_field(const EmbreeScene& scene, const GridSpec& g, d
   return f;
 }
 
-formats::FieldGrid clearance_field(const EmbreeScene& scene, const GridSpec& g, double band, int threads) {
+formats::FieldGrid clearance_field(const EmbreeScene& scene, const GridSpec& g, double band, int threads, const ProgressFn& progress) {
   require_band(band, "--clearance-band");
   const auto inside = inside_mask(scene, g);
   formats::FieldGrid f = empty_field(g, band);
   const std::size_t nx = std::size_t(g.dims[0]), nxy = nx * std::size_t(g.dims[1]);
-  for_blocks(g, threads, [&](const Block& b, const Eigen::Vector3d& c, double half_diag, double z_low) {
+  for_blocks(g, threads, progress, "clearance field", [&](const Block& b, const Eigen::Vector3d& c, double half_diag, double z_low) {
     // Geometry above a sample is a subset of the geometry above the block's lowest samples.
     const double dc = scene.distance_above(c, band + half_diag, z_low);
     for (int k = b.lo[2]; k < b.hi[2]; ++k)

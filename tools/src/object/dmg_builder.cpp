@@ -133,7 +133,10 @@ formats::Dmg assemble(const TriMesh& mesh, const formats::GripperModel& gripper,
   }
 
   std::vector<std::vector<int>> nodes_of_patch(patches.size.size());
+  ProgressReporter report(o.progress, "DMG finger angles");
+  report.add_total(opposite.size());
   for (std::size_t i = 0; i < opposite.size(); ++i) {
+    report.done();
     if (opposite[i].patch < 0) continue;
     const Eigen::Vector3d& p = patches.position[i];
     const Eigen::Vector3d& n = patches.normal[i];

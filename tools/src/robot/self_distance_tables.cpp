@@ -10,6 +10,7 @@
 
 #include "../env/parallel_for.hpp"
 #include "dmgplace/formats/error.hpp"
+#include "dmgplace/tools/system/progress.hpp"
 #include "dmgplace/runtime/collision/exact_checker.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
 
@@ -63,28 +64,6 @@ bool spheres_overlap(const std::vector<formats::LinkSphere>& a, const std::vecto
   return false;
 }
 
-// Serialises and throttles progress reports from worker threads.
-class Progress {
- public:
-  explicit Progress(std::function<void(std::size_t, std::size_t)> f) : f_(std::move(f)) {}
-  void add_total(std::size_t n) { total_ += n; }
-  void done(std::size_t n) {
-    const std::size_t d = done_ += n;
-    if (!f_) return;
-    std::lock_guard<std::mutex> lock(mutex_);
-    const auto now = std::chrono::steady_clock::now();
-    if (d < total_ && now - last_ < std::chrono::milliseconds(200)) return;
-    last_ = now;
-    f_(d, total_);
-  }
-
- private:
-  std::function<void(std::size_t, std::size_t)> f_;
-  std::atomic<std::size_t> done_{0}, total_{0};
-  std::mutex mutex_;
-  std::chrono::steady_clock::time_point last_{};
-};
-
 float round_down(double d) {
   float f = float(d);
   if (double(f) > d) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
@@ -94,7 +73,7 @@ float round_down(double d) {
 // The distances of table t (grid already sized): exact on the coarse lattice, then each other node
 // from its coarse cell's Lipschitz bound when that is far from contact, exactly otherwise.
 void fill_table(formats::SelfDistanceTable& t, const runtime::Kinematics& kin, const runtime::ExactChecker& exact, int a, int b,
-                const Eigen::VectorXd& mid, const SelfTableOptions& o, Progress& progress) {
+                const Eigen::VectorXd& mid, const SelfTableOptions& o, ProgressReporter& progress) {
   const std::size_t c0 = std::size_t(t.count[0]), c1 = std::size_t(t.count[1]);
   t.distance.assign(c0 * c1, 0.0f);
   progress.add_total(c0 * c1);
@@ -161,7 +140,7 @@ std::vector<formats::SelfDistanceTable> build_self_distance_tables(const runtime
   std::vector<formats::SelfDistanceTable> out;
   if (!o.enabled) return out;
   if (o.coarse_stride < 1 || !(o.exact_below >= 0)) throw Error("self-distance tables", "options", "coarse stride >= 1, exact_below >= 0");
-  Progress progress(o.progress);
+  ProgressReporter progress(o.progress, "self-distance tables");
   const RobotModel& m = kin.model();
   runtime::ExactChecker exact(kin, Scene{});
   const auto moving = kin.moving_links();

@@ -2,6 +2,7 @@
 // The offline environment analysis behind `dmgplace bake-env`: distance fields and placement
 // regions for the scene and volume of an environment artifact.
 #include "dmgplace/formats/environment_artifact.hpp"
+#include "dmgplace/tools/system/progress.hpp"
 #include "dmgplace/tools/env/region_builder.hpp"
 
 namespace dmgplace::tools {
@@ -17,6 +18,7 @@ struct EnvBakeOptions {
   RegionOptions regions;               // its resolution is replaced by `resolution`
   int segments = 32;                   // polygon segments of tessellated cylinders and spheres
   int threads = 0;                     // <= 0: all cores
+  ProgressFn progress;                 // the two fields' blocks as they are done
 };
 
 // Fills env.sdf, env.sdf_signed, env.clearance and env.regions from env.scene and env.volume,

@@ -8,6 +8,7 @@
 
 #include "dmgplace/formats/environment_artifact.hpp"
 #include "dmgplace/tools/env/embree_scene.hpp"
+#include "dmgplace/tools/system/progress.hpp"
 
 namespace dmgplace::tools {
 
@@ -28,10 +29,12 @@ std::vector<std::uint8_t> inside_mask(const EmbreeScene& scene, const GridSpec& 
 
 // Distance to the nearest triangle or scan point, clamped to `band`; negative inside closed
 // meshes (open meshes and points give unsigned distances). threads <= 0: all cores.
-formats::FieldGrid distance_field(const EmbreeScene& scene, const GridSpec& grid, double band, int threads = 0);
+formats::FieldGrid distance_field(const EmbreeScene& scene, const GridSpec& grid, double band, int threads = 0,
+                                  const ProgressFn& progress = {});
 
 // Clearance: distance to obstacle geometry strictly above each sample's height (the support
 // below is ignored), 0 inside closed meshes, clamped to `band`.
-formats::FieldGrid clearance_field(const EmbreeScene& scene, const GridSpec& grid, double band, int threads = 0);
+formats::FieldGrid clearance_field(const EmbreeScene& scene, const GridSpec& grid, double band, int threads = 0,
+                                   const ProgressFn& progress = {});
 
 }  // namespace dmgplace::tools

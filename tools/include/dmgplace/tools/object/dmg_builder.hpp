@@ -7,6 +7,7 @@
 
 #include "dmgplace/formats/geometry_types.hpp"
 #include "dmgplace/formats/object_artifact.hpp"
+#include "dmgplace/tools/system/progress.hpp"
 
 namespace dmgplace::tools {
 
@@ -16,6 +17,7 @@ struct DmgOptions {
   double normal_threshold = 0.07;  // adjacent patches join a facet when |n_i - n_j|^2 < this
   double crease_angle = 0.6;       // rad: mesh edges sharper than this bound patches
   double friction_angle = 0.5;     // rad: the opposite contact's normal must be this close to antipodal
+  ProgressFn progress;             // patches whose finger angles are checked
 };
 
 // Throws dmgplace::Error naming `file` for bad options (angle step not dividing 360, sizes not

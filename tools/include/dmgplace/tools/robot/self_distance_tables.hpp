@@ -9,11 +9,11 @@
 // slope x joint offset) is at least `exact_below` stores that bound, which is a lower bound as
 // every stored value must be; the rest, near contact, are computed exactly.
 #include <cstddef>
-#include <functional>
 #include <vector>
 
 #include "dmgplace/formats/robot_artifact.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
+#include "dmgplace/tools/system/progress.hpp"
 
 namespace dmgplace::tools {
 
@@ -24,9 +24,8 @@ struct SelfTableOptions {
   bool enabled = true;
   int coarse_stride = 4;     // 1: every node exact
   double exact_below = 0.05; // m: nodes bounded below this are computed exactly
-  // Called now and then from worker threads (serialised): nodes settled and all nodes, so far
-  // known (the tables are found one by one).
-  std::function<void(std::size_t done, std::size_t total)> progress;
+  // Nodes settled of all nodes so far known (the tables are found one by one).
+  ProgressFn progress;
 };
 
 // For the pairs the chain of `kin` moves; `spheres` cover every link.
