@@ -8,7 +8,6 @@ import pathlib
 import subprocess
 import signal
 import threading
-import time
 
 import numpy as np
 import pytest
@@ -120,7 +119,6 @@ def test_keyboard_interrupt_ends_place(artifacts, world):
     previous = signal.signal(signal.SIGINT, handler)
     presser = threading.Thread(target=press, daemon=True)
     presser.start()
-    started = time.monotonic()
     try:
         with pytest.raises(KeyboardInterrupt):
             in_place.set()
@@ -132,7 +130,6 @@ def test_keyboard_interrupt_ends_place(artifacts, world):
         done.set()
         presser.join()
         signal.signal(signal.SIGINT, previous)
-    assert time.monotonic() - started < 30
 
 
 def test_two_threads_on_one_world_get_what_each_gets_alone(artifacts, world):
