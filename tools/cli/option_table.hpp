@@ -12,9 +12,15 @@
 namespace dmgplace::cli {
 
 struct OptionRow {
+  using Value = std::variant<double*, int*, bool*, std::string*, std::vector<std::string>*>;
+  // A row reads as its fields in order; `choices` may be left out.
+  OptionRow(std::string flag_, std::string param_, Value value_, double lo_, double hi_, std::string unit_, std::string help_,
+            std::vector<std::string> choices_ = {})
+      : flag(std::move(flag_)), param(std::move(param_)), value(value_), lo(lo_), hi(hi_), unit(std::move(unit_)),
+        help(std::move(help_)), choices(std::move(choices_)) {}
   std::string flag;   // "--seed-resolution"
   std::string param;  // key in the header's parameters ("" : not recorded, e.g. --json)
-  std::variant<double*, int*, bool*, std::string*, std::vector<std::string>*> value;
+  Value value;
   double lo = 0, hi = 0;              // range of a number, checked at parse time
   std::string unit;                   // "m", "deg", "rad", ... ("" for none)
   std::string help;
