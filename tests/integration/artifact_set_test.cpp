@@ -50,8 +50,7 @@ TEST_F(ArtifactSet, AnObjectBakedForAWiderGripperIsRefusedNamingBothFiles) {
 TEST_F(ArtifactSet, ASceneOutOfReachAndBadSetsAreRefused) {
   const fs::path d = dir_->path();
   const fs::path data = test::source_dir() / "datasets";
-  std::string volume = test::read_text(data / "scenes/cabinet.volume");
-  volume.erase(volume.find_last_not_of(" \n\r") + 1);
+  const std::string volume = test::builtin_volume("cabinet");
   // The scene placed 4 m away (as a wrong --frame would): the volume moves with it.
   std::string far_volume;
   {

@@ -130,8 +130,7 @@ TEST(Cli, BakesTheBuiltInRobotAndScenes) {
                   "dmgarm_link0:dmgarm_tcp", "--out", dir / "arm.h5"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (auto scene : {"cabinet", "table"}) {
-    std::string volume = dmgplace::test::read_text(data() / "scenes" / (std::string(scene) + ".volume"));
-    while (!volume.empty() && std::isspace(static_cast<unsigned char>(volume.back()))) volume.pop_back();
+    const std::string volume = dmgplace::test::builtin_volume(scene);
     CliRun e = run({"bake-env", data() / "scenes" / (std::string(scene) + ".yaml"), "--volume", volume, "--out",
                     dir / (std::string(scene) + ".h5"), "--json"});
     ASSERT_EQ(e.exit_code, 0) << e.output;

@@ -31,8 +31,7 @@ TEST(ExperimentCli, RunsResumesAndPlotsASmallGrid) {
   ASSERT_EQ(run({"bake-robot", data / "robots/dmgarm/dmgarm.urdf", "--srdf", data / "robots/dmgarm/dmgarm.srdf", "--arm",
                  "dmgarm_link0:dmgarm_tcp", "--out", art / "dmgarm.h5"}).exit_code, 0);
   ASSERT_EQ(run({"bake-object", dir / "bottle.stl", "--mass", "0.15", "--out", art / "bottle.h5"}).exit_code, 0);
-  std::string volume = test::read_text(data / "scenes/cabinet.volume");
-  volume.erase(volume.find_last_not_of(" \n\r") + 1);
+  const std::string volume = test::builtin_volume("cabinet");
   ASSERT_EQ(run({"bake-env", data / "scenes/cabinet.yaml", "--volume", volume, "--margin", "0.9", "--sdf-resolution", "0.02",
                  "--band", "0.25", "--out", art / "cabinet.h5"}).exit_code, 0);
   test::write_text(dir / "spec.yaml",

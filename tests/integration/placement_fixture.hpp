@@ -39,8 +39,7 @@ class PlacementFixture : public ::testing::Test {
                    "dmgarm_link0:dmgarm_tcp", "--out", d / "arm.h5"}),
               0);
     ASSERT_EQ(cli({"bake-object", d / "bottle.stl", "--mass", "0.15", "--out", d / "bottle.h5"}), 0);
-    std::string volume = read_text(data / "scenes/cabinet.volume");
-    volume.erase(volume.find_last_not_of(" \n\r") + 1);
+    const std::string volume = builtin_volume("cabinet");
     ASSERT_EQ(cli({"bake-env", data / "scenes/cabinet.yaml", "--volume", volume, "--margin", "0.9", "--sdf-resolution", "0.02",
                    "--band", "0.25", "--out", d / "cabinet.h5"}),
               0);

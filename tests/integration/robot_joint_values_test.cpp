@@ -48,8 +48,7 @@ class RobotJointValues : public ::testing::Test {
                 0);
       ASSERT_EQ(run_cli({"make-objects", "--out", d}).exit_code, 0);
       ASSERT_EQ(run_cli({"bake-object", d / "eraser.stl", "--out", d / "eraser.h5"}).exit_code, 0);
-      std::string volume = read_text(data / "scenes/table.volume");
-      volume.erase(volume.find_last_not_of(" \n\r") + 1);
+      const std::string volume = builtin_volume("table");
       ASSERT_EQ(run_cli({"bake-env", data / "scenes/table.yaml", "--volume", volume, "--margin", "0.9", "--sdf-resolution", "0.03",
                          "--band", "0.25", "--out", d / "table.h5"})
                     .exit_code,

@@ -78,8 +78,7 @@ TEST(ScanObjectCli, TheScannedMugIsPlacedOnTheTable) {
                      "dmgarm_link0:dmgarm_tcp", "--out", dir / "arm.h5"})
                 .exit_code,
             0);
-  std::string volume = read_text(data / "scenes/table.volume");
-  volume.erase(volume.find_last_not_of(" \n\r") + 1);
+  const std::string volume = builtin_volume("table");
   ASSERT_EQ(run_cli({"bake-env", data / "scenes/table.yaml", "--volume", volume, "--margin", "0.9", "--sdf-resolution", "0.02",
                      "--band", "0.25", "--out", dir / "table.h5"})
                 .exit_code,

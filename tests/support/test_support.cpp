@@ -44,4 +44,10 @@ std::string read_text(const fs::path& p) {
   return ss.str();
 }
 
+std::string builtin_volume(const std::string& scene) {
+  std::string v = read_text(source_dir() / "datasets/scenes" / (scene + ".volume"));
+  v.erase(v.find_last_not_of(" \n\r\t") + 1);
+  return v;
+}
+
 }  // namespace dmgplace::test

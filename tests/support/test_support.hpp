@@ -30,6 +30,8 @@ std::filesystem::path source_dir();
 std::string cli_path();
 void write_text(const std::filesystem::path& p, const std::string& text);
 std::string read_text(const std::filesystem::path& p);
+// The target volume of a built-in scene (datasets/scenes/SCENE.volume), as `bake-env --volume` takes it.
+std::string builtin_volume(const std::string& scene);
 // Running dmgplace or another program (argument vectors, no shell): run_cli.hpp.
 
 // An axis-aligned box primitive of full extents `size` centred at `at`.

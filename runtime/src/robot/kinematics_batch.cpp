@@ -15,36 +15,15 @@ using Lanes = PoseBatch::Lanes;
 
 using JointPlan = Kinematics::BatchJoint;
 
-// sin and cos of every lane, branch-free (fast_sincos' reduction and polynomials, the quadrant
-// chosen by selects); lanes beyond +-1e5 rad take libm.
+// sin and cos of every lane (fast_sincos' branch-free core); lanes beyond +-1e5 rad take libm.
 inline __attribute__((always_inline)) void sincos_lanes(const double* x, double* s, double* c) {
-  constexpr double kTwoOverPi = 6.36619772367581382433e-01;
-  constexpr double kPio2Hi = 1.57079632673412561417e+00, kPio2Lo = 6.07710050650619224932e-11;
   bool wild = false;
   for (int k = 0; k < N; ++k) wild |= !(std::abs(x[k]) < 1e5);
   if (wild) {
     for (int k = 0; k < N; ++k) fast_sincos(x[k], s[k], c[k]);
     return;
   }
-  for (int k = 0; k < N; ++k) {
-    const double j = std::nearbyint(x[k] * kTwoOverPi);
-    const double y = (x[k] - j * kPio2Hi) - j * kPio2Lo;
-    const double z = y * y;
-    const double sy = y + y * z * (-1.66666666666666307295e-1 +
-                                   z * (8.33333333332211858878e-3 +
-                                        z * (-1.98412698295895385996e-4 +
-                                             z * (2.75573136213857245213e-6 +
-                                                  z * (-2.50507477628578072866e-8 + z * 1.58962301576546568060e-10)))));
-    const double cy = 1.0 - 0.5 * z + z * z * (4.16666666666665929218e-2 +
-                                               z * (-1.38888888888730564116e-3 +
-                                                    z * (2.48015872888517045348e-5 +
-                                                         z * (-2.75573141792967388112e-7 +
-                                                              z * (2.08757008419747316778e-9 + z * -1.13585365213876817300e-11)))));
-    const int q = static_cast<int>(j) & 3;  // int: converts in SIMD lanes, long would not
-    const double ss = (q & 1) ? cy : sy, cc = (q & 1) ? sy : cy;
-    s[k] = (q & 2) ? -ss : ss;
-    c[k] = ((q + 1) & 2) ? -cc : cc;
-  }
+  for (int k = 0; k < N; ++k) fast_sincos_core(x[k], s[k], c[k]);
 }
 
 inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>& plan, const std::vector<int>& roots, int base,

@@ -103,12 +103,16 @@ const TriMesh& box_truth() {
   return m;
 }
 
-TEST(ScanObject, ABoxOnATableScannedFromThreeSidesBakesLikeItsMesh) {
-  test::TempDir dir;
-  const auto files = scan_files(dir, box_truth(), true, {0.6, 0.6, 0.6});
+// The box on a table, scanned from three sides above, its surface the hull of the points.
+ScanObject box_on_a_table_by_hull(const test::TempDir& dir) {
   ScanObjectOptions o;
   o.reconstruct.method = Reconstruction::Hull;
-  const auto scan = object_from_scans(files, o);
+  return object_from_scans(scan_files(dir, box_truth(), true, {0.6, 0.6, 0.6}), o);
+}
+
+TEST(ScanObject, ABoxOnATableScannedFromThreeSidesBakesLikeItsMesh) {
+  test::TempDir dir;
+  const auto scan = box_on_a_table_by_hull(dir);
   EXPECT_TRUE(scan.segmented.plane_removed);
   EXPECT_EQ(scan.segmented.clusters.size(), 1u);
   EXPECT_EQ(scan.segmented.orientation, "viewpoint");
@@ -134,10 +138,7 @@ TEST(ScanObject, PoissonRebuildsABoxSeenFromAboveAndBelow) {
 
 TEST(ScanObject, TheOriginalsSupervoxelDmgIsOfComparableSize) {
   test::TempDir dir;
-  const auto files = scan_files(dir, box_truth(), true, {0.6, 0.6, 0.6});
-  ScanObjectOptions o;
-  o.reconstruct.method = Reconstruction::Hull;
-  const auto scan = object_from_scans(files, o);
+  const auto scan = box_on_a_table_by_hull(dir);
   expect_like_truth(moved(box_truth(), -scan.origin_in_scan), scan, true);
 }
 

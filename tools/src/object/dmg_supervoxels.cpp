@@ -1,12 +1,12 @@
 // Supervoxel patches for the DMG built from scan points (the original's segmentation).
 #include <pcl/point_types.h>
-#include <pcl/search/kdtree.h>
 #include <pcl/segmentation/supervoxel_clustering.h>
 
 #include <algorithm>
 #include <limits>
 #include <map>
 
+#include "../scan/scan_smoothing.hpp"
 #include "dmg_internal.hpp"
 #include "dmgplace/tools/env/closest_point.hpp"
 
@@ -92,19 +92,8 @@ Patches supervoxel_patches(const TriMesh& mesh, const std::vector<Eigen::Vector3
     centroid[std::size_t(k)] += points[i];
     ++p.size[std::size_t(k)];
   }
-  // Sample spacing: the median gap between neighbouring points, at least seed / 5 as for meshes.
-  std::vector<double> gaps;
-  {
-    pcl::search::KdTree<Point> tree;
-    tree.setInputCloud(cloud);
-    std::vector<int> idx(2);
-    std::vector<float> sq(2);
-    const std::size_t stride = std::max<std::size_t>(1, points.size() / 2000);
-    for (std::size_t i = 0; i < points.size(); i += stride)
-      if (tree.nearestKSearch(int(i), 2, idx, sq) == 2) gaps.push_back(std::sqrt(double(sq[1])));
-  }
-  std::nth_element(gaps.begin(), gaps.begin() + long(gaps.size() / 2), gaps.end());
-  samples.spacing = std::max(seed / 5, gaps.empty() ? 0.0 : 2 * gaps[gaps.size() / 2]);
+  // Sample spacing: twice the median gap between neighbouring points, at least seed / 5 as for meshes.
+  samples.spacing = std::max(seed / 5, 2 * median_point_spacing(points));
 
   std::vector<double> best(n, std::numeric_limits<double>::infinity());
   for (std::size_t k = 0; k < n; ++k)

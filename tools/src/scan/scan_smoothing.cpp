@@ -4,6 +4,7 @@
 #include <pcl/point_types.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 
 namespace dmgplace::tools::detail {
@@ -19,6 +20,20 @@ std::shared_ptr<pcl::KdTreeFLANN<pcl::PointXYZ>> tree_of(const std::vector<Eigen
 }
 
 }  // namespace
+
+double median_point_spacing(const std::vector<Eigen::Vector3d>& points) {
+  if (points.size() < 2) return 0;
+  const auto tree = tree_of(points);
+  std::vector<double> d;
+  std::vector<int> idx(2);
+  std::vector<float> sq(2);
+  const std::size_t stride = std::max<std::size_t>(1, points.size() / 2000);  // a sample is enough for a median
+  for (std::size_t i = 0; i < points.size(); i += stride)
+    if (tree->nearestKSearch(int(i), 2, idx, sq) == 2) d.push_back(std::sqrt(double(sq[1])));
+  if (d.empty()) return 0;
+  std::nth_element(d.begin(), d.begin() + long(d.size() / 2), d.end());
+  return d[d.size() / 2];
+}
 
 void agree_with_neighbours(const std::vector<Eigen::Vector3d>& points, std::vector<Eigen::Vector3d>& normals, double radius) {
   const auto tree = tree_of(points);

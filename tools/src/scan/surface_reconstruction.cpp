@@ -19,6 +19,7 @@
 #include <numeric>
 
 #include "../object/dmg_internal.hpp"
+#include "scan_smoothing.hpp"
 #include "dmgplace/formats/error.hpp"
 
 namespace dmgplace::tools {
@@ -142,21 +143,6 @@ TriMesh fill_holes(const TriMesh& m, std::size_t& filled) {
   return to_trimesh(sm);
 }
 
-double median_spacing(const std::vector<Eigen::Vector3d>& points) {
-  auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-  for (const auto& p : points) cloud->push_back(pcl::PointXYZ(float(p.x()), float(p.y()), float(p.z())));
-  pcl::search::KdTree<pcl::PointXYZ> tree;
-  tree.setInputCloud(cloud);
-  std::vector<double> d;
-  std::vector<int> idx(2);
-  std::vector<float> sq(2);
-  const std::size_t stride = std::max<std::size_t>(1, points.size() / 2000);  // a sample is enough for a median
-  for (std::size_t i = 0; i < points.size(); i += stride)
-    if (tree.nearestKSearch(int(i), 2, idx, sq) == 2) d.push_back(std::sqrt(double(sq[1])));
-  if (d.empty()) return 0;
-  std::nth_element(d.begin(), d.begin() + long(d.size() / 2), d.end());
-  return d[d.size() / 2];
-}
 
 }  // namespace
 
@@ -184,7 +170,7 @@ TriMesh reconstruct_surface(const std::vector<Eigen::Vector3d>& points, const st
   if (o.poisson_depth < 4 || o.poisson_depth > 12 || !(o.poisson_samples_per_node >= 1) || !(o.seen_distance >= 0))
     throw Error(file, "reconstruction", "Poisson depth must be in [4, 12], samples per node >= 1, seen distance >= 0");
   report = {};
-  report.point_spacing = median_spacing(points);
+  report.point_spacing = detail::median_point_spacing(points);
   report.seen_distance = o.seen_distance > 0 ? o.seen_distance : std::max(3 * report.point_spacing, 1e-4);
   const TriMesh raw = o.method == Reconstruction::Hull ? hull_of(points) : poisson_of(points, normals, o);
   if (raw.triangles.rows() < 4)

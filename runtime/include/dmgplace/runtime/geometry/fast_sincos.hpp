@@ -6,12 +6,9 @@
 
 namespace dmgplace::runtime {
 
-inline void fast_sincos(double x, double& s, double& c) {
-  if (!(std::abs(x) < 1e5)) {  // also NaN
-    s = std::sin(x);
-    c = std::cos(x);
-    return;
-  }
+// The core for |x| < 1e5, without branches (the quadrant picked by selects), so a loop over
+// lanes of it vectorises (Kinematics::link_poses_batch).
+inline __attribute__((always_inline)) void fast_sincos_core(double x, double& s, double& c) {
   // x = j * pi/2 + y, pi/2 split in two so j * pi/2 is exact for the j used here (fdlibm's split).
   constexpr double kTwoOverPi = 6.36619772367581382433e-01;
   constexpr double kPio2Hi = 1.57079632673412561417e+00, kPio2Lo = 6.07710050650619224932e-11;
@@ -28,12 +25,19 @@ inline void fast_sincos(double x, double& s, double& c) {
                                                   z * (2.48015872888517045348e-5 +
                                                        z * (-2.75573141792967388112e-7 +
                                                             z * (2.08757008419747316778e-9 + z * -1.13585365213876817300e-11)))));
-  switch (static_cast<long>(j) & 3) {
-    case 0: s = sy, c = cy; break;
-    case 1: s = cy, c = -sy; break;
-    case 2: s = -sy, c = -cy; break;
-    default: s = -cy, c = sy; break;
+  const int q = static_cast<int>(j) & 3;  // quadrant: (s, c) = (sy, cy), (cy, -sy), (-sy, -cy), (-cy, sy)
+  const double ss = (q & 1) ? cy : sy, cc = (q & 1) ? sy : cy;
+  s = (q & 2) ? -ss : ss;
+  c = ((q + 1) & 2) ? -cc : cc;
+}
+
+inline void fast_sincos(double x, double& s, double& c) {
+  if (!(std::abs(x) < 1e5)) {  // also NaN
+    s = std::sin(x);
+    c = std::cos(x);
+    return;
   }
+  fast_sincos_core(x, s, c);
 }
 
 }  // namespace dmgplace::runtime
