@@ -11,10 +11,7 @@
 #include "dmgplace/runtime/collision/exact_checker.hpp"
 #include "dmgplace/runtime/collision/sphere_field_checker.hpp"
 #include "dmgplace/runtime/collision/two_layer_checker.hpp"
-#include "dmgplace/tools/io/scene_loader.hpp"
-#include "dmgplace/tools/io/urdf_reader.hpp"
-#include "dmgplace/tools/robot/self_distance_tables.hpp"
-#include "dmgplace/tools/robot/sphere_cover.hpp"
+#include "fixtures.hpp"
 #include "test_support.hpp"
 
 using namespace dmgplace;
@@ -32,15 +29,12 @@ const PandaArm& panda_arm() {
   static const PandaArm arm = [] {
     const auto shared = test::shared_datasets();
     PandaArm a;
-    tools::UrdfOptions o;
-    o.package_paths.push_back(shared / "panda");
-    a.model = tools::read_urdf(shared / "panda/moveit_resources_panda_description/urdf/panda.urdf", o);
-    tools::apply_srdf(a.model, shared / "panda/panda_moveit_config/config/panda.srdf");
-    for (std::size_t l = 0; l < a.model.links.size(); ++l)
-      for (const auto& s : tools::cover_with_spheres(a.model.links[l].collision)) a.spheres.push_back({int(l), s.center, s.radius});
+    a.model = test::read_robot_model(shared / "panda/moveit_resources_panda_description/urdf/panda.urdf",
+                                     shared / "panda/panda_moveit_config/config/panda.srdf", {shared / "panda"});
+    a.spheres = test::robot_spheres(a.model);
     a.kin = std::make_unique<runtime::Kinematics>(a.model, "panda_link0", "panda_hand");
     a.kin->set_joint_value("panda_finger_joint1", 0.04);
-    a.tables = tools::build_self_distance_tables(*a.kin, a.spheres);
+    a.tables = test::self_distance_tables(*a.kin, a.spheres);
     return a;
   }();
   return arm;
@@ -58,7 +52,7 @@ TEST(CollisionMbm, FastLayerNeverSaysFreeWhereFclCollidesOnPandaScenes) {
   std::uniform_real_distribution<double> u(0, 1);
   long total = 0, exact_free = 0, fast_free = 0, full = 0, proven = 0;
   for (auto scene_file : {"mbm_problems/bookshelf_small_panda/scene0001.yaml", "mbm_problems/table_pick_panda/scene0001.yaml"}) {
-    Scene scene = tools::load_scene(shared / scene_file);
+    Scene scene = test::read_scene(shared / scene_file);
     auto sdf = test::analytic_sdf(scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.3), Eigen::Vector3d(1.6, 1.2, 1.7)),
                                   0.02, 0.25);
     runtime::SphereFieldChecker fast(kin, spheres, sdf, 0.25);
@@ -128,13 +122,13 @@ TEST(CollisionMbm, SelfDistanceTablesNeverExceedTheExactDistanceOnThePanda) {
                                  << " at q = " << q.transpose();
       // Near contact every node is exact; farther out a node may hold its coarse cell's bound.
       const double node_loss = 2 * (t.slope[0] + t.slope[1]) * std::max(t.step[0], t.step[1]);
-      if (d < tools::SelfTableOptions{}.exact_below - node_loss) worst_gap = std::max(worst_gap, d - bound);
+      if (d < test::self_table_defaults().exact_below - node_loss) worst_gap = std::max(worst_gap, d - bound);
       else far_gap = std::max(far_gap, d - bound);
     }
     // Loss is at most slope * step / 2 per joint, plus the nearest node's own change...
     EXPECT_LT(worst_gap, 2 * (t.slope[0] + t.slope[1]) * std::max(t.step[0], t.step[1]) + 1e-6);
     // ... and far from contact, what the coarse lattice's Lipschitz bound loses across a cell.
-    const double stride = tools::SelfTableOptions{}.coarse_stride;
+    const double stride = test::self_table_defaults().coarse_stride;
     EXPECT_LT(far_gap, (2 + stride) * (t.slope[0] + t.slope[1]) * std::max(t.step[0], t.step[1]) + 1e-6);
   }
 }
@@ -156,7 +150,7 @@ TEST(CollisionMbm, PandaReadyPoseIsCollisionFree) {
   empty.set_self_tables(panda.tables);
   EXPECT_TRUE(empty.check(ready).self_free) << "the self-distance tables must settle the wrist at the ready pose";
   for (auto scene_file : {"mbm_problems/bookshelf_small_panda/scene0001.yaml", "mbm_problems/table_pick_panda/scene0001.yaml"}) {
-    const Scene scene = tools::load_scene(shared / scene_file);
+    const Scene scene = test::read_scene(shared / scene_file);
     runtime::SphereFieldChecker fast(kin, panda.spheres, test::analytic_sdf(scene, box, 0.02, 0.25), 0.25);
     fast.set_self_tables(panda.tables);
     const runtime::ExactChecker exact(kin, scene);

@@ -9,10 +9,7 @@
 #include "dmgplace/runtime/collision/sphere_field_checker.hpp"
 #include "dmgplace/runtime/collision/two_layer_checker.hpp"
 #include "dmgplace/runtime/system/simd_dispatch.hpp"
-#include "dmgplace/tools/io/scene_loader.hpp"
-#include "dmgplace/tools/io/urdf_reader.hpp"
-#include "dmgplace/tools/robot/self_distance_tables.hpp"
-#include "dmgplace/tools/robot/sphere_cover.hpp"
+#include "fixtures.hpp"
 #include "test_support.hpp"
 
 using namespace dmgplace;
@@ -27,11 +24,8 @@ struct Arm {
 Arm built_in_arm() {
   auto dir = test::source_dir() / "datasets/robots/dmgarm";
   Arm a;
-  a.model = tools::read_urdf(dir / "dmgarm.urdf");
-  tools::apply_srdf(a.model, dir / "dmgarm.srdf");
-  for (std::size_t l = 0; l < a.model.links.size(); ++l)
-    for (const auto& s : tools::cover_with_spheres(a.model.links[l].collision))
-      a.spheres.push_back({int(l), s.center, s.radius});
+  a.model = test::read_robot_model(dir / "dmgarm.urdf", dir / "dmgarm.srdf");
+  a.spheres = test::robot_spheres(a.model);
   return a;
 }
 
@@ -71,25 +65,6 @@ Eigen::VectorXd random_q(const Kinematics& k, std::mt19937_64& rng) {
   return q;
 }
 }  // namespace
-
-TEST(SphereCover, EverySamplePointOfEveryLinkIsInsideASphere) {
-  Arm arm = built_in_arm();
-  for (std::size_t l = 0; l < arm.model.links.size(); ++l) {
-    const auto& shapes = arm.model.links[l].collision;
-    if (shapes.empty()) continue;
-    std::vector<tools::Sphere> spheres;
-    for (const auto& s : arm.spheres)
-      if (s.link == int(l)) spheres.push_back({s.center, s.radius});
-    ASSERT_FALSE(spheres.empty()) << arm.model.links[l].name;
-    EXPECT_LE(spheres.size(), 32u);
-    // Check on a finer sampling than the one the cover was built from.
-    for (const auto& p : tools::sample_solid(shapes, 0.0025)) {
-      bool inside = false;
-      for (const auto& s : spheres) inside |= (p - s.center).norm() <= s.radius + 1e-9;
-      ASSERT_TRUE(inside) << arm.model.links[l].name << " point " << p.transpose();
-    }
-  }
-}
 
 // Both forms of the fast layer: the field alone, and the field with the scene's exact primitives.
 class FastLayer : public ::testing::TestWithParam<bool> {
@@ -172,7 +147,7 @@ TEST(Batch, ForwardKinematicsEqualsTheScalarOneOnEveryPath) {
 TEST(Batch, FreeLanesAreFreeForTheScalarLayerAndFclAndMostAreProven) {
   ShelfWorld w;
   SphereFieldChecker fast(w.kin, w.arm.spheres, w.sdf, 0.3);
-  fast.set_self_tables(tools::build_self_distance_tables(w.kin, w.arm.spheres));
+  fast.set_self_tables(test::self_distance_tables(w.kin, w.arm.spheres));
   const int tcp = w.arm.model.link_index("dmgarm_tcp");
   AttachedSpheres object;
   object.link = tcp;
@@ -296,7 +271,7 @@ TEST_P(FastLayer, CertifiedFreeDistanceIsFreeForFclAlongTheWholeStretch) {
   ShelfWorld w;
   const auto& [arm, kin, scene, sdf] = w;
   SphereFieldChecker fast = make(w);
-  fast.set_self_tables(tools::build_self_distance_tables(kin, arm.spheres));
+  fast.set_self_tables(test::self_distance_tables(kin, arm.spheres));
   ExactChecker exact(kin, scene);
   std::mt19937_64 rng(7);
   std::normal_distribution<double> g(0, 1);
@@ -354,7 +329,7 @@ TEST(Certificate, KeepsEverySphereClearOfTheSceneAlongTheStretch) {
   ShelfWorld w;
   SphereFieldChecker fast(w.kin, w.arm.spheres, w.sdf, 0.3);
   fast.set_exact_obstacles(PrimitiveObstacles::from_scene(w.scene));
-  fast.set_self_tables(tools::build_self_distance_tables(w.kin, w.arm.spheres));
+  fast.set_self_tables(test::self_distance_tables(w.kin, w.arm.spheres));
   ExactChecker exact(w.kin, w.scene);
   std::mt19937_64 rng(11);
   std::normal_distribution<double> g(0, 1);

@@ -7,7 +7,7 @@
 #include <random>
 
 #include "dmgplace/runtime/robot/kinematics.hpp"
-#include "dmgplace/tools/io/urdf_reader.hpp"
+#include "fixtures.hpp"
 #include "test_support.hpp"
 
 using namespace dmgplace;
@@ -16,7 +16,7 @@ using namespace dmgplace::runtime;
 namespace {
 // The built-in arm, and for a link: the chain joints from a frame above it down to it.
 struct Arm {
-  RobotModel model = tools::read_urdf(test::source_dir() / "datasets/robots/dmgarm/dmgarm.urdf");
+  RobotModel model = test::read_robot_model(test::source_dir() / "datasets/robots/dmgarm/dmgarm.urdf");
   Kinematics kin{model, "dmgarm_link0", "dmgarm_tcp"};
 
   int parent_joint(int link) const {

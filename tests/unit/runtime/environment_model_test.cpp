@@ -3,7 +3,7 @@
 
 #include "analytic_sdf.hpp"
 #include "dmgplace/runtime/environment/environment_model.hpp"
-#include "dmgplace/tools/env/bake_environment.hpp"
+#include "fixtures.hpp"
 #include "test_support.hpp"
 
 using namespace dmgplace;
@@ -16,7 +16,7 @@ TEST(EnvironmentModel, LoadsBakedFieldsAsGridsWithGradients) {
   table.origin.translation() = Eigen::Vector3d(0, 0, 0.38);
   env.scene.objects.push_back({"table", {table}});
   env.volume = Eigen::AlignedBox3d(Eigen::Vector3d(-0.25, -0.25, 0.3), Eigen::Vector3d(0.25, 0.25, 0.7));
-  tools::bake_environment(env, tools::EnvBakeOptions{});
+  test::bake_environment(env);
   test::TempDir dir;
   formats::save_environment(env, dir / "e.h5");
   const runtime::EnvironmentModel m = runtime::make_environment_model(formats::load_environment(dir / "e.h5"));

@@ -10,9 +10,7 @@
 #include <random>
 #include <tuple>
 
-#include "dmgplace/tools/data/procedural_meshes.hpp"
-#include "dmgplace/tools/object/dmg_builder.hpp"
-#include "dmgplace/tools/object/gripper_model.hpp"
+#include "fixtures.hpp"
 
 namespace dmgplace::runtime {
 namespace {
@@ -59,7 +57,7 @@ TEST(ShortestPaths, DijkstraMatchesBellmanFordOnRandomGraphs) {
 
 // 60 mm across x; 35 mm square in y-z, small enough for the palm to pass over at every angle.
 GraspGraph cube_graph() {
-  const auto dmg = tools::build_dmg(tools::make_box_mesh({0.06, 0.035, 0.035}), tools::default_gripper(), {}, "box");
+  const auto dmg = test::dmg(test::box_mesh({0.06, 0.035, 0.035}));
   return GraspGraph(dmg, formats::build_grasp_graph_table(dmg));
 }
 

@@ -8,7 +8,7 @@
 #include "dmgplace/runtime/geometry/fast_sincos.hpp"
 #include "dmgplace/runtime/robot/ik.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
-#include "dmgplace/tools/io/urdf_reader.hpp"
+#include "fixtures.hpp"
 #include "test_support.hpp"
 
 using namespace dmgplace;
@@ -32,9 +32,9 @@ RobotModel planar_arm() {
 }
 
 RobotModel load(const std::filesystem::path& urdf, const std::filesystem::path& pkg = {}) {
-  tools::UrdfOptions o;
-  if (!pkg.empty()) o.package_paths.push_back(pkg);
-  return tools::read_urdf(urdf, o);
+  std::vector<std::filesystem::path> packages;
+  if (!pkg.empty()) packages.push_back(pkg);
+  return test::read_robot_model(urdf, {}, packages);
 }
 
 Eigen::VectorXd random_q(const Kinematics& k, std::mt19937_64& rng) {

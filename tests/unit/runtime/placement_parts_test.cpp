@@ -9,8 +9,7 @@
 #include "dmgplace/runtime/collision/object_spheres.hpp"
 #include "dmgplace/runtime/placement/objective.hpp"
 #include "dmgplace/runtime/placement/placement_tree.hpp"
-#include "dmgplace/tools/data/procedural_meshes.hpp"
-#include "dmgplace/tools/object/placement_faces.hpp"
+#include "fixtures.hpp"
 
 using namespace dmgplace;
 using namespace dmgplace::runtime;
@@ -36,9 +35,9 @@ bool covered(const SphereSet& s, const Eigen::Vector3d& p) {
 
 formats::ObjectArtifact box_object() {
   formats::ObjectArtifact o;
-  o.mesh = tools::make_box_mesh(Eigen::Vector3d(0.10, 0.06, 0.04));
+  o.mesh = test::box_mesh(Eigen::Vector3d(0.10, 0.06, 0.04));
   o.mass.com = Eigen::Vector3d::Zero();
-  o.placement = tools::compute_placement_faces(o.mesh, o.mass.com, tools::FaceOptions{}, "box");
+  o.placement = test::placement_faces(o.mesh, o.mass.com);
   return o;
 }
 
@@ -61,7 +60,7 @@ formats::PlacementRegion region_with_hole() {
 }  // namespace
 
 TEST(ObjectSpheres, CoverContainsTheSurfaceAndTheInside) {
-  for (const TriMesh& m : {tools::make_box_mesh(Eigen::Vector3d(0.1, 0.05, 0.03)), tools::make_bottle_mesh(), tools::make_eraser_mesh()}) {
+  for (const TriMesh& m : {test::box_mesh(Eigen::Vector3d(0.1, 0.05, 0.03)), test::bottle_mesh(), test::eraser_mesh()}) {
     const SphereSet s = cover_object(m, 8);
     ASSERT_FALSE(s.centers.empty());
     std::mt19937_64 rng(5);
