@@ -16,7 +16,7 @@ install(DIRECTORY runtime/include/dmgplace/runtime/grasp DESTINATION ${inc}/runt
 install(FILES runtime/include/dmgplace/runtime/robot/kinematics.hpp DESTINATION ${inc}/runtime/robot)
 install(FILES runtime/include/dmgplace/runtime/system/available_cpus.hpp DESTINATION ${inc}/runtime/system)
 install(DIRECTORY tools/include/dmgplace/tools DESTINATION ${inc}
-        PATTERN "arm_problem.hpp" EXCLUDE    # the stock OMPL+FCL benchmark baseline
+        PATTERN "arm_problem.hpp" EXCLUDE    # bench-mbm's problems: the planner internals it names are not installed
         PATTERN "yaml_file.hpp" EXCLUDE)     # yaml-cpp types
 install(DIRECTORY ${PROJECT_BINARY_DIR}/include/dmgplace DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})  # export.hpp
 

@@ -3,11 +3,13 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 
 #include "cli_log.hpp"
 #include "commands.hpp"
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/tools/motion/arm_problem.hpp"
+#include "stock_planner.hpp"
 
 namespace dmgplace::cli {
 namespace fs = std::filesystem;
@@ -65,8 +67,9 @@ int run_bench_mbm(const BenchMbmArgs& a) {
       const fs::path scene = fs::path(dir) / ("scene" + id + ".yaml");
       tools::ArmProblemOptions opt;
       opt.sdf_resolution = a.sdf_resolution;
-      opt.stock_bvh = a.stock_bvh == "obb" ? runtime::MeshBvh::Obb : runtime::MeshBvh::Obbrss;
       auto problem = tools::load_arm_problem(a.robot, scene, requests[i], opt);
+      std::optional<bench::StockFclChecker> stock_checker;
+      if (run_stock) stock_checker.emplace(*problem.kin, problem.scene, a.stock_bvh == "obb" ? bench::StockBvh::Obb : bench::StockBvh::Obbrss);
       field_seconds.push_back(problem.bake_seconds);
       auto record = [&](const char* planner, int r, const tools::PlanOutcome& o, Stats& set_stats, Stats& all) {
         add(set_stats, o);
@@ -79,7 +82,7 @@ int run_bench_mbm(const BenchMbmArgs& a) {
         const auto seed = std::uint64_t(r + 1);
         if (run_ours) record("ours", r, tools::plan_ours(problem, a.time_limit, a.resolution, seed), ours, ours_all);
         if (run_stock)
-          record("ompl_rrtconnect_fcl", r, tools::plan_stock(problem, a.time_limit, a.resolution, seed), stock, stock_all);
+          record("ompl_rrtconnect_fcl", r, bench::plan_stock(problem, *stock_checker, a.time_limit, a.resolution), stock, stock_all);
       }
       if (show_progress()) std::cerr << "\r" << set << ": " << (i + 1) << "/" << requests.size() << std::flush;
     }

@@ -17,7 +17,7 @@ namespace dmgplace::runtime {
 namespace {
 using Geometry = std::shared_ptr<fcl::CollisionGeometryd>;
 
-// Collision BVHs use OBB nodes unless asked otherwise (MeshBvh). Distance queries need RSS nodes:
+// Collision BVHs use OBB nodes (see the constructor's comment). Distance queries need RSS nodes:
 // links build an OBBRSS copy when first asked (DistanceGeometry).
 template <typename BV>
 Geometry make_mesh(const TriMesh& m) {
@@ -35,15 +35,15 @@ Geometry make_mesh(const TriMesh& m) {
   return model;
 }
 
-// Meshes get `nodes` bounding volumes; `for_distance` forces RSS ones, which distance queries need.
-Geometry make_geometry(const Shape& s, MeshBvh nodes, bool for_distance = false) {
+// Meshes get OBB nodes, or OBBRSS ones `for_distance`, which distance queries need.
+Geometry make_geometry(const Shape& s, bool for_distance = false) {
   Geometry g;
   switch (s.type) {
     case ShapeType::Box: g = std::make_shared<fcl::Boxd>(s.size.x(), s.size.y(), s.size.z()); break;
     case ShapeType::Cylinder: g = std::make_shared<fcl::Cylinderd>(s.size[0], s.size[1]); break;
     case ShapeType::Sphere: g = std::make_shared<fcl::Sphered>(s.size[0]); break;
     case ShapeType::Mesh:
-      return for_distance || nodes == MeshBvh::Obbrss ? make_mesh<fcl::OBBRSSd>(s.mesh) : make_mesh<fcl::OBBd>(s.mesh);
+      return for_distance ? make_mesh<fcl::OBBRSSd>(s.mesh) : make_mesh<fcl::OBBd>(s.mesh);
   }
   g->computeLocalAABB();
   return g;
@@ -70,16 +70,16 @@ class Placed {
 };
 
 // A link shape's geometry for distance queries, built on first use: only self-distance baking and
-// tests ask, so planning start-up builds no second hierarchy. Primitives and OBBRSS meshes serve
-// both kinds of query as they are.
+// tests ask, so planning start-up builds no second hierarchy. Primitives serve both kinds of query
+// as they are.
 class DistanceGeometry {
  public:
-  DistanceGeometry(const Shape& shape, const Geometry& collision, MeshBvh nodes) : shape_(&shape) {
-    if (shape.type != ShapeType::Mesh || nodes == MeshBvh::Obbrss) geometry_ = collision;
+  DistanceGeometry(const Shape& shape, const Geometry& collision) : shape_(&shape) {
+    if (shape.type != ShapeType::Mesh) geometry_ = collision;
   }
   const Geometry& get() {
     std::call_once(once_, [this] {
-      if (!geometry_) geometry_ = make_geometry(*shape_, MeshBvh::Obbrss, true);
+      if (!geometry_) geometry_ = make_geometry(*shape_, true);
     });
     return geometry_;
   }
@@ -219,14 +219,14 @@ void build_self_pairs(ExactChecker::Impl& impl, const Kinematics& kin) {
 }
 }  // namespace
 
-ExactChecker::ExactChecker(const Kinematics& kin, const Scene& env, double scan_resolution, MeshBvh nodes) : kin_(&kin) {
+ExactChecker::ExactChecker(const Kinematics& kin, const Scene& env, double scan_resolution) : kin_(&kin) {
   auto impl = std::make_shared<Impl>();
   const auto& m = kin.model();
   for (std::size_t l = 0; l < m.links.size(); ++l) {
     impl->link_names.push_back(m.links[l].name);
     for (const auto& s : m.links[l].collision) {
-      Geometry g = make_geometry(s, nodes);
-      impl->parts.push_back({int(l), g, std::make_shared<DistanceGeometry>(s, g, nodes), s.origin});
+      Geometry g = make_geometry(s);
+      impl->parts.push_back({int(l), g, std::make_shared<DistanceGeometry>(s, g), s.origin});
       impl->part_is_object.push_back(0);
     }
   }
@@ -237,7 +237,7 @@ ExactChecker::ExactChecker(const Kinematics& kin, const Scene& env, double scan_
   for (const auto& o : env.objects)
     for (const auto& s : o.shapes) {
       impl->env_names->push_back(o.name);
-      auto obj = std::make_unique<fcl::CollisionObjectd>(make_geometry(s, nodes), s.origin.linear(), s.origin.translation());
+      auto obj = std::make_unique<fcl::CollisionObjectd>(make_geometry(s), s.origin.linear(), s.origin.translation());
       obj->setUserData(reinterpret_cast<void*>(impl->env_names->size()));  // 1-based name index
       obj->computeAABB();
       impl->env_objects->push_back(std::move(obj));

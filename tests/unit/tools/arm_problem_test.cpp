@@ -1,5 +1,5 @@
-// Planning real MotionBenchMaker problems with the Panda: ours and the stock OMPL+FCL planner
-// both return paths that the exact checker accepts at the stated resolution.
+// Planning real MotionBenchMaker problems with the Panda: ours and bench-mbm's stock OMPL+FCL
+// baseline both return paths that the exact checker accepts at the stated resolution.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -7,6 +7,7 @@
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/tools/motion/arm_problem.hpp"
 #include "dmgplace/tools/robot/bake_robot.hpp"
+#include "stock_planner.hpp"
 #include "test_support.hpp"
 
 using namespace dmgplace;
@@ -34,10 +35,11 @@ TEST(ArmProblem, PandaMbmProblemsSolveWithPathsValidAtTheResolution) {
     EXPECT_LT((Eigen::Map<const Eigen::VectorXd>(ours.path.back().data(), 7) - p.goal).norm(), 1e-12);
     // The time to the first path (before shortcutting) is recorded; bench-mbm compares it.
     EXPECT_GT(ours.first_path_seconds, 0.0) << set;
-    auto stock = tools::plan_stock(p, 20.0, 0.01, 1);
+    const bench::StockFclChecker stock_checker(*p.kin, p.scene);
+    auto stock = bench::plan_stock(p, stock_checker, 20.0, 0.01);
     EXPECT_TRUE(stock.solved && stock.valid) << set;
     EXPECT_EQ(stock.first_path_seconds, stock.seconds) << set << ": the stock planner does not shorten";
-    // The baseline's OBBRSS hierarchies (MoveIt's) and our OBB ones answer alike.
+    // The baseline's checker (OBBRSS hierarchies, MoveIt's) and our exact layer answer alike.
     std::mt19937_64 rng(5);
     std::uniform_real_distribution<double> u(0, 1);
     int collide = 0;
@@ -46,7 +48,7 @@ TEST(ArmProblem, PandaMbmProblemsSolveWithPathsValidAtTheResolution) {
       for (int j = 0; j < 7; ++j) q[j] = p.kin->lower()[j] + u(rng) * (p.kin->upper()[j] - p.kin->lower()[j]);
       const bool obb = p.exact->is_free(q);
       collide += !obb;
-      ASSERT_EQ(obb, p.stock_exact->is_free(q)) << set << " q = " << q.transpose();
+      ASSERT_EQ(obb, stock_checker.is_free(q)) << set << " q = " << q.transpose();
     }
     EXPECT_GT(collide, 200) << set << ": the comparison must include collisions";
   }

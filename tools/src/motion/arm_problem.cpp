@@ -2,9 +2,6 @@
 
 #include <ompl/base/ProblemDefinition.h>
 #include <ompl/base/ScopedState.h>
-#include <ompl/base/goals/GoalState.h>
-#include <ompl/geometric/PathGeometric.h>
-#include <ompl/geometric/planners/rrt/RRTConnect.h>
 #include <ompl/util/Console.h>
 
 #include <chrono>
@@ -19,7 +16,6 @@
 #include "dmgplace/tools/io/scene_loader.hpp"
 
 namespace ob = ompl::base;
-namespace og = ompl::geometric;
 
 namespace dmgplace::tools {
 namespace {
@@ -75,7 +71,6 @@ ArmProblem load_arm_problem(const std::filesystem::path& robot_h5, const std::fi
   fast.set_self_tables(p.robot.self_tables);
   if (o.exact_primitives) fast.set_exact_obstacles(runtime::PrimitiveObstacles::from_scene(p.scene));
   p.exact = std::make_unique<runtime::ExactChecker>(*p.kin, p.scene);
-  p.stock_exact = std::make_unique<runtime::ExactChecker>(*p.kin, p.scene, 0.01, o.stock_bvh);
   p.checker = std::make_unique<runtime::TwoLayerChecker>(std::move(fast), *p.exact);
   return p;
 }
@@ -107,44 +102,15 @@ PlanOutcome plan_ours(const ArmProblem& p, double time_limit, double resolution,
   auto paths = planner.take_paths();
   if (paths.empty()) return out;
   out.first_path_seconds = setup + paths[0].time_connected;
-  out.solved = true;
   out.path = paths[0].path;
-  out.length = path_length(out.path);
-  out.valid = runtime::path_valid(out.path, [&](const Eigen::VectorXd& q) { return p.exact->is_free(q); }, resolution);
+  judge_path(p, out, resolution);
   return out;
 }
 
-PlanOutcome plan_stock(const ArmProblem& p, double time_limit, double resolution, std::uint64_t seed) {
-  PlanOutcome out;
-  // OMPL's global seed can only be set before its first sampler exists; the stock planner's runs
-  // are therefore reproducible only as a whole process (OMPL's own design), not per call.
-  (void)seed;
-  const auto t0 = Clock::now();
-  auto si = runtime::make_arm_space(*p.kin, [&](const Eigen::VectorXd& q) { return p.stock_exact->is_free(q); }, resolution);
-  auto pdef = std::make_shared<ob::ProblemDefinition>(si);
-  ob::ScopedState<> start(si->getStateSpace()), goal(si->getStateSpace());
-  for (int i = 0; i < p.kin->dof(); ++i) {
-    start[unsigned(i)] = p.start[i];
-    goal[unsigned(i)] = p.goal[i];
-  }
-  pdef->setStartAndGoalStates(start, goal);
-  og::RRTConnect planner(si);
-  planner.setProblemDefinition(pdef);
-  planner.setup();
-  const auto status = planner.solve(ob::timedPlannerTerminationCondition(time_limit));
-  out.seconds = since(t0);
-  out.first_path_seconds = out.seconds;
-  if (status != ob::PlannerStatus::EXACT_SOLUTION) return out;
-  auto* path = pdef->getSolutionPath()->as<og::PathGeometric>();
-  for (std::size_t i = 0; i < path->getStateCount(); ++i) {
-    std::vector<double> q;
-    si->getStateSpace()->copyToReals(q, path->getState(i));
-    out.path.push_back(q);
-  }
+void judge_path(const ArmProblem& p, PlanOutcome& out, double resolution) {
   out.solved = true;
   out.length = path_length(out.path);
   out.valid = runtime::path_valid(out.path, [&](const Eigen::VectorXd& q) { return p.exact->is_free(q); }, resolution);
-  return out;
 }
 
 }  // namespace dmgplace::tools

@@ -28,15 +28,12 @@ struct ExactCheck {
   bool free() const { return environment_free && self_free; }
 };
 
-// Bounding volumes of mesh BVHs. OBB (ours): FCL has a closed-form OBB for a box, cylinder or
-// sphere obstacle. OBBRSS (MoveIt's choice in createCollisionGeometry): FCL fits the obstacle's OBB
-// by eigen-decomposition on every mesh-vs-primitive query, about a third of the check.
-enum class MeshBvh { Obb, Obbrss };
-
 class ExactChecker {
  public:
-  // Scene geometry in the kinematics' base frame. `scan_resolution` sizes the octree cells.
-  ExactChecker(const Kinematics& kin, const Scene& environment, double scan_resolution = 0.01, MeshBvh nodes = MeshBvh::Obb);
+  // Scene geometry in the kinematics' base frame. `scan_resolution` sizes the octree cells. Mesh
+  // BVHs have OBB nodes: FCL has a closed-form OBB for a box, cylinder or sphere obstacle, where
+  // OBBRSS nodes (MoveIt's) make it fit one by eigen-decomposition on every query.
+  ExactChecker(const Kinematics& kin, const Scene& environment, double scan_resolution = 0.01);
   ~ExactChecker();
   ExactChecker(const ExactChecker&);
   ExactChecker& operator=(const ExactChecker&) = delete;

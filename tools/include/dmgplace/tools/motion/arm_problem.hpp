@@ -17,8 +17,6 @@ struct ArmProblemOptions {
   double sdf_band = 0.25;        // metres
   double reach = 1.2;            // half-width of the workspace grid around the arm base
   bool exact_primitives = true;  // the fast layer also uses the scene's exact primitives (when all are)
-  // The stock baseline's FCL mesh BVHs: OBBRSS as MoveIt builds them, or OBB as our exact layer does.
-  runtime::MeshBvh stock_bvh = runtime::MeshBvh::Obbrss;
 };
 
 struct ArmProblem {
@@ -29,7 +27,6 @@ struct ArmProblem {
   std::shared_ptr<runtime::Grid3> sdf;
   std::unique_ptr<runtime::TwoLayerChecker> checker;
   std::unique_ptr<runtime::ExactChecker> exact;
-  std::unique_ptr<runtime::ExactChecker> stock_exact;  // the baseline's validity checker (stock_bvh)
   double bake_seconds = 0;  // time spent building the distance field
 };
 
@@ -42,14 +39,15 @@ struct PlanOutcome {
   bool solved = false;
   bool valid = false;        // every segment re-checked exactly at the resolution
   double seconds = 0;         // to the returned path
-  double first_path_seconds = 0;  // to the first path, before shortcutting (stock: = seconds, it does not shorten)
+  double first_path_seconds = 0;  // to the first path, before shortcutting (= seconds for planners that do not shorten)
   double length = 0;         // joint-space path length
   runtime::JointPath path;
 };
 
 // Our planner: multi-goal RRT-Connect over the two-layer checker, single goal, one thread.
 PlanOutcome plan_ours(const ArmProblem& p, double time_limit, double resolution, std::uint64_t seed);
-// What MoveIt users run today: OMPL's RRTConnect with an FCL mesh validity checker (stock_exact).
-PlanOutcome plan_stock(const ArmProblem& p, double time_limit, double resolution, std::uint64_t seed);
+// Marks out.path (from some planner) solved, measures its length and re-checks every segment with
+// the exact layer at `resolution`: the one judge of every planner's path.
+void judge_path(const ArmProblem& p, PlanOutcome& out, double resolution);
 
 }  // namespace dmgplace::tools
