@@ -1,17 +1,19 @@
 // SphereFieldChecker::free_lanes: the fast layer's "proven free" for 8 configurations at once.
 // Forward kinematics runs in SIMD lanes (Kinematics::link_poses_batch); every step after it takes
-// one body or sphere across all lanes (centres, grid indices, bounds, pair distances), so the
-// arithmetic vectorises; only the field loads are one per lane. Compiled for AVX2 + FMA and for
+// one body or sphere across all lanes (centres, grid indices, bounds, exact primitive distances,
+// pair distances), so the arithmetic vectorises; only the field loads are one per lane. Compiled for AVX2 + FMA and for
 // the portable baseline, chosen at run time (system/simd_dispatch).
 #include <array>
 
 #include "dmgplace/runtime/collision/sphere_field_checker.hpp"
+#include "dmgplace/runtime/system/lanes.hpp"
 #include "dmgplace/runtime/system/simd_dispatch.hpp"
 
 namespace dmgplace::runtime {
 namespace {
 
 constexpr int N = PoseBatch::kLanes;
+static_assert(N % lanes::W == 0);
 struct alignas(64) Xyz {
   double x[N], y[N], z[N];
 };
@@ -30,21 +32,43 @@ inline __attribute__((always_inline)) void transform(const std::array<PoseBatch:
 inline __attribute__((always_inline)) std::uint32_t clear_of_field(const Xyz& p, double need, std::uint32_t alive,
                                                                   const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
                                                                   const NodeBoundGrid* coarse, const NodeBoundGrid& fine) {
-  alignas(64) double b[N];
-  std::uint32_t in_grid = 0, ok = 0;
-  for (int k = 0; k < N; ++k)
-    in_grid |= std::uint32_t(p.x[k] >= lo.x() && p.y[k] >= lo.y() && p.z[k] >= lo.z() && p.x[k] <= hi.x() && p.y[k] <= hi.y() &&
-                             p.z[k] <= hi.z())
-               << k;
+  using lanes::D;
+  std::uint32_t in_grid = 0;
+  for (int h = 0; h < N; h += lanes::W) {
+    const D x = lanes::load(p.x + h), y = lanes::load(p.y + h), z = lanes::load(p.z + h);
+    in_grid |= lanes::bits((x >= lanes::splat(lo.x())) & (y >= lanes::splat(lo.y())) & (z >= lanes::splat(lo.z())) &
+                           (x <= lanes::splat(hi.x())) & (y <= lanes::splat(hi.y())) & (z <= lanes::splat(hi.z())))
+               << h;
+  }
+  alignas(32) double b[N];
+  auto at_least_need = [&] {
+    std::uint32_t ok = 0;
+    for (int h = 0; h < N; h += lanes::W) ok |= lanes::bits(lanes::load(b + h) >= lanes::splat(need)) << h;
+    return ok;
+  };
+  std::uint32_t ok = 0;
   if (coarse) {
     coarse->lower_bound_lanes<N>(p.x, p.y, p.z, b);
-    for (int k = 0; k < N; ++k) ok |= std::uint32_t(b[k] >= need) << k;
+    ok = at_least_need() & in_grid;
   }
-  if ((ok & in_grid & alive) != (in_grid & alive)) {
+  if ((ok & alive) != (in_grid & alive)) {
     fine.lower_bound_lanes<N>(p.x, p.y, p.z, b);
-    for (int k = 0; k < N; ++k) ok |= std::uint32_t(b[k] >= need) << k;
+    ok |= at_least_need();
   }
   return ok & in_grid;
+}
+
+// Lanes where spheres a and b (centres in lanes) are closer than `reach` (sum of radii + padding).
+inline __attribute__((always_inline)) std::uint32_t overlapping(const Xyz& a, const Xyz& b, double reach) {
+  using lanes::D;
+  const D r2 = lanes::splat(reach * reach);
+  std::uint32_t hit = 0;
+  for (int h = 0; h < N; h += lanes::W) {
+    const D dx = lanes::load(a.x + h) - lanes::load(b.x + h), dy = lanes::load(a.y + h) - lanes::load(b.y + h),
+            dz = lanes::load(a.z + h) - lanes::load(b.z + h);
+    hit |= lanes::bits(dx * dx + dy * dy + dz * dz < r2) << h;
+  }
+  return hit;
 }
 
 }  // namespace
@@ -69,18 +93,24 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
     for (int i = b.begin; i < b.end; ++i) transform(T, c.spheres_[std::size_t(i)].center, world[std::size_t(i)]);
     done[bi] = 1;
   };
-  auto clear_lanes = [&](const Xyz& p, double r) __attribute__((always_inline)) {
-    return clear_of_field(p, r + c.padding_, alive, c.lo_, c.hi_, c.coarse_.get(), *c.fine_);
+  // A scene of primitives is tested exactly, in cache: a body's bounding sphere finds the
+  // primitives it may reach, its spheres test only those. Otherwise the distance field.
+  const PrimitiveObstacles* prims = c.obstacles_.get();
+  std::uint64_t reach = ~std::uint64_t(0);
+  auto clear_lanes = [&](const Xyz& p, double r, std::uint32_t lanes) __attribute__((always_inline)) {
+    if (prims) return prims->clear_lanes<N>(p.x, p.y, p.z, r + c.padding_, lanes, reach);
+    return clear_of_field(p, r + c.padding_, lanes, c.lo_, c.hi_, c.coarse_.get(), *c.fine_);
   };
   for (std::size_t bi = 0; bi < c.bodies_.size(); ++bi) {
     const Body& b = c.bodies_[bi];
     transform(poses.pose[std::size_t(b.link)], b.center, centre[bi]);
     if (!b.moving && !b.attached) continue;
-    std::uint32_t open = alive & ~clear_lanes(centre[bi], b.radius);
+    if (prims) reach = prims->reaching_lanes<N>(centre[bi].x, centre[bi].y, centre[bi].z, b.radius + c.padding_, alive);
+    std::uint32_t open = alive & ~clear_lanes(centre[bi], b.radius, alive);
     if (!open) continue;
     spheres_of(bi);
     for (int i = b.begin; i < b.end && open; ++i) {
-      const std::uint32_t ok = clear_lanes(world[std::size_t(i)], c.spheres_[std::size_t(i)].radius);
+      const std::uint32_t ok = clear_lanes(world[std::size_t(i)], c.spheres_[std::size_t(i)].radius, open);
       alive &= ~(open & ~ok);
       open &= ok;
     }
@@ -89,12 +119,7 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
   thread_local Eigen::VectorXd qk;
   for (const Pair& p : c.pairs_) {
     const Xyz &ca = centre[std::size_t(p.a)], &cb = centre[std::size_t(p.b)];
-    std::uint32_t near = 0;
-    for (int k = 0; k < N; ++k) {
-      const double dx = ca.x[k] - cb.x[k], dy = ca.y[k] - cb.y[k], dz = ca.z[k] - cb.z[k];
-      near |= std::uint32_t(dx * dx + dy * dy + dz * dz < p.reach * p.reach) << k;
-    }
-    near &= alive;
+    std::uint32_t near = overlapping(ca, cb, p.reach) & alive;
     if (!near) continue;
     if (p.table >= 0)
       for (int k = 0; k < count; ++k)
@@ -111,11 +136,7 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
       const Xyz& wa = world[std::size_t(i)];
       for (int j = b.begin; j < b.end; ++j) {
         const Xyz& wb = world[std::size_t(j)];
-        const double r = c.spheres_[std::size_t(i)].radius + c.spheres_[std::size_t(j)].radius + c.padding_;
-        for (int k = 0; k < N; ++k) {
-          const double dx = wa.x[k] - wb.x[k], dy = wa.y[k] - wb.y[k], dz = wa.z[k] - wb.z[k];
-          hit |= std::uint32_t(dx * dx + dy * dy + dz * dz < r * r) << k;
-        }
+        hit |= overlapping(wa, wb, c.spheres_[std::size_t(i)].radius + c.spheres_[std::size_t(j)].radius + c.padding_);
       }
       if ((hit & near) == near) break;
     }

@@ -6,9 +6,15 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "dmgplace/runtime/geometry/grid3.hpp"
+#include "dmgplace/runtime/system/lanes.hpp"
+
+// The lane kernels below pass lanes.hpp vectors between always-inlined functions only.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
 
 namespace dmgplace::runtime {
 
@@ -30,25 +36,31 @@ class NodeBoundGrid {
     __builtin_prefetch(values_.data() + node(p, c));
   }
   double resolution() const { return res_; }
-  // lower_bound of 8 points (structure of arrays x[8], y[8], z[8]) into out[8]; the index and
-  // distance arithmetic runs in SIMD lanes, the loads are one per point.
+  // lower_bound of N points (structure of arrays x[N], y[N], z[N]) into out[N]; the index and
+  // distance arithmetic runs in SIMD lanes (lanes.hpp), the loads are one per point.
   template <int N>
-  inline __attribute__((always_inline)) void lower_bound_lanes(const double* x, const double* y, const double* z, double* out) const {
-    alignas(64) int idx[N];
-    alignas(64) double dx[N], dy[N], dz[N];
-    const double hx = double(dims_[0] - 1), hy = double(dims_[1] - 1), hz = double(dims_[2] - 1);
-    for (int k = 0; k < N; ++k) {
-      double u = (x[k] - origin_[0]) * inv_, v = (y[k] - origin_[1]) * inv_, w = (z[k] - origin_[2]) * inv_;
-      u = u > 0 ? (u < hx ? u : hx) : 0.0;
-      v = v > 0 ? (v < hy ? v : hy) : 0.0;
-      w = w > 0 ? (w < hz ? w : hz) : 0.0;
-      const int cx = int(u + 0.5), cy = int(v + 0.5), cz = int(w + 0.5);
-      idx[k] = cx + dims_[0] * (cy + dims_[1] * cz);
-      dx[k] = x[k] - (origin_[0] + res_ * cx);
-      dy[k] = y[k] - (origin_[1] + res_ * cy);
-      dz[k] = z[k] - (origin_[2] + res_ * cz);
+  DMGPLACE_LANES_INLINE void lower_bound_lanes(const double* x, const double* y, const double* z, double* out) const {
+    static_assert(N % lanes::W == 0);
+    using lanes::D;
+    using lanes::I;
+    alignas(32) int idx[N];
+    alignas(32) double dist[N];
+    const D inv = lanes::splat(inv_), res = lanes::splat(res_), half = lanes::splat(0.5);
+    for (int h = 0; h < N; h += lanes::W) {
+      // Clamped to the grid (a NaN goes to 0: max0 keeps 0 for it), then rounded to the nearest node.
+      const D px = lanes::load(x + h), py = lanes::load(y + h), pz = lanes::load(z + h);
+      const D ox = lanes::splat(origin_[0]), oy = lanes::splat(origin_[1]), oz = lanes::splat(origin_[2]);
+      const D u = lanes::min(lanes::max0((px - ox) * inv), lanes::splat(double(dims_[0] - 1)));
+      const D v = lanes::min(lanes::max0((py - oy) * inv), lanes::splat(double(dims_[1] - 1)));
+      const D w = lanes::min(lanes::max0((pz - oz) * inv), lanes::splat(double(dims_[2] - 1)));
+      const I cx = lanes::to_int(u + half), cy = lanes::to_int(v + half), cz = lanes::to_int(w + half);
+      const I index = cx + dims_[0] * (cy + dims_[1] * cz);
+      std::memcpy(idx + h, &index, sizeof index);
+      const D dx = px - (ox + res * lanes::to_double(cx)), dy = py - (oy + res * lanes::to_double(cy)),
+              dz = pz - (oz + res * lanes::to_double(cz));
+      lanes::store(dist + h, lanes::sqrt(dx * dx + dy * dy + dz * dz));
     }
-    for (int k = 0; k < N; ++k) out[k] = double(values_[std::size_t(idx[k])]) * kUnit - std::sqrt(dx[k] * dx[k] + dy[k] * dy[k] + dz[k] * dz[k]);
+    for (int k = 0; k < N; ++k) out[k] = double(values_[std::size_t(idx[k])]) * kUnit - dist[k];
   }
 
  private:
@@ -70,3 +82,5 @@ class NodeBoundGrid {
 };
 
 }  // namespace dmgplace::runtime
+
+#pragma GCC diagnostic pop

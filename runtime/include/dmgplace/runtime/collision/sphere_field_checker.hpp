@@ -98,9 +98,10 @@ class SphereFieldChecker {
 
   // Which of `count` (<= PoseBatch::kLanes) configurations q[0..count) the spheres alone prove
   // free, in one pass over all of them (batch forward kinematics, sphere centres in SIMD lanes):
-  // bit k for q[k]. Proven means every body clear of the field inside the grid and every checked
-  // pair apart (spheres, or its self-distance table's bound). An unset bit is undecided, never
-  // "in collision": check() that configuration. Exact primitives and certificates stay with check().
+  // bit k for q[k]. Proven means every body clear of the scene (the field's bound inside the grid,
+  // then the exact primitives when set, anywhere) and every checked pair apart (spheres, or its
+  // self-distance table's bound). An unset bit is undecided, never "in collision": check() that
+  // configuration. Certificates stay with check_along().
   std::uint32_t free_lanes(const double* const* q, int count = PoseBatch::kLanes) const;
 
   std::size_t sphere_count() const { return spheres_.size(); }
