@@ -14,6 +14,7 @@
 #include "dmgplace/runtime/collision/exact_checker.hpp"
 #include "dmgplace/runtime/collision/sphere_field_checker.hpp"
 #include "dmgplace/runtime/collision/two_layer_checker.hpp"
+#include "dmgplace/runtime/motion/arm_space.hpp"
 #include "dmgplace/runtime/robot/ik.hpp"
 #include "dmgplace/runtime/system/simd_dispatch.hpp"
 #include "dmgplace/tools/io/scene_loader.hpp"
@@ -32,6 +33,7 @@ struct World {
   std::unique_ptr<runtime::Kinematics> kin;
   Scene scene;
   std::shared_ptr<runtime::Grid3> sdf;
+  std::vector<formats::SelfDistanceTable> tables;
   std::unique_ptr<runtime::SphereFieldChecker> fast;
   std::unique_ptr<runtime::ExactChecker> exact;
   std::unique_ptr<bench::StockFclChecker> stock;  // the bench-mbm baseline: mesh BVHs as MoveIt builds them
@@ -56,7 +58,8 @@ World& world() {
     w.sdf = test::analytic_sdf(w.scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.3), Eigen::Vector3d(1.6, 1.2, 1.7)),
                                std::getenv("SDF_RES") ? std::atof(std::getenv("SDF_RES")) : 0.01, 0.2);
     w.fast = std::make_unique<runtime::SphereFieldChecker>(*w.kin, w.spheres, w.sdf, 0.2);
-    if (!std::getenv("NO_SELF_TABLES")) w.fast->set_self_tables(tools::build_self_distance_tables(*w.kin, w.spheres));
+    if (!std::getenv("NO_SELF_TABLES")) w.tables = tools::build_self_distance_tables(*w.kin, w.spheres);
+    w.fast->set_self_tables(w.tables);
     // As bench-mbm runs it: undecided spheres settled by the scene's exact primitives.
     if (!std::getenv("NO_EXACT_PRIMITIVES")) w.fast->set_exact_obstacles(runtime::PrimitiveObstacles::from_scene(w.scene));
     w.exact = std::make_unique<runtime::ExactChecker>(*w.kin, w.scene);
@@ -162,6 +165,58 @@ void BM_FkPlusCertifiedCheck(benchmark::State& st) {
   st.counters["mean_certified"] = certified / double(st.iterations());
 }
 BENCHMARK(BM_FkPlusCertifiedCheck)->Arg(0)->Arg(20);
+
+// Issue 20: a 0.5 rad motion checked at 0.01 rad as the planners check it (make_arm_space over
+// the two-layer checker: certificates, batch proofs near obstacles), from states the fast layer
+// proves free, in random directions. Arg 0: open space (one box 3 m away); 1: the bookshelf.
+// Items: motions.
+void BM_MotionCheckHalfRadian(benchmark::State& st) {
+  auto& w = world();
+  static const Scene open = [] {
+    Scene s;
+    s.objects.push_back({"far", {test::box_shape(Eigen::Vector3d(0.1, 0.1, 0.1), Eigen::Vector3d(3, 3, 3))}});
+    return s;
+  }();
+  const Scene& scene = st.range(0) == 0 ? open : w.scene;
+  runtime::SphereFieldChecker fast(*w.kin, w.spheres,
+                                   test::analytic_sdf(scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.3), Eigen::Vector3d(1.6, 1.2, 1.7)), 0.02, 0.2),
+                                   0.2);
+  fast.set_self_tables(w.tables);
+  fast.set_exact_obstacles(runtime::PrimitiveObstacles::from_scene(scene));
+  const runtime::TwoLayerChecker checker(fast, runtime::ExactChecker(*w.kin, scene));
+  auto si = runtime::make_arm_space(*w.kin, checker, 0.01);
+  std::vector<std::pair<ompl::base::State*, ompl::base::State*>> cases;
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> g(0, 1);
+  for (const auto& q : w.configs) {
+    if (cases.size() == 512) break;
+    if (!checker.fast().is_free(q)) continue;
+    Eigen::VectorXd d(q.size());
+    for (Eigen::Index j = 0; j < d.size(); ++j) d[j] = g(rng);
+    const Eigen::VectorXd b = (q + 0.5 * d.normalized()).cwiseMax(w.kin->lower()).cwiseMin(w.kin->upper());
+    auto* s1 = si->allocState();
+    auto* s2 = si->allocState();
+    si->getStateSpace()->copyFromReals(s1, std::vector<double>(q.data(), q.data() + q.size()));
+    si->getStateSpace()->copyFromReals(s2, std::vector<double>(b.data(), b.data() + b.size()));
+    cases.emplace_back(s1, s2);
+  }
+  std::size_t i = 0;
+  long valid = 0;
+  for (auto _ : st) {
+    const auto& [s1, s2] = cases[i++ % cases.size()];
+    valid += si->checkMotion(s1, s2);
+  }
+  for (auto& [s1, s2] : cases) {
+    si->freeState(s1);
+    si->freeState(s2);
+  }
+  st.SetItemsProcessed(st.iterations());
+  st.counters["valid_fraction"] = double(valid) / double(st.iterations());
+  st.counters["states_per_motion"] = double(checker.counters().fast.load()) / double(st.iterations());
+  st.counters["exact_per_motion"] =
+      double(checker.counters().exact_pairs.load() + checker.counters().exact_full.load()) / double(st.iterations());
+}
+BENCHMARK(BM_MotionCheckHalfRadian)->Arg(0)->Arg(1);
 
 void BM_TwoLayerCheck(benchmark::State& st) {
   auto& w = world();

@@ -72,9 +72,7 @@ MotionResult plan_motion(const World& world, const Eigen::VectorXd& start, const
   if (!(resolution >= 1e-4 && resolution <= 1)) throw Error("plan_motion", "resolution", "must be in [1e-4, 1] rad");
   if (!(time_limit >= 0 && time_limit <= 1e6)) throw Error("plan_motion", "time_limit", "must be in [0, 1e6] s");
   const runtime::TwoLayerChecker checker = grasp ? pw.grasp_checker(*grasp, -1, nullptr) : pw.arm_checker(nullptr);
-  auto si = runtime::make_arm_space(
-      kin, [&](const Eigen::VectorXd& q) { return checker.is_free(q); }, resolution,
-      [&](const Eigen::VectorXd& q, const Eigen::VectorXd& dir, double enough) { return checker.free_distance(q, dir, enough); });
+  auto si = runtime::make_arm_space(kin, checker, resolution);
   MotionResult out;
   const auto since = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   if (!checker.is_free(start)) {

@@ -10,8 +10,9 @@ namespace ob = ompl::base;
 
 namespace dmgplace::runtime {
 
-ob::SpaceInformationPtr make_arm_space(const Kinematics& kin, ValidityFn valid, double resolution,
-                                       FreeDistanceFn free_distance) {
+namespace {
+ob::SpaceInformationPtr make_space(const Kinematics& kin, ValidityFn valid, double resolution, FreeDistanceFn free_distance,
+                                   CertifiedMotionValidator::ProvenFreeFn proven_free) {
   const int n = kin.dof();
   auto space = std::make_shared<ob::RealVectorStateSpace>(unsigned(n));
   ob::RealVectorBounds bounds(static_cast<unsigned>(n));
@@ -29,9 +30,23 @@ ob::SpaceInformationPtr make_arm_space(const Kinematics& kin, ValidityFn valid, 
     return valid(q);
   });
   si->setStateValidityCheckingResolution(resolution / space->getMaximumExtent());
-  if (free_distance) si->setMotionValidator(std::make_shared<CertifiedMotionValidator>(si, std::move(free_distance)));
+  if (free_distance)
+    si->setMotionValidator(std::make_shared<CertifiedMotionValidator>(si, std::move(free_distance), std::move(proven_free)));
   si->setup();
   return si;
+}
+}  // namespace
+
+ob::SpaceInformationPtr make_arm_space(const Kinematics& kin, ValidityFn valid, double resolution,
+                                       FreeDistanceFn free_distance) {
+  return make_space(kin, std::move(valid), resolution, std::move(free_distance), nullptr);
+}
+
+ob::SpaceInformationPtr make_arm_space(const Kinematics& kin, const TwoLayerChecker& checker, double resolution) {
+  return make_space(
+      kin, [&checker](const Eigen::VectorXd& q) { return checker.is_free(q); }, resolution,
+      [&checker](const Eigen::VectorXd& q, const Eigen::VectorXd& dir, double enough) { return checker.free_distance(q, dir, enough); },
+      [&checker](const double* const* q, int count) { return checker.proven_free(q, count); });
 }
 
 }  // namespace dmgplace::runtime

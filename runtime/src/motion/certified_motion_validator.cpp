@@ -9,6 +9,8 @@ namespace ob = ompl::base;
 
 namespace dmgplace::runtime {
 namespace {
+constexpr int kBatch = 8;  // SphereFieldChecker::free_lanes' lanes
+constexpr int kBatchRange = 2 * kBatch;  // wider uncertified ranges are bisected (fewer states, when certificates return)
 Eigen::VectorXd to_eigen(const ob::State* s, unsigned n) {
   const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
   return Eigen::Map<const Eigen::VectorXd>(v->values, n);
@@ -32,8 +34,9 @@ struct Segment {
 };
 }  // namespace
 
-CertifiedMotionValidator::CertifiedMotionValidator(const ob::SpaceInformationPtr& si, FreeDistanceFn free_distance)
-    : ob::MotionValidator(si), free_distance_(std::move(free_distance)) {}
+CertifiedMotionValidator::CertifiedMotionValidator(const ob::SpaceInformationPtr& si, FreeDistanceFn free_distance,
+                                                   ProvenFreeFn proven_free)
+    : ob::MotionValidator(si), free_distance_(std::move(free_distance)), proven_free_(std::move(proven_free)) {}
 
 bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State* s2) const {
   const Segment seg(*si_, s1, s2);
@@ -60,12 +63,42 @@ bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State*
   struct Range {
     int lo, hi, estimate;
   };
+  // A range the last certificate did not reach beyond its own state, at most one batch wide: its
+  // states in one SIMD pass, the undecided ones one by one.
+  thread_local std::vector<Eigen::VectorXd> batch(kBatch);
+  // Wider ranges are raked: batch b takes states lo + b, lo + b + stride, ... so each batch spans
+  // the range and a collision anywhere shows up early.
+  auto check_batch = [&](int lo, int hi) {
+    const int size = hi - lo + 1, stride = (size + kBatch - 1) / kBatch;
+    for (int b = 0; b < stride; ++b) {
+      const double* q[kBatch];
+      int idx[kBatch], count = 0;
+      for (int i = lo + b; i <= hi; i += stride) {
+        idx[count] = i;
+        batch[std::size_t(count)] = seg.at(i);
+        q[count] = batch[std::size_t(count)].data();
+        ++count;
+      }
+      const std::uint32_t proven = proven_free_(q, count);
+      int unused = 0;
+      for (int m = 0; m < count; ++m)
+        if (!(proven >> m & 1u) && !check(idx[m], 0, unused)) return false;
+    }
+    return true;
+  };
   thread_local std::vector<Range> queue;
   queue.assign(1, {1, steps - 1 - k, k});
   for (std::size_t head = 0; head < queue.size(); ++head) {
     const auto [lo, hi, e] = queue[head];
     if (lo > hi) continue;
     const int size = hi - lo + 1;
+    if (proven_free_ && e == 0 && size >= 2 && size <= kBatchRange) {
+      if (!check_batch(lo, hi)) {
+        ++invalid_;
+        return false;
+      }
+      continue;
+    }
     const int at = size > 2 * e + 1 && size <= 4 * e + 2 ? lo + e : (lo + hi) / 2;
     if (!check(at, std::max(at - lo, hi - at), k)) {
       ++invalid_;

@@ -177,14 +177,8 @@ struct PlacementPlanner::Run {
     };
     selector = std::make_unique<GraspSelector>(*per_grasp, *tree, q.variant, o.p_accept, o.hand_tries, hand_free);
     validator = std::make_unique<GoalValidator>(world, *space, *objective, *per_grasp, *selector, q);
-    auto factory = [this](int g) {
-      auto checker = per_grasp->checker(g);
-      return make_arm_space(
-          world.kin(), [checker](const Eigen::VectorXd& x) { return checker->is_free(x); }, o.motion_resolution,
-          [checker](const Eigen::VectorXd& x, const Eigen::VectorXd& dir, double enough) {
-            return checker->free_distance(x, dir, enough);
-          });
-    };
+    // Each grasp's checker is kept by per_grasp for the whole run, so its space may refer to it.
+    auto factory = [this](int g) { return make_arm_space(world.kin(), *per_grasp->checker(g), o.motion_resolution); };
     motion = std::make_unique<MultiGraspPlanner>(factory, std::vector<double>(q.q0.data(), q.q0.data() + q.q0.size()),
                                                  std::max(1, o.threads), q.seed);
     motion->set_path_validator([this](int g, const JointPath& path) {

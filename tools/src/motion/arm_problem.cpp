@@ -78,9 +78,7 @@ ArmProblem load_arm_problem(const std::filesystem::path& robot_h5, const std::fi
 PlanOutcome plan_ours(const ArmProblem& p, double time_limit, double resolution, std::uint64_t seed) {
   PlanOutcome out;
   const auto t0 = Clock::now();
-  auto si = runtime::make_arm_space(
-      *p.kin, [&](const Eigen::VectorXd& q) { return p.checker->is_free(q); }, resolution,
-      [&](const Eigen::VectorXd& q, const Eigen::VectorXd& dir, double enough) { return p.checker->free_distance(q, dir, enough); });
+  auto si = runtime::make_arm_space(*p.kin, *p.checker, resolution);
   auto pdef = std::make_shared<ob::ProblemDefinition>(si);
   ob::ScopedState<> start(si->getStateSpace());
   for (int i = 0; i < p.kin->dof(); ++i) start[unsigned(i)] = p.start[i];

@@ -43,6 +43,12 @@ class TwoLayerChecker {
     if (!settle(q, poses, f)) return -1.0;
     return f.free() ? f.free_distance : 0.0;
   }
+  // Which of q[0..count) (count <= 8) the fast layer alone proves free, in one SIMD pass
+  // (SphereFieldChecker::free_lanes); unset bits are undecided, for is_free or free_distance.
+  std::uint32_t proven_free(const double* const* q, int count) const {
+    counters_->fast += count;
+    return fast_.free_lanes(q, count);
+  }
   const SphereFieldChecker& fast() const { return fast_; }
   const ExactChecker& exact() const { return exact_; }
   const CheckCounters& counters() const { return *counters_; }

@@ -6,6 +6,7 @@
 
 #include <functional>
 
+#include "dmgplace/runtime/collision/two_layer_checker.hpp"
 #include "dmgplace/runtime/motion/segment_check.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
 
@@ -19,5 +20,8 @@ using FreeDistanceFn = std::function<double(const Eigen::VectorXd& q, const Eige
 // `resolution` steps, except those inside an interval the checker proved free.
 ompl::base::SpaceInformationPtr make_arm_space(const Kinematics& kin, ValidityFn valid, double resolution,
                                                FreeDistanceFn free_distance = nullptr);
+// The space over a two-layer checker: its validity, its certified motions, and its batch proofs
+// for short stretches near obstacles. `checker` must outlive the space.
+ompl::base::SpaceInformationPtr make_arm_space(const Kinematics& kin, const TwoLayerChecker& checker, double resolution);
 
 }  // namespace dmgplace::runtime
