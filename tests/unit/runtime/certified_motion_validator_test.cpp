@@ -80,3 +80,50 @@ TEST(CertifiedMotionValidator, AgreesWithTheDiscreteValidatorOnEveryMotionWithFe
   RecordProperty("discrete_checks", int(discrete_checks.load()));
   RecordProperty("certified_checks", int(certified_checks.load()));
 }
+
+// With batch proofs: near the discs the checker certifies nothing (as the sphere layer when the
+// exact layer had to decide), so short uncertified ranges go to the batch, which proves only
+// states well clear of the discs and leaves the rest undecided. The answers stay the discrete ones.
+TEST(CertifiedMotionValidator, BatchProofsOfUncertifiedRangesKeepTheDiscreteAnswers) {
+  std::atomic<long> discrete_checks{0};
+  auto si = make_space(&discrete_checks);
+  ob::DiscreteMotionValidator discrete(si);
+  long batches = 0, proven = 0, undecided = 0;
+  CertifiedMotionValidator certified(
+      si,
+      [&](const Eigen::VectorXd& q, const Eigen::VectorXd&, double) {
+        const double c = clearance(q[0], q[1]);
+        return c <= 0 ? -1.0 : c < 0.3 ? 0.0 : c;
+      },
+      [&](const double* const* q, int count) {
+        EXPECT_GE(count, 1);
+        EXPECT_LE(count, 8);
+        ++batches;
+        std::uint32_t mask = 0;
+        for (int k = 0; k < count; ++k) {
+          const bool sure = clearance(q[k][0], q[k][1]) > 0.01 && (k % 3 != 1);  // some clear lanes left undecided too
+          mask |= std::uint32_t(sure) << k;
+          (sure ? proven : undecided)++;
+        }
+        return mask;
+      });
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 10);
+  ob::ScopedState<> a(si), b(si);
+  int invalid = 0;
+  for (int i = 0; i < 3000; ++i) {
+    do {
+      a[0] = u(rng);
+      a[1] = u(rng);
+    } while (clearance(a[0], a[1]) <= 0);
+    b[0] = u(rng);
+    b[1] = u(rng);
+    const bool d = discrete.checkMotion(a.get(), b.get());
+    ASSERT_EQ(certified.checkMotion(a.get(), b.get()), d) << "motion (" << a[0] << ", " << a[1] << ") -> (" << b[0] << ", " << b[1] << ")";
+    invalid += !d;
+  }
+  EXPECT_GT(invalid, 300);
+  EXPECT_GT(batches, 1000) << "the batch path must be exercised";
+  EXPECT_GT(proven, 0);
+  EXPECT_GT(undecided, 0);
+}
