@@ -102,6 +102,8 @@ struct Part {
 // leases a set, so concurrent queries never share one.
 class ObjectPool {
  public:
+  // `distance`: objects over the parts' distance geometry (OBBRSS), for gap queries.
+  explicit ObjectPool(bool distance = false) : distance_(distance) {}
   using Set = std::vector<std::unique_ptr<fcl::CollisionObjectd>>;
   class Lease {
    public:
@@ -133,13 +135,15 @@ class ObjectPool {
     }
     auto s = std::make_unique<Set>();
     std::lock_guard<std::mutex> lock(fcl_object_mutex());
-    for (const auto& p : parts) s->push_back(std::make_unique<fcl::CollisionObjectd>(p.geometry));
+    for (const auto& p : parts)
+      s->push_back(std::make_unique<fcl::CollisionObjectd>(distance_ && p.distance ? p.distance->get() : p.geometry));
     return s;
   }
   void release(std::unique_ptr<Set> s) {
     std::lock_guard<std::mutex> lock(mutex_);
     free_.push_back(std::move(s));
   }
+  bool distance_;
   std::mutex mutex_;
   std::vector<std::unique_ptr<Set>> free_;
 };
@@ -171,6 +175,8 @@ struct ExactChecker::Impl {
   std::shared_ptr<fcl::DynamicAABBTreeCollisionManagerd> env;
   std::vector<int> touching;  // links the attached object may touch
   std::shared_ptr<ObjectPool> pool = std::make_shared<ObjectPool>();  // per parts list, never copied
+  std::shared_ptr<ObjectPool> gap_pool = std::make_shared<ObjectPool>(true);  // the same, for gaps
+  bool env_primitives = true;  // every scene shape is a box, cylinder or sphere
 };
 
 namespace {
@@ -236,6 +242,7 @@ ExactChecker::ExactChecker(const Kinematics& kin, const Scene& env, double scan_
   impl->env = std::make_shared<fcl::DynamicAABBTreeCollisionManagerd>();
   for (const auto& o : env.objects)
     for (const auto& s : o.shapes) {
+      impl->env_primitives &= s.type != ShapeType::Mesh;
       impl->env_names->push_back(o.name);
       auto obj = std::make_unique<fcl::CollisionObjectd>(make_geometry(s), s.origin.linear(), s.origin.translation());
       obj->setUserData(reinterpret_cast<void*>(impl->env_names->size()));  // 1-based name index
@@ -243,6 +250,7 @@ ExactChecker::ExactChecker(const Kinematics& kin, const Scene& env, double scan_
       impl->env_objects->push_back(std::move(obj));
     }
   if (env.points.rows() > 0) {
+    impl->env_primitives = false;
     auto tree = std::make_shared<octomap::OcTree>(scan_resolution);
     for (Eigen::Index i = 0; i < env.points.rows(); ++i)
       tree->updateNode(octomap::point3d(float(env.points(i, 0)), float(env.points(i, 1)), float(env.points(i, 2))), true);
@@ -275,6 +283,7 @@ ExactChecker ExactChecker::with_attached(const CollisionMesh& object, int link, 
   impl->parts.push_back({link, object.impl->geometry, nullptr, object_in_link});
   impl->part_is_object.push_back(1);
   impl->pool = std::make_shared<ObjectPool>();  // sets hold one object per part: a new list, a new pool
+  impl->gap_pool = std::make_shared<ObjectPool>(true);
   impl->touching = std::move(touching_links);
   build_self_pairs(*impl, *kin_);
   ExactChecker c(*this);
@@ -441,6 +450,59 @@ double ExactChecker::link_distance(const Eigen::VectorXd& q, int link_a, int lin
     }
   }
   return best;
+}
+
+namespace {
+// FCL's mesh-versus-primitive distances come from GJK with a 1e-6 tolerance: a gap counts only
+// beyond a margin a hundred times that.
+constexpr double kGapTolerance = 1e-4;
+}
+
+double ExactChecker::link_environment_gap(const std::vector<Eigen::Isometry3d>& poses, int link, std::uint64_t mask) const {
+  const Impl& impl = *impl_;
+  if (!impl.env_primitives) return 0.0;
+  const auto& env = *impl.env_objects;
+  ObjectPool::Lease lease(*impl.gap_pool, impl.parts);
+  double gap = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < impl.parts.size() && gap > 0; ++i) {
+    const Part& p = impl.parts[i];
+    if (impl.part_is_object[i] || p.link != link) continue;
+    fcl::CollisionObjectd* obj = lease.place(i, poses[std::size_t(p.link)] * p.local);
+    for (std::size_t k = 0; k < env.size() && gap > 0; ++k) {
+      if (mask != 0 && (k >= 64 || !(mask >> k & 1u))) continue;
+      fcl::DistanceRequestd req;
+      fcl::DistanceResultd res;
+      fcl::distance(obj, env[k].get(), req, res);
+      gap = std::min(gap, res.min_distance - kGapTolerance);
+    }
+  }
+  return gap;
+}
+
+bool ExactChecker::gaps_are_cheap() const {
+  if (!impl_->env_primitives) return false;
+  for (std::size_t l = 0; l < kin_->model().links.size(); ++l)
+    for (const Shape& s : kin_->model().links[l].collision)
+      if (s.type == ShapeType::Mesh) return false;
+  return true;
+}
+
+double ExactChecker::link_pair_gap(const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b) const {
+  const Impl& impl = *impl_;
+  ObjectPool::Lease lease(*impl.gap_pool, impl.parts);
+  double gap = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < impl.parts.size() && gap > 0; ++i) {
+    if (impl.part_is_object[i] || impl.parts[i].link != link_a) continue;
+    for (std::size_t j = 0; j < impl.parts.size() && gap > 0; ++j) {
+      if (impl.part_is_object[j] || impl.parts[j].link != link_b) continue;
+      fcl::DistanceRequestd req;
+      fcl::DistanceResultd res;
+      fcl::distance(lease.place(i, poses[std::size_t(link_a)] * impl.parts[i].local),
+                    lease.place(j, poses[std::size_t(link_b)] * impl.parts[j].local), req, res);
+      gap = std::min(gap, res.min_distance - kGapTolerance);
+    }
+  }
+  return gap;
 }
 
 bool ExactChecker::segment_free(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution) const {

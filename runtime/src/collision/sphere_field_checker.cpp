@@ -238,9 +238,11 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const std::ve
   SphereCheck out;
   out.min_clearance = band_;
   auto outside = [&](const Eigen::Vector3d& p) { return ((p - lo_).array() < 0).any() || ((hi_ - p).array() < 0).any(); };
+  thread_local std::vector<char> body_flagged;  // certified mode: left to the exact layer
+  if (certify) body_flagged.assign(bodies_.size(), 0);
   auto cleared = [&](std::size_t bi, double clearance) {
     out.min_clearance = std::min(out.min_clearance, clearance);
-    if (certify) body_clear[bi] = std::min(body_clear[bi], clearance);
+    if (certify && !body_flagged[bi]) body_clear[bi] = std::min(body_clear[bi], clearance);
   };
   // All body centres first, their fine-grid nodes requested at once (most misses then overlap).
   for (std::size_t bi = 0; bi < bodies_.size(); ++bi) {
@@ -306,6 +308,10 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const std::ve
       out.outside_grid |= out_of_grid && !obstacles_;
       if (!flagged) {
         flagged = true;
+        if (certify) {  // the exact layer certifies this link from its exact distance
+          body_flagged[bi] = 1;
+          body_clear[bi] = std::numeric_limits<double>::infinity();
+        }
         if (b.attached) out.attached_near_env = true;
         else if (out.env_link_count < SphereCheck::kMaxPairs) out.env_links[std::size_t(out.env_link_count++)] = b.link;
         else out.env_overflow = true;
@@ -343,7 +349,7 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const std::ve
     const Pair& p = pairs_[pi];
     const double rb = p.reach;
     const double d2 = (body_center[std::size_t(p.a)] - body_center[std::size_t(p.b)]).squaredNorm();
-    const double v = certify && out.free() ? speed(pair_moves_[pi].a) + speed(pair_moves_[pi].b) : 0.0;
+    const double v = certify ? speed(pair_moves_[pi].a) + speed(pair_moves_[pi].b) : 0.0;
     const bool certify_this = v > 0;  // (a pair the motion does not move relative needs nothing)
     const double need = certify_this ? enough * v : 0.0;
     if (d2 >= rb * rb) {
@@ -409,7 +415,8 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const std::ve
     }
     out.pairs[std::size_t(out.pair_count++)] = {a.link, b.link};
   }
-  if (certify && out.free()) {
+  // Flagged links and pairs are left out: the exact layer certifies them (link_time, pair_time).
+  if (certify) {
     for (std::size_t bi = 0; bi < bodies_.size(); ++bi)
       if ((bodies_[bi].moving || bodies_[bi].attached) && std::isfinite(body_clear[bi])) {
         const double v = speed(bodies_[bi].chain);
@@ -458,6 +465,30 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const std::ve
     out.free_distance = std::isfinite(free_distance) ? free_distance : 1e9;
   }
   return out;
+}
+
+double SphereFieldChecker::link_time(const std::vector<Eigen::Isometry3d>& poses, int link, double gap,
+                                     const Eigen::VectorXd& direction) const {
+  if (!certifiable_ || gap <= 0) return 0.0;
+  for (const Body& b : bodies_)
+    if (b.link == link && !b.attached)
+      return joint_speed(b.chain, poses, poses[std::size_t(link)] * b.center, b.radius, direction).time_to_move(gap);
+  return 0.0;
+}
+
+double SphereFieldChecker::pair_time(const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b, double gap,
+                                     const Eigen::VectorXd& direction) const {
+  if (!certifiable_ || gap <= 0) return 0.0;
+  for (std::size_t pi = 0; pi < pairs_.size(); ++pi) {
+    const Body &a = bodies_[std::size_t(pairs_[pi].a)], &b = bodies_[std::size_t(pairs_[pi].b)];
+    if (a.attached || b.attached || !((a.link == link_a && b.link == link_b) || (a.link == link_b && b.link == link_a))) continue;
+    thread_local std::vector<Eigen::Vector3d> centers;
+    centers.resize(bodies_.size());
+    centers[std::size_t(pairs_[pi].a)] = poses[std::size_t(a.link)] * a.center;
+    centers[std::size_t(pairs_[pi].b)] = poses[std::size_t(b.link)] * b.center;
+    return pair_speed(pi, poses, centers, direction).time_to_move(gap);
+  }
+  return 0.0;
 }
 
 DisplacementBound SphereFieldChecker::joint_speed(const std::vector<ChainJoint>& joints,

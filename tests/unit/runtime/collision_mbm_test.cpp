@@ -12,6 +12,7 @@
 #include "dmgplace/runtime/collision/sphere_field_checker.hpp"
 #include "dmgplace/runtime/collision/two_layer_checker.hpp"
 #include "fixtures.hpp"
+#include "gap_certificates.hpp"
 #include "test_support.hpp"
 
 using namespace dmgplace;
@@ -130,6 +131,31 @@ TEST(CollisionMbm, SelfDistanceTablesNeverExceedTheExactDistanceOnThePanda) {
     // ... and far from contact, what the coarse lattice's Lipschitz bound loses across a cell.
     const double stride = test::self_table_defaults().coarse_stride;
     EXPECT_LT(far_gap, (2 + stride) * (t.slope[0] + t.slope[1]) * std::max(t.step[0], t.step[1]) + 1e-6);
+  }
+}
+
+// The Panda's link meshes in both MotionBenchMaker scenes: exact clearances (OBBRSS meshes against
+// the primitives, mesh against mesh) certify flagged states, and every certified stretch is free.
+TEST(CollisionMbm, ExactGapCertificatesKeepEveryPandaStateFree) {
+  DMGPLACE_REQUIRE_SHARED();
+  const auto shared = test::shared_datasets();
+  const PandaArm& panda = panda_arm();
+  for (auto scene_file : {"mbm_problems/bookshelf_small_panda/scene0001.yaml", "mbm_problems/table_pick_panda/scene0001.yaml"}) {
+    const Scene scene = test::read_scene(shared / scene_file);
+    runtime::SphereFieldChecker fast(
+        *panda.kin, panda.spheres,
+        test::analytic_sdf(scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.3), Eigen::Vector3d(1.6, 1.2, 1.7)), 0.02, 0.25),
+        0.25);
+    fast.set_self_tables(panda.tables);
+    fast.set_exact_obstacles(runtime::PrimitiveObstacles::from_scene(scene));
+    const runtime::ExactChecker exact(*panda.kin, scene);
+    EXPECT_FALSE(exact.gaps_are_cheap()) << "link meshes: off by default";
+    runtime::TwoLayerChecker both(fast, exact);
+    both.set_exact_gaps(true);
+    double longest = 0;
+    const int walked = test::walk_gap_certificates(both, exact, 1500, 23, &longest);
+    EXPECT_GT(walked, 50) << scene_file;
+    EXPECT_GT(longest, 0.005) << scene_file;
   }
 }
 

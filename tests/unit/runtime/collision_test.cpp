@@ -11,6 +11,7 @@
 #include "dmgplace/runtime/collision/two_layer_checker.hpp"
 #include "dmgplace/runtime/system/simd_dispatch.hpp"
 #include "fixtures.hpp"
+#include "gap_certificates.hpp"
 #include "test_support.hpp"
 
 using namespace dmgplace;
@@ -367,6 +368,23 @@ TEST(Certificate, KeepsEverySphereClearOfTheSceneAlongTheStretch) {
   EXPECT_GT(certified, 100);
   EXPECT_GT(longest, 0.02);
   RecordProperty("certified", certified);
+}
+
+// Where the spheres flag links (near the scene, pairs close), exact clearances certify the state
+// (TwoLayerChecker::free_distance): never a collision, and every certified stretch free for FCL.
+TEST(TwoLayer, ExactGapCertificatesKeepEveryStateFree) {
+  ShelfWorld w;
+  SphereFieldChecker fast(w.kin, w.arm.spheres, w.sdf, 0.3);
+  fast.set_exact_obstacles(PrimitiveObstacles::from_scene(w.scene));
+  fast.set_self_tables(test::self_distance_tables(w.kin, w.arm.spheres));
+  const ExactChecker exact(w.kin, w.scene);
+  ASSERT_TRUE(exact.gaps_are_cheap()) << "the built-in arm and the shelf are primitives: gaps on by default";
+  const TwoLayerChecker both(fast, exact);
+  double longest = 0;
+  const int walked = test::walk_gap_certificates(both, exact, 3000, 17, &longest);
+  EXPECT_GT(walked, 50) << "flagged states must get exact certificates";
+  EXPECT_GT(longest, 0.01);
+  RecordProperty("walked", walked);
 }
 
 namespace {

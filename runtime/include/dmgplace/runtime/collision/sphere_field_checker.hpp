@@ -54,8 +54,10 @@ struct SphereCheck {
   // configuration collides, no exact check needed (the rest of this answer is then incomplete).
   bool proven_collision = false;
   double min_clearance = 0;   // smallest proven (distance - radius) seen, metres
-  // check_along() only, when free: q + t * direction is free for every t in [0, free_distance]
-  // (the spheres cannot move farther than their clearance); 0 when nothing is certified.
+  // check_along() only. When free: q + t * direction is free for every t in [0, free_distance]
+  // (the spheres cannot move farther than their clearance); 0 when nothing is certified. When
+  // links or pairs are flagged (and nothing overflowed or was proven): the same for everything
+  // else, the flagged links and pairs left out, for the exact layer to certify (flagged_time).
   double free_distance = 0;
   bool free() const { return environment_free && self_free; }
 };
@@ -95,6 +97,14 @@ class SphereFieldChecker {
   SphereCheck check_along(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses,
                           const Eigen::VectorXd& direction, double enough = std::numeric_limits<double>::infinity()) const;
   bool is_free(const Eigen::VectorXd& q) const { return check(q).free(); }
+
+  // How long along `direction` (joint space, as check_along) a flagged link keeps an exact
+  // clearance `gap` (metres) to the scene, or a flagged pair of links their exact gap: the same
+  // speed bounds as the spheres' certificates, over the link's whole body. 0 when the link has no
+  // body here (no spheres) or the pair is not one this checker tests.
+  double link_time(const std::vector<Eigen::Isometry3d>& poses, int link, double gap, const Eigen::VectorXd& direction) const;
+  double pair_time(const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b, double gap,
+                   const Eigen::VectorXd& direction) const;
 
   // Which of `count` (<= PoseBatch::kLanes) configurations q[0..count) the spheres alone prove
   // free, in one pass over all of them (batch forward kinematics, sphere centres in SIMD lanes):

@@ -1,7 +1,9 @@
 #pragma once
 // The checker IK, the sampler and the planner use: the fast sphere layer answers "free" on its own
 // (it is conservative), and only its "maybe" is sent to the exact FCL layer.
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <limits>
 #include <memory>
 
@@ -16,6 +18,7 @@ struct CheckCounters {
   std::atomic<long> exact_pairs{0};  // settled by exact checks of the flagged links and pairs only
   std::atomic<long> exact_full{0};   // needed the full exact check
   std::atomic<long> proven_collisions{0};  // settled as colliding by the spheres' inner balls
+  std::atomic<long> exact_gaps{0};   // flagged links and pairs settled, and certified, by exact clearances
 };
 
 class TwoLayerChecker {
@@ -26,6 +29,7 @@ class TwoLayerChecker {
     // Both layers read one set of link poses per query: they must pose the same robot.
     if (&fast_.kinematics() != &exact_.kinematics())
       throw Error("TwoLayerChecker", "layers", "the fast and exact layers use different kinematics");
+    gaps_ = exact_.gaps_are_cheap();
   }
 
   // One forward kinematics per query, shared by both layers.
@@ -33,15 +37,29 @@ class TwoLayerChecker {
     const auto& poses = poses_at(q);
     return settle(q, poses, fast_.check(q, poses));
   }
-  // < 0: q collides; otherwise q is free and so is q + t * direction for t in [0, result]
-  // (0 when the exact layer had to decide, which certifies nothing beyond q). `enough`: the
-  // longest certificate the caller can use.
+  // < 0: q collides; otherwise q is free and so is q + t * direction for t in [0, result].
+  // `enough`: the longest certificate the caller can use. Where the spheres flag links (near the
+  // scene, or a pair close) and exact gaps are cheap (robot and scene all primitives), the links'
+  // exact clearances certify them (exact_gaps): the certificate is the smallest of theirs and the
+  // spheres' for the rest. Otherwise (link meshes, touching, a held object, a mesh scene) the
+  // exact layer's yes/no decides and certifies nothing beyond q (0).
   double free_distance(const Eigen::VectorXd& q, const Eigen::VectorXd& direction,
                        double enough = std::numeric_limits<double>::infinity()) const {
     const auto& poses = poses_at(q);
     const SphereCheck f = fast_.check_along(q, poses, direction, enough);
-    if (!settle(q, poses, f)) return -1.0;
-    return f.free() ? f.free_distance : 0.0;
+    if (f.free()) {
+      ++counters_->fast;
+      return f.free_distance;
+    }
+    if (gaps_ && enough > 0 && !f.proven_collision) {
+      const double t = exact_gaps(poses, f, direction);
+      if (t > 0) {
+        ++counters_->fast;
+        ++counters_->exact_gaps;
+        return std::min(t, f.free_distance);
+      }
+    }
+    return settle(q, poses, f) ? 0.0 : -1.0;
   }
   // Which of q[0..count) (count <= 8) the fast layer alone proves free, in one SIMD pass
   // (SphereFieldChecker::free_lanes); unset bits are undecided, for is_free or free_distance.
@@ -50,6 +68,8 @@ class TwoLayerChecker {
     return fast_.free_lanes(q, count);
   }
   const SphereFieldChecker& fast() const { return fast_; }
+  // Exact gaps on or off (on by default exactly when they are cheap): tests and benchmarks.
+  void set_exact_gaps(bool on) { gaps_ = on; }
   const ExactChecker& exact() const { return exact_; }
   const CheckCounters& counters() const { return *counters_; }
 
@@ -58,6 +78,22 @@ class TwoLayerChecker {
     thread_local std::vector<Eigen::Isometry3d> poses;
     exact_.kinematics().link_poses(q, poses);
     return poses;
+  }
+  // How long the flagged links and pairs of `f` keep their exact clearances along `direction`;
+  // 0 when one cannot be had (the caller then decides by the exact yes/no).
+  double exact_gaps(const std::vector<Eigen::Isometry3d>& poses, const SphereCheck& f, const Eigen::VectorXd& direction) const {
+    if (f.env_overflow || f.pairs_overflow || f.attached_involved || f.attached_near_env || f.outside_grid) return 0.0;
+    double t = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < f.env_link_count && t > 0; ++k) {
+      const int link = f.env_links[std::size_t(k)];
+      // To every shape: a certificate must hold against the ones the spheres did not reach too.
+      t = std::min(t, fast_.link_time(poses, link, exact_.link_environment_gap(poses, link, 0), direction));
+    }
+    for (int k = 0; k < f.pair_count && t > 0; ++k) {
+      const auto [a, b] = f.pairs[std::size_t(k)];
+      t = std::min(t, fast_.pair_time(poses, a, b, exact_.link_pair_gap(poses, a, b), direction));
+    }
+    return std::isfinite(t) ? t : 0.0;
   }
   bool settle(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses, const SphereCheck& f) const {
     ++counters_->fast;
@@ -78,6 +114,7 @@ class TwoLayerChecker {
   }
   SphereFieldChecker fast_;
   ExactChecker exact_;
+  bool gaps_ = false;  // exact_gaps is worth asking (gaps_are_cheap)
   std::shared_ptr<CheckCounters> counters_;
 };
 
