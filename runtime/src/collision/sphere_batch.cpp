@@ -9,9 +9,6 @@
 #include "dmgplace/runtime/system/lanes.hpp"
 #include "dmgplace/runtime/system/simd_dispatch.hpp"
 
-// Lane vectors (lanes.hpp) pass only between always-inlined functions.
-#pragma GCC diagnostic ignored "-Wpsabi"
-
 namespace dmgplace::runtime {
 namespace {
 

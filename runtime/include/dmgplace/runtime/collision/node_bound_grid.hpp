@@ -12,10 +12,6 @@
 #include "dmgplace/runtime/geometry/grid3.hpp"
 #include "dmgplace/runtime/system/lanes.hpp"
 
-// The lane kernels below pass lanes.hpp vectors between always-inlined functions only.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"
-
 namespace dmgplace::runtime {
 
 class NodeBoundGrid {
@@ -82,5 +78,3 @@ class NodeBoundGrid {
 };
 
 }  // namespace dmgplace::runtime
-
-#pragma GCC diagnostic pop

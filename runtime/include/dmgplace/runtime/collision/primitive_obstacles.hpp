@@ -11,10 +11,6 @@
 #include "dmgplace/formats/geometry_types.hpp"
 #include "dmgplace/runtime/system/lanes.hpp"
 
-// The lane kernels below pass lanes.hpp vectors between always-inlined functions only.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"
-
 namespace dmgplace::runtime {
 
 // Signed distance from p (in the shape's parent frame) to a box, cylinder or sphere: negative
@@ -124,5 +120,3 @@ class PrimitiveObstacles {
 };
 
 }  // namespace dmgplace::runtime
-
-#pragma GCC diagnostic pop

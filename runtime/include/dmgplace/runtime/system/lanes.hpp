@@ -11,8 +11,9 @@
 
 #define DMGPLACE_LANES_INLINE inline __attribute__((always_inline))
 
-// Every function here is inlined: no vector crosses a call, so the vector-ABI notes are moot.
-#pragma GCC diagnostic push
+// Every function here is inlined: no vector crosses a call, so GCC's notes about the vector ABI
+// are moot. They are emitted when a function is finally output (after any push/pop region
+// closed), so they stay off in every file that includes this one.
 #pragma GCC diagnostic ignored "-Wpsabi"
 
 namespace dmgplace::runtime::lanes {
@@ -48,5 +49,3 @@ DMGPLACE_LANES_INLINE std::uint32_t bits(M m) {
 }
 
 }  // namespace dmgplace::runtime::lanes
-
-#pragma GCC diagnostic pop
