@@ -12,9 +12,7 @@
 #define DMGPLACE_LANES_INLINE inline __attribute__((always_inline))
 
 // Every function here is inlined: no vector crosses a call, so GCC's notes about the vector ABI
-// are moot. They are emitted when a function is finally output (after any push/pop region
-// closed), so they stay off in every file that includes this one.
-#pragma GCC diagnostic ignored "-Wpsabi"
+// are moot (the build passes -Wno-psabi; a pragma does not reach them).
 
 namespace dmgplace::runtime::lanes {
 
