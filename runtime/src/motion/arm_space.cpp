@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "dmgplace/runtime/motion/certified_motion_validator.hpp"
+#include "dmgplace/runtime/system/simd_dispatch.hpp"
 
 namespace ob = ompl::base;
 
@@ -43,10 +44,14 @@ ob::SpaceInformationPtr make_arm_space(const Kinematics& kin, ValidityFn valid, 
 }
 
 ob::SpaceInformationPtr make_arm_space(const Kinematics& kin, const TwoLayerChecker& checker, double resolution) {
+  // Batch proofs pay only with AVX2: on the portable path 8 lanes cost more than 8 plain checks
+  // (docs/motion.md, "Batch checks").
+  CertifiedMotionValidator::ProvenFreeFn batch;
+  if (simd_path() == SimdPath::Avx2) batch = [&checker](const double* const* q, int count) { return checker.proven_free(q, count); };
   return make_space(
       kin, [&checker](const Eigen::VectorXd& q) { return checker.is_free(q); }, resolution,
       [&checker](const Eigen::VectorXd& q, const Eigen::VectorXd& dir, double enough) { return checker.free_distance(q, dir, enough); },
-      [&checker](const double* const* q, int count) { return checker.proven_free(q, count); });
+      std::move(batch));
 }
 
 }  // namespace dmgplace::runtime
