@@ -8,36 +8,6 @@
 
 namespace dmgplace::bench {
 namespace {
-using Geometry = std::shared_ptr<fcl::CollisionGeometryd>;
-
-template <typename BV>
-Geometry mesh_bvh(const TriMesh& m) {
-  auto model = std::make_shared<fcl::BVHModel<BV>>();
-  std::vector<fcl::Vector3d> v(std::size_t(m.vertices.rows()));
-  std::vector<fcl::Triangle> t(std::size_t(m.triangles.rows()));
-  for (std::size_t i = 0; i < v.size(); ++i) v[i] = m.vertices.row(Eigen::Index(i)).transpose();
-  for (std::size_t i = 0; i < t.size(); ++i) {
-    const auto tri = m.triangles.row(Eigen::Index(i));
-    t[i] = fcl::Triangle(std::size_t(tri[0]), std::size_t(tri[1]), std::size_t(tri[2]));
-  }
-  model->beginModel();
-  model->addSubModel(v, t);
-  model->endModel();
-  return model;
-}
-
-Geometry geometry(const Shape& s, StockBvh nodes) {
-  Geometry g;
-  switch (s.type) {
-    case ShapeType::Box: g = std::make_shared<fcl::Boxd>(s.size.x(), s.size.y(), s.size.z()); break;
-    case ShapeType::Cylinder: g = std::make_shared<fcl::Cylinderd>(s.size[0], s.size[1]); break;
-    case ShapeType::Sphere: g = std::make_shared<fcl::Sphered>(s.size[0]); break;
-    case ShapeType::Mesh: g = nodes == StockBvh::Obbrss ? mesh_bvh<fcl::OBBRSSd>(s.mesh) : mesh_bvh<fcl::OBBd>(s.mesh); break;
-  }
-  g->computeLocalAABB();
-  return g;
-}
-
 struct Part {
   int link;
   Eigen::Isometry3d local;
@@ -62,13 +32,13 @@ struct StockFclChecker::Impl {
   mutable std::vector<Eigen::Isometry3d> poses;
 };
 
-StockFclChecker::StockFclChecker(const runtime::Kinematics& kin, const Scene& scene, StockBvh nodes)
+StockFclChecker::StockFclChecker(const runtime::Kinematics& kin, const Scene& scene, runtime::FclMeshNodes mesh_nodes)
     : kin_(&kin), impl_(std::make_unique<Impl>()) {
   if (scene.points.rows() > 0) throw Error("stock baseline", "scene", "scan points are not supported; give shapes");
   const RobotModel& m = kin.model();
   for (std::size_t l = 0; l < m.links.size(); ++l)
     for (const Shape& s : m.links[l].collision)
-      impl_->parts.push_back({int(l), s.origin, std::make_unique<fcl::CollisionObjectd>(geometry(s, nodes))});
+      impl_->parts.push_back({int(l), s.origin, std::make_unique<fcl::CollisionObjectd>(runtime::fcl_geometry(s, mesh_nodes))});
   impl_->moving = kin.moving_links();
   auto allowed = [&](int a, int b) {
     return a == b || std::any_of(m.allowed_pairs.begin(), m.allowed_pairs.end(), [&](const auto& p) {
@@ -83,7 +53,7 @@ StockFclChecker::StockFclChecker(const runtime::Kinematics& kin, const Scene& sc
     }
   for (const auto& o : scene.objects)
     for (const Shape& s : o.shapes) {
-      auto obj = std::make_unique<fcl::CollisionObjectd>(geometry(s, nodes), s.origin.linear(), s.origin.translation());
+      auto obj = std::make_unique<fcl::CollisionObjectd>(runtime::fcl_geometry(s, mesh_nodes), s.origin.linear(), s.origin.translation());
       obj->computeAABB();
       impl_->scene.registerObject(obj.get());
       impl_->scene_objects.push_back(std::move(obj));

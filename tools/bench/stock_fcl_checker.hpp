@@ -7,18 +7,18 @@
 #include <memory>
 
 #include "dmgplace/formats/geometry_types.hpp"
+#include "dmgplace/runtime/collision/fcl_geometry.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
 
 namespace dmgplace::bench {
-
-// Mesh BVH nodes: OBBRSS (MoveIt's) or OBB (what our exact layer uses).
-enum class StockBvh { Obbrss, Obb };
 
 class StockFclChecker {
  public:
   // Scene shapes in the kinematics' base frame; scan points are refused (MotionBenchMaker scenes
   // have none). `kin` must outlive the checker.
-  StockFclChecker(const runtime::Kinematics& kin, const Scene& scene, StockBvh nodes = StockBvh::Obbrss);
+  // `mesh_nodes`: OBBRSS as MoveIt builds meshes, or OBB as our exact layer does.
+  StockFclChecker(const runtime::Kinematics& kin, const Scene& scene,
+                  runtime::FclMeshNodes mesh_nodes = runtime::FclMeshNodes::Obbrss);
   ~StockFclChecker();
   StockFclChecker(const StockFclChecker&) = delete;
   StockFclChecker& operator=(const StockFclChecker&) = delete;

@@ -69,7 +69,7 @@ int run_bench_mbm(const BenchMbmArgs& a) {
       opt.sdf_resolution = a.sdf_resolution;
       auto problem = tools::load_arm_problem(a.robot, scene, requests[i], opt);
       std::optional<bench::StockFclChecker> stock_checker;
-      if (run_stock) stock_checker.emplace(*problem.kin, problem.scene, a.stock_bvh == "obb" ? bench::StockBvh::Obb : bench::StockBvh::Obbrss);
+      if (run_stock) stock_checker.emplace(*problem.kin, problem.scene, a.stock_bvh == "obb" ? runtime::FclMeshNodes::Obb : runtime::FclMeshNodes::Obbrss);
       field_seconds.push_back(problem.bake_seconds);
       auto record = [&](const char* planner, int r, const tools::PlanOutcome& o, Stats& set_stats, Stats& all) {
         add(set_stats, o);

@@ -1,4 +1,5 @@
 #include "dmgplace/runtime/collision/exact_checker.hpp"
+#include "dmgplace/runtime/collision/fcl_geometry.hpp"
 
 #include "dmgplace/runtime/motion/segment_check.hpp"
 
@@ -19,34 +20,8 @@ using Geometry = std::shared_ptr<fcl::CollisionGeometryd>;
 
 // Collision BVHs use OBB nodes (see the constructor's comment). Distance queries need RSS nodes:
 // links build an OBBRSS copy when first asked (DistanceGeometry).
-template <typename BV>
-Geometry make_mesh(const TriMesh& m) {
-  auto model = std::make_shared<fcl::BVHModel<BV>>();
-  std::vector<fcl::Vector3d> v(std::size_t(m.vertices.rows()));
-  std::vector<fcl::Triangle> t(std::size_t(m.triangles.rows()));
-  for (std::size_t i = 0; i < v.size(); ++i) v[i] = m.vertices.row(Eigen::Index(i)).transpose();
-  for (std::size_t i = 0; i < t.size(); ++i)
-    t[i] = fcl::Triangle(std::size_t(m.triangles(Eigen::Index(i), 0)), std::size_t(m.triangles(Eigen::Index(i), 1)),
-                         std::size_t(m.triangles(Eigen::Index(i), 2)));
-  model->beginModel();
-  model->addSubModel(v, t);
-  model->endModel();
-  model->computeLocalAABB();
-  return model;
-}
-
-// Meshes get OBB nodes, or OBBRSS ones `for_distance`, which distance queries need.
 Geometry make_geometry(const Shape& s, bool for_distance = false) {
-  Geometry g;
-  switch (s.type) {
-    case ShapeType::Box: g = std::make_shared<fcl::Boxd>(s.size.x(), s.size.y(), s.size.z()); break;
-    case ShapeType::Cylinder: g = std::make_shared<fcl::Cylinderd>(s.size[0], s.size[1]); break;
-    case ShapeType::Sphere: g = std::make_shared<fcl::Sphered>(s.size[0]); break;
-    case ShapeType::Mesh:
-      return for_distance ? make_mesh<fcl::OBBRSSd>(s.mesh) : make_mesh<fcl::OBBd>(s.mesh);
-  }
-  g->computeLocalAABB();
-  return g;
+  return fcl_geometry(s, for_distance ? FclMeshNodes::Obbrss : FclMeshNodes::Obb);
 }
 
 // FCL's CollisionObject constructor recomputes its geometry's local AABB: a write to the geometry,
@@ -158,7 +133,7 @@ struct CollisionMesh::Impl {
 CollisionMesh::CollisionMesh(const TriMesh& mesh) {
   if (mesh.empty()) throw Error("CollisionMesh", "mesh", "empty");
   auto impl = std::make_shared<Impl>();
-  impl->geometry = make_mesh<fcl::OBBd>(mesh);
+  impl->geometry = fcl_mesh(mesh, FclMeshNodes::Obb);
   impl->parts.push_back({-1, impl->geometry, nullptr, Eigen::Isometry3d::Identity()});
   this->impl = impl;
 }
@@ -458,7 +433,7 @@ namespace {
 constexpr double kGapTolerance = 1e-4;
 }
 
-double ExactChecker::link_environment_gap(const std::vector<Eigen::Isometry3d>& poses, int link, std::uint64_t mask) const {
+double ExactChecker::link_environment_gap(const std::vector<Eigen::Isometry3d>& poses, int link) const {
   const Impl& impl = *impl_;
   if (!impl.env_primitives) return 0.0;
   const auto& env = *impl.env_objects;
@@ -469,7 +444,6 @@ double ExactChecker::link_environment_gap(const std::vector<Eigen::Isometry3d>& 
     if (impl.part_is_object[i] || p.link != link) continue;
     fcl::CollisionObjectd* obj = lease.place(i, poses[std::size_t(p.link)] * p.local);
     for (std::size_t k = 0; k < env.size() && gap > 0; ++k) {
-      if (mask != 0 && (k >= 64 || !(mask >> k & 1u))) continue;
       fcl::DistanceRequestd req;
       fcl::DistanceResultd res;
       fcl::distance(obj, env[k].get(), req, res);

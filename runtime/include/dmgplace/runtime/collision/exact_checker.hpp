@@ -72,10 +72,10 @@ class ExactChecker {
   // Smallest distance between two links' collision geometry at q (0 when they touch).
   double link_distance(const Eigen::VectorXd& q, int link_a, int link_b) const;
   // Exact clearances at `poses` for certificates (OBBRSS hierarchies, pooled objects): of `link`
-  // to the scene's shapes in `mask` (bit k: the k-th shape, scene order; 0: every shape), and
-  // between two links. A value <= 0 means touching or undecided: ask links_environment_free /
-  // link_pairs_free. The scene's shapes must be primitives (a mesh or the scan answers 0).
-  double link_environment_gap(const std::vector<Eigen::Isometry3d>& poses, int link, std::uint64_t mask) const;
+  // to every scene shape (a certificate must hold against all of them), and between two links.
+  // A value <= 0 means touching or undecided: ask links_environment_free / link_pairs_free. The
+  // scene's shapes must be primitives (a mesh or the scan answers 0).
+  double link_environment_gap(const std::vector<Eigen::Isometry3d>& poses, int link) const;
   double link_pair_gap(const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b) const;
   // Whether those gaps are cheap: every link shape and scene shape a box, cylinder or sphere (GJK
   // on primitives, a few microseconds). Against link meshes FCL's distance walks both hierarchies

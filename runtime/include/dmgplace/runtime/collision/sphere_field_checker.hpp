@@ -57,7 +57,7 @@ struct SphereCheck {
   // check_along() only. When free: q + t * direction is free for every t in [0, free_distance]
   // (the spheres cannot move farther than their clearance); 0 when nothing is certified. When
   // links or pairs are flagged (and nothing overflowed or was proven): the same for everything
-  // else, the flagged links and pairs left out, for the exact layer to certify (flagged_time).
+  // else, the flagged links and pairs left out, for the exact layer to certify (link_time, pair_time).
   double free_distance = 0;
   bool free() const { return environment_free && self_free; }
 };

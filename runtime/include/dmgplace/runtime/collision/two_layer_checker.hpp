@@ -86,8 +86,7 @@ class TwoLayerChecker {
     double t = std::numeric_limits<double>::infinity();
     for (int k = 0; k < f.env_link_count && t > 0; ++k) {
       const int link = f.env_links[std::size_t(k)];
-      // To every shape: a certificate must hold against the ones the spheres did not reach too.
-      t = std::min(t, fast_.link_time(poses, link, exact_.link_environment_gap(poses, link, 0), direction));
+      t = std::min(t, fast_.link_time(poses, link, exact_.link_environment_gap(poses, link), direction));
     }
     for (int k = 0; k < f.pair_count && t > 0; ++k) {
       const auto [a, b] = f.pairs[std::size_t(k)];
