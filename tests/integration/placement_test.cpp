@@ -4,11 +4,13 @@
 
 #include <memory>
 #include <random>
+#include <thread>
 
 #include "dmgplace/formats/environment_artifact.hpp"
 #include "dmgplace/formats/object_artifact.hpp"
 #include "dmgplace/formats/robot_artifact.hpp"
 #include "dmgplace/runtime/placement/placement_planner.hpp"
+#include "dmgplace/runtime/system/simd_dispatch.hpp"
 #include "placement_fixture.hpp"
 #include "run_cli.hpp"
 #include "test_support.hpp"
@@ -120,6 +122,36 @@ TEST_F(Placement, SameSeedOneThreadGivesIdenticalResults) {
   }
   EXPECT_EQ(a.counters.samples, b.counters.samples);
   EXPECT_EQ(a.counters.goals, b.counters.goals);
+}
+
+// One world, two synchronous queries at once (the embedding contract): each gets what it gets
+// alone, so nothing a query builds or caches is shared with the other.
+TEST_F(Placement, TwoQueriesAtOnceOnOneWorldGetWhatEachGetsAlone) {
+  const std::uint64_t seeds[2] = {11, 12};
+  auto run = [&](std::uint64_t seed) {
+    PlacementQuery qr = query(side_grasp());
+    qr.seed = seed;
+    return solve(qr, 150);
+  };
+  for (int round = 0; round < 4; ++round) {
+    // Both SIMD paths (a CPU without AVX2 runs the portable one).
+    force_simd_path(round % 2 ? SimdPath::Portable : SimdPath::Avx2);
+    PlacementResult alone[2], together[2];
+    for (int i = 0; i < 2; ++i) alone[i] = run(seeds[i]);
+    std::thread other([&] { together[1] = run(seeds[1]); });
+    together[0] = run(seeds[0]);
+    other.join();
+    for (int i = 0; i < 2; ++i) {
+      ASSERT_EQ(alone[i].improvements.size(), together[i].improvements.size()) << "seed " << seeds[i];
+      for (std::size_t k = 0; k < alone[i].improvements.size(); ++k) {
+        EXPECT_EQ(alone[i].improvements[k].objective, together[i].improvements[k].objective);
+        EXPECT_EQ(alone[i].improvements[k].path, together[i].improvements[k].path);
+      }
+      EXPECT_EQ(alone[i].counters.samples, together[i].counters.samples);
+      EXPECT_EQ(alone[i].counters.goals, together[i].counters.goals);
+    }
+  }
+  force_simd_path(SimdPath::Avx2);  // back to what the CPU has
 }
 
 TEST_F(Placement, ImpossibleQueriesEndWithAReason) {

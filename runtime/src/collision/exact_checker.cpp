@@ -26,7 +26,8 @@ Geometry make_geometry(const Shape& s, bool for_distance = false) {
 
 // FCL's CollisionObject constructor recomputes its geometry's local AABB: a write to the geometry,
 // which per-grasp checkers on every planner thread share (all BVHs are shared). Constructions are
-// serialised; nothing else writes to a geometry after it is built.
+// serialised, and only they read those bounds (PooledObject keeps its own copy): nothing else
+// writes to a geometry after it is built.
 std::mutex& fcl_object_mutex() {
   static std::mutex m;
   return m;
@@ -72,6 +73,32 @@ struct Part {
   Eigen::Isometry3d local;  // in the link frame
 };
 
+// FCL's CollisionObject constructor rewrites its geometry's local bounds (a mesh's radius passes
+// through 0 and its square on the way there), and CollisionObject::computeAABB() reads them. Every
+// query shares the geometry, and per-query checkers build objects while other queries run, so a
+// pooled object copies the bounds once, under fcl_object_mutex, and places its AABB from the copy:
+// no query reads a geometry's bounds while another thread may be writing them.
+class PooledObject : public fcl::CollisionObjectd {
+ public:
+  explicit PooledObject(const Geometry& g)
+      : fcl::CollisionObjectd(g), local_(g->aabb_local), center_(g->aabb_center), radius_(g->aabb_radius) {}
+  void place(const Eigen::Isometry3d& pose) {
+    setTransform(pose.linear(), pose.translation());
+    if (pose.linear().isIdentity()) {  // as computeAABB: the local box, moved
+      aabb = fcl::translate(local_, pose.translation());
+    } else {  // the bounding sphere's box
+      const Eigen::Vector3d c = pose * center_;
+      aabb.min_ = c.array() - radius_;
+      aabb.max_ = c.array() + radius_;
+    }
+  }
+
+ private:
+  fcl::AABBd local_;
+  Eigen::Vector3d center_;
+  double radius_;
+};
+
 // One CollisionObject per part, built once and reused: the constructor walks every vertex of a
 // mesh (FCL recomputes the local AABB), far more than the query itself near an obstacle. A query
 // leases a set, so concurrent queries never share one.
@@ -79,7 +106,7 @@ class ObjectPool {
  public:
   // `distance`: objects over the parts' distance geometry (OBBRSS), for gap queries.
   explicit ObjectPool(bool distance = false) : distance_(distance) {}
-  using Set = std::vector<std::unique_ptr<fcl::CollisionObjectd>>;
+  using Set = std::vector<std::unique_ptr<PooledObject>>;
   class Lease {
    public:
     Lease(ObjectPool& pool, const std::vector<Part>& parts) : pool_(&pool), set_(pool.acquire(parts)) {}
@@ -87,9 +114,8 @@ class ObjectPool {
     Lease(const Lease&) = delete;
     Lease& operator=(const Lease&) = delete;
     fcl::CollisionObjectd* place(std::size_t part, const Eigen::Isometry3d& pose) {
-      fcl::CollisionObjectd* o = (*set_)[part].get();
-      o->setTransform(pose.linear(), pose.translation());
-      o->computeAABB();
+      PooledObject* o = (*set_)[part].get();
+      o->place(pose);
       return o;
     }
 
@@ -111,7 +137,7 @@ class ObjectPool {
     auto s = std::make_unique<Set>();
     std::lock_guard<std::mutex> lock(fcl_object_mutex());
     for (const auto& p : parts)
-      s->push_back(std::make_unique<fcl::CollisionObjectd>(distance_ && p.distance ? p.distance->get() : p.geometry));
+      s->push_back(std::make_unique<PooledObject>(distance_ && p.distance ? p.distance->get() : p.geometry));
     return s;
   }
   void release(std::unique_ptr<Set> s) {

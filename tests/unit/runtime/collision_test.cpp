@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <random>
+#include <thread>
 
 #include "analytic_sdf.hpp"
 #include "dmgplace/formats/winding_number.hpp"
@@ -216,6 +218,45 @@ TEST(Collision, HomePoseIsFreeAndObstaclesAtTheHandAreCaught) {
   EXPECT_FALSE(exact2.is_free(home));
   EXPECT_FALSE(fast2.is_free(home));
   EXPECT_NE(exact2.check(home).contact.find("block"), std::string::npos);
+}
+
+// Per-query checkers build FCL objects over the world's shared meshes while other queries run,
+// and FCL's object constructor rewrites its geometry's bounds (a mesh's radius passes through 0
+// and its square). A rod whose only contact is at its far end is found every time, however many
+// checkers other threads build over the same mesh meanwhile.
+TEST(Collision, MeshChecksHoldWhileOtherThreadsBuildCheckersOverTheSameMesh) {
+  Arm arm = built_in_arm();
+  Kinematics kin(arm.model, "dmgarm_link0", "dmgarm_tcp");
+  Eigen::VectorXd home(7);
+  home << 0, -0.785, 0, -2.356, 0, 1.571, 0.785;
+  // A 1 m rod along x; many copies of its centre after the corners make FCL's bound loops long.
+  TriMesh rod = test::box_mesh({1.0, 0.02, 0.02});
+  const Eigen::Index corners = rod.vertices.rows();
+  rod.vertices.conservativeResize(corners + 200000, 3);
+  rod.vertices.bottomRows(200000).setZero();
+  const CollisionMesh mesh(rod);
+  // Turned (FCL then bounds it by its sphere), touching a block with its far end only.
+  const Eigen::Isometry3d pose(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()));
+  Scene scene;
+  scene.objects.push_back({"block", {box({0.04, 0.04, 0.04}, pose * Eigen::Vector3d(0.5, 0, 0))}});
+  const ExactChecker exact(kin, scene);
+  ASSERT_FALSE(exact.mesh_free(mesh, pose));
+  std::atomic<bool> done{false};
+  std::thread builders([&] {
+    for (int i = 0; i < 40; ++i) {
+      const ExactChecker held = exact.with_attached(mesh, kin.tip_link(), Eigen::Isometry3d::Identity(), {});
+      (void)held.is_free(home);  // its first query builds its objects, the rod's among them
+    }
+    done = true;
+  });
+  long checks = 0, missed = 0;
+  while (!done) {
+    ++checks;
+    missed += exact.mesh_free(mesh, pose);
+  }
+  builders.join();
+  EXPECT_EQ(missed, 0) << "of " << checks << " checks";
+  EXPECT_GT(checks, 0);
 }
 
 TEST(Collision, SelfCollisionRespectsAllowedPairs) {
