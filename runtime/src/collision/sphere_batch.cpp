@@ -116,17 +116,13 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
     }
     if (!alive) return 0;
   }
-  thread_local Eigen::VectorXd qk;
   for (const Pair& p : c.pairs_) {
     const Xyz &ca = centre[std::size_t(p.a)], &cb = centre[std::size_t(p.b)];
     std::uint32_t near = overlapping(ca, cb, p.reach) & alive;
     if (!near) continue;
     if (p.table >= 0)
       for (int k = 0; k < count; ++k)
-        if (near >> k & 1u) {
-          qk = Eigen::Map<const Eigen::VectorXd>(in[k], c.kin_->dof());
-          if ((*c.tables_)[std::size_t(p.table)].lower_bound(qk) - c.padding_ > 0) near &= ~(1u << k);
-        }
+        if ((near >> k & 1u) && (*c.tables_)[std::size_t(p.table)].lower_bound(in[k]) - c.padding_ > 0) near &= ~(1u << k);
     if (!near) continue;
     const Body &a = c.bodies_[std::size_t(p.a)], &b = c.bodies_[std::size_t(p.b)];
     spheres_of(std::size_t(p.a));

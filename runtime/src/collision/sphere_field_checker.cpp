@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "dmgplace/formats/error.hpp"
+#include "sphere_check_pass.hpp"
 
 namespace dmgplace::runtime {
 SphereFieldChecker::SphereFieldChecker(const Kinematics& kin, std::vector<formats::LinkSphere> spheres,
@@ -27,17 +28,6 @@ SphereFieldChecker::SphereFieldChecker(const Kinematics& kin, std::vector<format
   for (const auto& s : spheres_) inner->push_back(inner_radius(kin.model().links[std::size_t(s.link)].collision, s.center));
   inner_ = std::move(inner);
   build_bodies();
-}
-
-inline __attribute__((always_inline)) double SphereFieldChecker::coarse_lower_bound(const Eigen::Vector3d& p) const {
-  return coarse_ ? coarse_->lower_bound(p) : -1.0;
-}
-
-// The fine grid's bound at p from its nearest node: one load where a trilinear sample takes eight
-// (four cache lines), and on average tighter than the sample minus its worst-case interpolation
-// error (sqrt(3)/2 of a cell): the loss is |p - node| (about half a cell) plus or minus the slope.
-inline __attribute__((always_inline)) double SphereFieldChecker::fine_lower_bound(const Eigen::Vector3d& p) const {
-  return fine_->lower_bound(p);
 }
 
 void SphereFieldChecker::build_bodies() {
@@ -186,12 +176,6 @@ SphereFieldChecker SphereFieldChecker::with_kinematics(const Kinematics& kin) co
   return c;
 }
 
-namespace {
-// Below this field clearance (metres) a refined certificate also asks the exact primitives: the
-// node bound's loss is then a large share of the clearance (tried 0.02-0.2 m on MotionBenchMaker).
-constexpr double kExactBelow = 0.05;
-}
-
 const std::vector<Eigen::Isometry3d>& SphereFieldChecker::poses_at(const Eigen::VectorXd& q) const {
   thread_local std::vector<Eigen::Isometry3d> poses;
   if (tables_)  // start loading the table nodes while FK runs
@@ -215,256 +199,31 @@ SphereCheck SphereFieldChecker::check_along(const Eigen::VectorXd& q, const std:
   return evaluate(q, poses, &direction, enough);
 }
 
+SphereFieldChecker::Pass::Pass(const SphereFieldChecker& checker, const Eigen::VectorXd& q_, const std::vector<Eigen::Isometry3d>& poses_,
+                               const Eigen::VectorXd* dir_, double enough_)
+    : c(checker), q(q_), poses(poses_), dir(dir_), enough(enough_),
+      certify(dir_ && checker.certifiable_ && enough_ > 0),  // enough 0: the caller needs no certificate
+      s([]() -> Scratch& {
+        thread_local Scratch scratch;
+        return scratch;
+      }()) {
+  s.body_center.resize(c.bodies_.size());
+  s.world.resize(c.spheres_.size());
+  s.world_done.assign(c.bodies_.size(), 0);
+  if (certify) {
+    s.body_clear.assign(c.bodies_.size(), std::numeric_limits<double>::infinity());
+    s.body_flagged.assign(c.bodies_.size(), 0);
+  }
+  s.cands.clear();
+  out.min_clearance = c.band_;
+}
+
 SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses,
                                          const Eigen::VectorXd* dir, double enough) const {
   if (poses.size() != kin_->model().links.size()) throw Error("SphereFieldChecker", "link poses", "one pose per link expected");
-  thread_local std::vector<Eigen::Vector3d> body_center, world;
-  thread_local std::vector<char> world_done;
-  thread_local std::vector<double> body_clear;  // certified mode: each body's clearance
-  const bool certify = dir && certifiable_ && enough > 0;  // enough 0: the caller needs no certificate
-  body_center.resize(bodies_.size());
-  world.resize(spheres_.size());
-  world_done.assign(bodies_.size(), 0);
-  if (certify) body_clear.assign(bodies_.size(), std::numeric_limits<double>::infinity());
-  // World sphere centres of a body, computed at most once per query.
-  auto centres = [&](std::size_t bi) {
-    if (!world_done[bi]) {
-      const Body& b = bodies_[bi];
-      const Eigen::Isometry3d& T = poses[std::size_t(b.link)];
-      for (int i = b.begin; i < b.end; ++i) world[std::size_t(i)] = T * spheres_[std::size_t(i)].center;
-      world_done[bi] = 1;
-    }
-  };
-  SphereCheck out;
-  out.min_clearance = band_;
-  auto outside = [&](const Eigen::Vector3d& p) { return ((p - lo_).array() < 0).any() || ((hi_ - p).array() < 0).any(); };
-  thread_local std::vector<char> body_flagged;  // certified mode: left to the exact layer
-  if (certify) body_flagged.assign(bodies_.size(), 0);
-  auto cleared = [&](std::size_t bi, double clearance) {
-    out.min_clearance = std::min(out.min_clearance, clearance);
-    if (certify && !body_flagged[bi]) body_clear[bi] = std::min(body_clear[bi], clearance);
-  };
-  // All body centres first, their fine-grid nodes requested at once (most misses then overlap).
-  for (std::size_t bi = 0; bi < bodies_.size(); ++bi) {
-    body_center[bi] = poses[std::size_t(bodies_[bi].link)] * bodies_[bi].center;
-    if (bodies_[bi].moving || bodies_[bi].attached) fine_->prefetch(body_center[bi]);
-  }
-  for (std::size_t bi = 0; bi < bodies_.size(); ++bi) {
-    const Body& b = bodies_[bi];
-    if (!b.moving && !b.attached) continue;
-    if (!outside(body_center[bi])) {
-      const double dc = coarse_lower_bound(body_center[bi]) - b.radius - padding_;
-      if (dc >= 0) {
-        cleared(bi, dc);
-        continue;  // cleared from the coarse grid alone
-      }
-      const double d = fine_lower_bound(body_center[bi]) - b.radius - padding_;
-      if (d >= 0) {
-        cleared(bi, d);
-        continue;  // the whole body is clear
-      }
-    }
-    centres(bi);
-    for (int i = b.begin; i < b.end; ++i) fine_->prefetch(world[std::size_t(i)]);
-    // Keep going after a hit: every flagged link is listed, so the exact layer can check just those.
-    // With exact primitives every sphere of a flagged link is looked at, to name every primitive
-    // the link may touch; without, the first flagged sphere settles the link.
-    const bool masks = obstacles_ && obstacles_->all_have_bits() && !b.attached;
-    std::uint64_t mask = 0;
-    bool flagged = false;
-    for (int i = b.begin; i < b.end; ++i) {
-      const auto& s = spheres_[std::size_t(i)];
-      const Eigen::Vector3d& w = world[std::size_t(i)];
-      // Outside the grid nothing is known: "maybe in collision", for the exact layer to decide.
-      // (Band-clamped far cells are fine: clamping only lowers values, which stays conservative.)
-      const bool out_of_grid = outside(w);
-      if (!out_of_grid) {
-        const double coarse = coarse_lower_bound(w) - s.radius - padding_;
-        if (coarse >= 0) {
-          cleared(bi, coarse);
-          continue;
-        }
-      }
-      const double clearance = out_of_grid ? -1.0 : fine_lower_bound(w) - s.radius - padding_;
-      if (clearance >= 0) {
-        cleared(bi, clearance);
-        continue;
-      }
-      if (obstacles_) {  // exact, inside the grid or not
-        const double distance = obstacles_->distance(w);
-        const double exact = distance - s.radius - padding_;
-        if (exact >= 0) {
-          cleared(bi, exact);
-          continue;
-        }
-        if (inner(i) > 0 && distance < inner(i)) {  // part of the link's solid is inside an obstacle (0: unknown)
-          out.environment_free = false;
-          out.proven_collision = true;
-          return out;
-        }
-      }
-      if (!out_of_grid) out.min_clearance = std::min(out.min_clearance, clearance);
-      out.environment_free = false;
-      out.outside_grid |= out_of_grid && !obstacles_;
-      if (!flagged) {
-        flagged = true;
-        if (certify) {  // the exact layer certifies this link from its exact distance
-          body_flagged[bi] = 1;
-          body_clear[bi] = std::numeric_limits<double>::infinity();
-        }
-        if (b.attached) out.attached_near_env = true;
-        else if (out.env_link_count < SphereCheck::kMaxPairs) out.env_links[std::size_t(out.env_link_count++)] = b.link;
-        else out.env_overflow = true;
-      }
-      if (!masks) break;
-      mask |= obstacles_->touching(w, s.radius + padding_);
-    }
-    if (flagged && masks && !out.env_overflow && out.env_links[std::size_t(out.env_link_count - 1)] == b.link)
-      out.env_masks[std::size_t(out.env_link_count - 1)] = mask;
-  }
-  // Certified mode: every clearance (a body's to the scene, a pair's) is a candidate limit on the
-  // certificate, first over a cheap static speed (metres per unit of joint motion); the smallest
-  // candidates are refined below until the limit is final or the certificate long enough.
-  auto speed = [&](const std::vector<ChainJoint>& joints) {
-    double v = 0;
-    for (const auto& j : joints) v += std::abs((*dir)[j.slot]) * j.reach;
-    return v;
-  };
-  struct Candidate {
-    double t;          // how long `clearance` lasts, as far as known
-    double clearance;  // metres
-    std::size_t index; // body, or pair
-    bool pair;
-    bool fine;         // the clearance is already sphere by sphere
-    int level;         // 0 static speed, 1 local speed, 2 local speed and sphere clearances (final)
-    DisplacementBound speed;
-  };
-  thread_local std::vector<Candidate> cands;
-  cands.clear();
-  double free_distance = std::numeric_limits<double>::infinity();
-  // A clearance lasting past `enough` is not looked at closely (most pairs cost no sqrt): it only
-  // proves `enough`, which caps the certificate.
-  bool skipped = false;
-  for (std::size_t pi = 0; pi < pairs_.size(); ++pi) {
-    const Pair& p = pairs_[pi];
-    const double rb = p.reach;
-    const double d2 = (body_center[std::size_t(p.a)] - body_center[std::size_t(p.b)]).squaredNorm();
-    const double v = certify ? speed(pair_moves_[pi].a) + speed(pair_moves_[pi].b) : 0.0;
-    const bool certify_this = v > 0;  // (a pair the motion does not move relative needs nothing)
-    const double need = certify_this ? enough * v : 0.0;
-    if (d2 >= rb * rb) {
-      if (certify_this) {
-        if (d2 < (rb + need) * (rb + need)) {
-          const double gap = std::sqrt(d2) - rb;
-          cands.push_back({gap / v, gap, pi, true, false, 0, {}});
-        } else {
-          skipped = true;
-        }
-      }
-      continue;
-    }
-    const Body &a = bodies_[std::size_t(p.a)], &b = bodies_[std::size_t(p.b)];
-    if (p.table >= 0) {
-      const Table& t = (*tables_)[std::size_t(p.table)];
-      const double lb = t.lower_bound(q) - padding_;
-      if (lb > 0) {
-        if (certify_this) {
-          // Only the table's joints move the pair relative to each other, at most `slope` each.
-          double vt = t.data.slope[0] * std::abs((*dir)[t.slot[0]]);
-          if (t.slot[1] >= 0) vt += t.data.slope[1] * std::abs((*dir)[t.slot[1]]);
-          if (vt > 0) free_distance = std::min(free_distance, lb / vt);
-        }
-        continue;
-      }
-    }
-    centres(std::size_t(p.a));
-    centres(std::size_t(p.b));
-    bool hit = false;
-    double gap = std::numeric_limits<double>::infinity();
-    for (int i = a.begin; i < a.end && !hit; ++i) {
-      const Eigen::Vector3d& wa = world[std::size_t(i)];
-      const double ra = spheres_[std::size_t(i)].radius + padding_;
-      for (int j = b.begin; j < b.end; ++j) {
-        const double r = ra + spheres_[std::size_t(j)].radius;
-        const double s2 = (wa - world[std::size_t(j)]).squaredNorm();
-        if (s2 < r * r) {
-          // The two inner balls overlap: so do the solids (both must have a ball: 0 is unknown).
-          const double ia = inner(i), ib = inner(j), in = ia + ib;
-          if (ia > 0 && ib > 0 && s2 < in * in) {
-            out.self_free = false;
-            out.proven_collision = true;
-            return out;
-          }
-          hit = true;
-          break;
-        }
-        if (!certify_this) continue;
-        if (s2 < (r + need) * (r + need)) gap = std::min(gap, std::sqrt(s2) - r);
-        else skipped = true;
-      }
-    }
-    if (!hit) {
-      if (certify_this && std::isfinite(gap)) cands.push_back({gap / v, gap, pi, true, true, 0, {}});
-      continue;
-    }
-    out.self_free = false;
-    if (a.attached || b.attached) out.attached_involved = true;
-    if (out.pair_count == SphereCheck::kMaxPairs) {
-      out.pairs_overflow = true;
-      return out;
-    }
-    out.pairs[std::size_t(out.pair_count++)] = {a.link, b.link};
-  }
-  // Flagged links and pairs are left out: the exact layer certifies them (link_time, pair_time).
-  if (certify) {
-    for (std::size_t bi = 0; bi < bodies_.size(); ++bi)
-      if ((bodies_[bi].moving || bodies_[bi].attached) && std::isfinite(body_clear[bi])) {
-        const double v = speed(bodies_[bi].chain);
-        if (v > 0) cands.push_back({body_clear[bi] / v, body_clear[bi], bi, false, false, 0, {}});
-      }
-    const double limit = std::min(free_distance, enough);
-    while (!cands.empty()) {
-      auto c = std::min_element(cands.begin(), cands.end(), [](const Candidate& x, const Candidate& y) { return x.t < y.t; });
-      if (c->t >= limit || c->level == 2) break;
-      if (c->level == 0) {
-        c->speed = c->pair ? pair_speed(c->index, poses, body_center, *dir)
-                           : joint_speed(bodies_[c->index].chain, poses, body_center[c->index], bodies_[c->index].radius, *dir);
-        c->t = c->speed.time_to_move(c->clearance);
-        c->level = c->fine ? 2 : 1;
-        continue;
-      }
-      // Sphere by sphere (the bounding spheres, or the coarse grid, gave less).
-      double clearance = std::numeric_limits<double>::infinity();
-      if (c->pair) {
-        const Body &a = bodies_[std::size_t(pairs_[c->index].a)], &b = bodies_[std::size_t(pairs_[c->index].b)];
-        centres(std::size_t(pairs_[c->index].a));
-        centres(std::size_t(pairs_[c->index].b));
-        for (int i = a.begin; i < a.end; ++i)
-          for (int j = b.begin; j < b.end; ++j)
-            clearance = std::min(clearance, (world[std::size_t(i)] - world[std::size_t(j)]).norm() - spheres_[std::size_t(i)].radius -
-                                                spheres_[std::size_t(j)].radius - padding_);
-      } else {
-        const Body& b = bodies_[c->index];
-        centres(c->index);
-        for (int i = b.begin; i < b.end; ++i) fine_->prefetch(world[std::size_t(i)]);
-        for (int i = b.begin; i < b.end; ++i) {
-          const auto& sp = spheres_[std::size_t(i)];
-          const Eigen::Vector3d& w = world[std::size_t(i)];
-          double sc = std::max(coarse_lower_bound(w), fine_lower_bound(w)) - sp.radius - padding_;
-          // Near a surface the node bound's loss is most of the clearance: ask the exact shapes.
-          if (obstacles_ && sc < kExactBelow) sc = std::max(sc, obstacles_->distance(w) - sp.radius - padding_);
-          clearance = std::min(clearance, sc);
-        }
-      }
-      c->clearance = std::max(clearance, c->clearance);
-      c->t = c->speed.time_to_move(c->clearance);
-      c->level = 2;
-    }
-    for (const auto& c : cands) free_distance = std::min(free_distance, c.t);
-    if (skipped) free_distance = std::min(free_distance, enough);
-    out.free_distance = std::isfinite(free_distance) ? free_distance : 1e9;
-  }
-  return out;
+  Pass pass(*this, q, poses, dir, enough);
+  if (pass.environment() && pass.self_pairs() && pass.certify) pass.certificate();
+  return pass.out;
 }
 
 double SphereFieldChecker::link_time(const std::vector<Eigen::Isometry3d>& poses, int link, double gap,

@@ -148,15 +148,18 @@ class SphereFieldChecker {
     double inv_step[2] = {1, 1};
     std::vector<std::uint16_t> tenths_mm;
     explicit Table(const formats::SelfDistanceTable& t);
-    double lower_bound(const Eigen::VectorXd& q) const {
+    // q: the arm's joint values (only the table's two are read).
+    double lower_bound(const double* q) const {
       double loss = 0;
       const std::size_t index = node(q, &loss);
       return 1e-4 * double(tenths_mm[index]) - loss;
     }
+    double lower_bound(const Eigen::VectorXd& q) const { return lower_bound(q.data()); }
     // Start loading q's node before FK needs the cache (the lookup comes after it).
-    void prefetch(const Eigen::VectorXd& q) const { __builtin_prefetch(tenths_mm.data() + node(q, nullptr)); }
+    void prefetch(const double* q) const { __builtin_prefetch(tenths_mm.data() + node(q, nullptr)); }
+    void prefetch(const Eigen::VectorXd& q) const { prefetch(q.data()); }
     // Nearest node to q's table joints, clamped; `loss` (if given): the slope bound to get there.
-    std::size_t node(const Eigen::VectorXd& q, double* loss) const {
+    std::size_t node(const double* q, double* loss) const {
       std::size_t index = 0;
       for (int k = 0; k < 2; ++k) {
         const double x = slot[k] >= 0 ? q[slot[k]] : 0.0;
@@ -169,6 +172,7 @@ class SphereFieldChecker {
     }
   };
   void build_bodies();
+  struct Pass;  // one query's passes: environment, self pairs, certificate (src/collision/sphere_check_pass.hpp)
   SphereCheck evaluate(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses, const Eigen::VectorXd* direction,
                        double enough) const;
   const std::vector<Eigen::Isometry3d>& poses_at(const Eigen::VectorXd& q) const;  // thread-local FK

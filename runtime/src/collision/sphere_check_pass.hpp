@@ -1,0 +1,87 @@
+#pragma once
+// One SphereFieldChecker query (check, check_along) as three passes over per-thread scratch, one
+// file each: the environment (every body against the scene: sphere_environment_pass.cpp), the
+// self pairs (sphere_self_pass.cpp) and, for check_along, the certificate
+// (sphere_certificate_pass.cpp). The passes share the query's sphere centres, computed at most
+// once per body. Private to the runtime.
+#include <limits>
+#include <vector>
+
+#include "dmgplace/runtime/collision/sphere_field_checker.hpp"
+
+namespace dmgplace::runtime {
+
+inline __attribute__((always_inline)) double SphereFieldChecker::coarse_lower_bound(const Eigen::Vector3d& p) const {
+  return coarse_ ? coarse_->lower_bound(p) : -1.0;
+}
+
+// The fine grid's bound at p from its nearest node: one load where a trilinear sample takes eight
+// (four cache lines), and on average tighter than the sample minus its worst-case interpolation
+// error (sqrt(3)/2 of a cell): the loss is |p - node| (about half a cell) plus or minus the slope.
+inline __attribute__((always_inline)) double SphereFieldChecker::fine_lower_bound(const Eigen::Vector3d& p) const {
+  return fine_->lower_bound(p);
+}
+
+struct SphereFieldChecker::Pass {
+  // A clearance (a body's to the scene, a pair's gap) that limits the certificate, refined in
+  // levels until its limit is final or beyond what the caller needs.
+  struct Candidate {
+    double t;          // how long `clearance` lasts, as far as known
+    double clearance;  // metres
+    std::size_t index; // body, or pair
+    bool pair;
+    bool fine;         // the clearance is already sphere by sphere
+    int level;         // 0 static speed, 1 local speed, 2 local speed and sphere clearances (final)
+    DisplacementBound speed;
+  };
+  // Reused by every query of a thread (sized per query): no allocation once warm.
+  struct Scratch {
+    std::vector<Eigen::Vector3d> body_center, world;
+    std::vector<char> world_done;
+    std::vector<double> body_clear;   // certified mode: each body's clearance to the scene
+    std::vector<char> body_flagged;   // certified mode: left to the exact layer
+    std::vector<Candidate> cands;
+  };
+
+  Pass(const SphereFieldChecker& checker, const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses,
+       const Eigen::VectorXd* dir, double enough);
+
+  // Each returns false when the answer is final (a proven collision, or more pairs than fit).
+  bool environment();
+  bool self_pairs();
+  void certificate();  // out.free_distance
+
+  // World sphere centres of a body, computed at most once per query.
+  void centres(std::size_t bi) {
+    if (s.world_done[bi]) return;
+    const Body& b = c.bodies_[bi];
+    const Eigen::Isometry3d& T = poses[std::size_t(b.link)];
+    for (int i = b.begin; i < b.end; ++i) s.world[std::size_t(i)] = T * c.spheres_[std::size_t(i)].center;
+    s.world_done[bi] = 1;
+  }
+  void cleared(std::size_t bi, double clearance) {
+    out.min_clearance = std::min(out.min_clearance, clearance);
+    if (certify && !s.body_flagged[bi]) s.body_clear[bi] = std::min(s.body_clear[bi], clearance);
+  }
+  // A cheap static speed: metres per unit of joint motion along dir.
+  double speed(const std::vector<ChainJoint>& joints) const {
+    double v = 0;
+    for (const auto& j : joints) v += std::abs((*dir)[j.slot]) * j.reach;
+    return v;
+  }
+  bool outside(const Eigen::Vector3d& p) const { return ((p - c.lo_).array() < 0).any() || ((c.hi_ - p).array() < 0).any(); }
+
+  const SphereFieldChecker& c;
+  const Eigen::VectorXd& q;
+  const std::vector<Eigen::Isometry3d>& poses;
+  const Eigen::VectorXd* dir;
+  const double enough;
+  const bool certify;  // a certificate is asked for and can be had
+  Scratch& s;
+  SphereCheck out;
+  // The certificate's bound from pairs settled by their self-distance tables.
+  double table_limit = std::numeric_limits<double>::infinity();
+  bool skipped = false;  // a clearance lasted past `enough` unexamined: it caps the certificate
+};
+
+}  // namespace dmgplace::runtime

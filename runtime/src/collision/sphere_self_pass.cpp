@@ -1,0 +1,89 @@
+// SphereFieldChecker's self-pair pass (sphere_check_pass.hpp).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "sphere_check_pass.hpp"
+
+namespace dmgplace::runtime {
+
+// Every checked body pair: bounding spheres, then the pair's self-distance table, then sphere by
+// sphere (two inner balls overlapping prove a collision). Overlapping pairs are flagged for the
+// exact layer; in certified mode each gap becomes a candidate limit on the certificate.
+bool SphereFieldChecker::Pass::self_pairs() {
+  // A clearance lasting past `enough` is not looked at closely (most pairs cost no sqrt): it only
+  // proves `enough`, which caps the certificate.
+  for (std::size_t pi = 0; pi < c.pairs_.size(); ++pi) {
+    const Pair& p = c.pairs_[pi];
+    const double rb = p.reach;
+    const double d2 = (s.body_center[std::size_t(p.a)] - s.body_center[std::size_t(p.b)]).squaredNorm();
+    const double v = certify ? speed(c.pair_moves_[pi].a) + speed(c.pair_moves_[pi].b) : 0.0;
+    const bool certify_this = v > 0;  // (a pair the motion does not move relative needs nothing)
+    const double need = certify_this ? enough * v : 0.0;
+    if (d2 >= rb * rb) {
+      if (certify_this) {
+        if (d2 < (rb + need) * (rb + need)) {
+          const double gap = std::sqrt(d2) - rb;
+          s.cands.push_back({gap / v, gap, pi, true, false, 0, {}});
+        } else {
+          skipped = true;
+        }
+      }
+      continue;
+    }
+    const Body &a = c.bodies_[std::size_t(p.a)], &b = c.bodies_[std::size_t(p.b)];
+    if (p.table >= 0) {
+      const Table& t = (*c.tables_)[std::size_t(p.table)];
+      const double lb = t.lower_bound(q) - c.padding_;
+      if (lb > 0) {
+        if (certify_this) {
+          // Only the table's joints move the pair relative to each other, at most `slope` each.
+          double vt = t.data.slope[0] * std::abs((*dir)[t.slot[0]]);
+          if (t.slot[1] >= 0) vt += t.data.slope[1] * std::abs((*dir)[t.slot[1]]);
+          if (vt > 0) table_limit = std::min(table_limit, lb / vt);
+        }
+        continue;
+      }
+    }
+    centres(std::size_t(p.a));
+    centres(std::size_t(p.b));
+    bool hit = false;
+    double gap = std::numeric_limits<double>::infinity();
+    for (int i = a.begin; i < a.end && !hit; ++i) {
+      const Eigen::Vector3d& wa = s.world[std::size_t(i)];
+      const double ra = c.spheres_[std::size_t(i)].radius + c.padding_;
+      for (int j = b.begin; j < b.end; ++j) {
+        const double r = ra + c.spheres_[std::size_t(j)].radius;
+        const double s2 = (wa - s.world[std::size_t(j)]).squaredNorm();
+        if (s2 < r * r) {
+          // The two inner balls overlap: so do the solids (both must have a ball: 0 is unknown).
+          const double ia = c.inner(i), ib = c.inner(j), in = ia + ib;
+          if (ia > 0 && ib > 0 && s2 < in * in) {
+            out.self_free = false;
+            out.proven_collision = true;
+            return false;
+          }
+          hit = true;
+          break;
+        }
+        if (!certify_this) continue;
+        if (s2 < (r + need) * (r + need)) gap = std::min(gap, std::sqrt(s2) - r);
+        else skipped = true;
+      }
+    }
+    if (!hit) {
+      if (certify_this && std::isfinite(gap)) s.cands.push_back({gap / v, gap, pi, true, true, 0, {}});
+      continue;
+    }
+    out.self_free = false;
+    if (a.attached || b.attached) out.attached_involved = true;
+    if (out.pair_count == SphereCheck::kMaxPairs) {
+      out.pairs_overflow = true;
+      return false;
+    }
+    out.pairs[std::size_t(out.pair_count++)] = {a.link, b.link};
+  }
+  return true;
+}
+
+}  // namespace dmgplace::runtime
