@@ -42,6 +42,7 @@ struct SphereFieldChecker::Pass {
     std::vector<char> body_flagged;   // certified mode: left to the exact layer
     std::vector<Candidate> cands;
   };
+  static Scratch& thread_scratch();  // this thread's
 
   Pass(const SphereFieldChecker& checker, const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses,
        const Eigen::VectorXd* dir, double enough);

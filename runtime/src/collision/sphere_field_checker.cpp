@@ -199,14 +199,16 @@ SphereCheck SphereFieldChecker::check_along(const Eigen::VectorXd& q, const std:
   return evaluate(q, poses, &direction, enough);
 }
 
+SphereFieldChecker::Pass::Scratch& SphereFieldChecker::Pass::thread_scratch() {
+  thread_local Scratch scratch;
+  return scratch;
+}
+
 SphereFieldChecker::Pass::Pass(const SphereFieldChecker& checker, const Eigen::VectorXd& q_, const std::vector<Eigen::Isometry3d>& poses_,
                                const Eigen::VectorXd* dir_, double enough_)
     : c(checker), q(q_), poses(poses_), dir(dir_), enough(enough_),
       certify(dir_ && checker.certifiable_ && enough_ > 0),  // enough 0: the caller needs no certificate
-      s([]() -> Scratch& {
-        thread_local Scratch scratch;
-        return scratch;
-      }()) {
+      s(thread_scratch()) {
   s.body_center.resize(c.bodies_.size());
   s.world.resize(c.spheres_.size());
   s.world_done.assign(c.bodies_.size(), 0);
