@@ -121,6 +121,7 @@ RobotArtifact read_robot_unchecked(const std::filesystem::path& path) {
   m.arm_tip = r.attribute("", "arm_tip").value_or("");
   auto link_names = r.read_strings("links/names");
   for (auto& n : link_names) m.links.push_back({n, {}});
+  if (!r.has("links/collision/hull_ranges")) throw Error(r.file(), "links/collision/hull_ranges", "missing (convex hulls of mesh shapes)");
   for (auto& os : read_shapes(r, "links/collision")) {
     if (os.owner < 0 || std::size_t(os.owner) >= m.links.size())
       throw Error(r.file(), "links/collision/owner", "link index out of range");

@@ -1,6 +1,8 @@
 #include "dmgplace/formats/shape_table.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "dmgplace/formats/error.hpp"
 #include "format_util.hpp"
@@ -32,7 +34,8 @@ void write_shapes(H5Writer& w, const std::string& g, const std::vector<OwnedShap
   std::vector<double> size(3 * k), pose(7 * k);
   std::vector<std::int64_t> ranges(4 * k);
   std::vector<double> verts;
-  std::vector<std::int32_t> tris;
+  std::vector<std::int32_t> tris, hull;
+  std::vector<std::int64_t> hull_ranges(2 * k);
   for (std::size_t i = 0; i < k; ++i) {
     const Shape& s = shapes[i].shape;
     type[i] = int(s.type);
@@ -47,6 +50,10 @@ void write_shapes(H5Writer& w, const std::string& g, const std::vector<OwnedShap
       for (int c = 0; c < 3; ++c) verts.push_back(s.mesh.vertices(r, c));
     for (Eigen::Index r = 0; r < s.mesh.triangles.rows(); ++r)
       for (int c = 0; c < 3; ++c) tris.push_back(s.mesh.triangles(r, c));
+    hull_ranges[2 * i + 0] = std::int64_t(hull.size() / 3);
+    hull_ranges[2 * i + 1] = s.hull.rows();
+    for (Eigen::Index r = 0; r < s.hull.rows(); ++r)
+      for (int c = 0; c < 3; ++c) hull.push_back(s.hull(r, c));
   }
   w.write(g + "/type", std::span<const std::int32_t>(type), {k});
   w.write(g + "/owner", std::span<const std::int32_t>(owner), {k});
@@ -55,6 +62,8 @@ void write_shapes(H5Writer& w, const std::string& g, const std::vector<OwnedShap
   w.write(g + "/mesh_ranges", std::span<const std::int64_t>(ranges), {k, 4});
   w.write(g + "/mesh_vertices", std::span<const double>(verts), {verts.size() / 3, 3});
   w.write(g + "/mesh_triangles", std::span<const std::int32_t>(tris), {tris.size() / 3, 3});
+  w.write(g + "/hull_ranges", std::span<const std::int64_t>(hull_ranges), {k, 2});
+  w.write(g + "/hull_triangles", std::span<const std::int32_t>(hull), {hull.size() / 3, 3});
 }
 
 std::vector<OwnedShape> read_shapes(const H5Reader& r, const std::string& g) {
@@ -66,6 +75,10 @@ std::vector<OwnedShape> read_shapes(const H5Reader& r, const std::string& g) {
   auto ranges = r.read_i64(g + "/mesh_ranges", {k, 4});
   auto verts = r.read_f64(g + "/mesh_vertices", {-1, 3});
   auto tris = r.read_i32(g + "/mesh_triangles", {-1, 3});
+  // Hulls: optional (environment artifacts before they were written carry none).
+  const bool hulls = r.has(g + "/hull_ranges");
+  auto hull_ranges = hulls ? r.read_i64(g + "/hull_ranges", {k, 2}) : decltype(r.read_i64("", {})){};
+  auto hull = hulls ? r.read_i32(g + "/hull_triangles", {-1, 3}) : decltype(tris){};
   std::vector<OwnedShape> out(static_cast<std::size_t>(k));
   for (long i = 0; i < k; ++i) {
     auto& o = out[std::size_t(i)];
@@ -88,8 +101,41 @@ std::vector<OwnedShape> read_shapes(const H5Reader& r, const std::string& g) {
         if (idx < 0 || idx >= vn) throw Error(r.file(), el, "mesh triangle index out of range");
         o.shape.mesh.triangles(a, c) = idx;
       }
+    if (!hulls) continue;
+    const std::int64_t h0 = hull_ranges(i, 0), hn = hull_ranges(i, 1);
+    if (!detail::range_within(h0, hn, hull.rows())) throw Error(r.file(), el, "hull range outside the hull table");
+    o.shape.hull.resize(hn, 3);
+    for (std::int64_t a = 0; a < hn; ++a)  // indices are checked with the rest (hull_problem)
+      for (int c = 0; c < 3; ++c) o.shape.hull(a, c) = hull(std::size_t(h0 + a), c);
   }
   return out;
+}
+
+std::optional<std::string> hull_problem(const TriMesh& mesh, const RowMatrixX3i& hull) {
+  if (hull.rows() < 4) return "convex hull with fewer than 4 triangles";
+  if (hull.minCoeff() < 0 || hull.maxCoeff() >= mesh.vertices.rows()) return "convex hull triangle index out of range";
+  // A closed surface (each directed edge once, and its reverse once): the runtime takes the hull's
+  // vertices from its triangles, so a missing face could drop a vertex that matters.
+  std::vector<std::pair<int, int>> edges;
+  for (Eigen::Index f = 0; f < hull.rows(); ++f)
+    for (int k = 0; k < 3; ++k) edges.emplace_back(hull(f, k), hull(f, (k + 1) % 3));
+  std::sort(edges.begin(), edges.end());
+  if (std::adjacent_find(edges.begin(), edges.end()) != edges.end()) return "convex hull has a repeated edge (not a closed surface)";
+  for (auto [a, b] : edges)
+    if (!std::binary_search(edges.begin(), edges.end(), std::make_pair(b, a))) return "convex hull is not closed (an edge without its twin)";
+  // Every vertex on the inner side of every hull face: the gaps measured against the hull are
+  // then lower bounds of the mesh's. The tolerance covers rounding in the planes only.
+  const double tol = 1e-9 * std::max(1.0, mesh.vertices.cwiseAbs().maxCoeff());
+  for (Eigen::Index f = 0; f < hull.rows(); ++f) {
+    const Eigen::Vector3d a = mesh.vertices.row(hull(f, 0)), b = mesh.vertices.row(hull(f, 1)), c = mesh.vertices.row(hull(f, 2));
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    const double len = n.norm();
+    if (!(len > 0)) continue;  // a sliver: its neighbours bound the same side
+    const double worst = ((mesh.vertices.rowwise() - a.transpose()) * (n / len)).maxCoeff();
+    if (worst > tol)
+      return "mesh vertex " + std::to_string(worst) + " m outside convex hull face " + std::to_string(f) + " (not the mesh's hull)";
+  }
+  return std::nullopt;
 }
 
 std::vector<std::string> check_shapes(const std::vector<OwnedShape>& shapes, int owner_count, const std::string& where) {
@@ -117,6 +163,9 @@ std::vector<std::string> check_shapes(const std::vector<OwnedShape>& shapes, int
         if (!s.mesh.vertices.allFinite()) p.push_back(el + ": non-finite mesh vertex");
         else if (s.mesh.vertices.size() > 0 && s.mesh.vertices.cwiseAbs().maxCoeff() > kMaxGeometryExtent)
           p.push_back(el + ": mesh vertex beyond " + std::to_string(int(kMaxGeometryExtent)) + " m");
+        else if (s.hull.rows() > 0) {
+          if (auto why = hull_problem(s.mesh, s.hull)) p.push_back(el + ": " + *why);
+        }
         break;
     }
   }

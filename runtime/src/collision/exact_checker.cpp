@@ -1,5 +1,6 @@
 #include "dmgplace/runtime/collision/exact_checker.hpp"
 #include "dmgplace/runtime/collision/fcl_geometry.hpp"
+#include "dmgplace/runtime/geometry/convex_gap.hpp"
 
 #include "dmgplace/runtime/motion/segment_check.hpp"
 
@@ -71,6 +72,7 @@ struct Part {
   Geometry geometry;      // for collision queries
   std::shared_ptr<DistanceGeometry> distance;  // links only
   Eigen::Isometry3d local;  // in the link frame
+  std::shared_ptr<const ConvexSolid> convex;  // for gaps: the primitive, or a mesh's hull (null: none)
 };
 
 // FCL's CollisionObject constructor rewrites its geometry's local bounds (a mesh's radius passes
@@ -104,8 +106,6 @@ class PooledObject : public fcl::CollisionObjectd {
 // leases a set, so concurrent queries never share one.
 class ObjectPool {
  public:
-  // `distance`: objects over the parts' distance geometry (OBBRSS), for gap queries.
-  explicit ObjectPool(bool distance = false) : distance_(distance) {}
   using Set = std::vector<std::unique_ptr<PooledObject>>;
   class Lease {
    public:
@@ -137,14 +137,13 @@ class ObjectPool {
     auto s = std::make_unique<Set>();
     std::lock_guard<std::mutex> lock(fcl_object_mutex());
     for (const auto& p : parts)
-      s->push_back(std::make_unique<PooledObject>(distance_ && p.distance ? p.distance->get() : p.geometry));
+      s->push_back(std::make_unique<PooledObject>(p.geometry));
     return s;
   }
   void release(std::unique_ptr<Set> s) {
     std::lock_guard<std::mutex> lock(mutex_);
     free_.push_back(std::move(s));
   }
-  bool distance_;
   std::mutex mutex_;
   std::vector<std::unique_ptr<Set>> free_;
 };
@@ -160,7 +159,7 @@ CollisionMesh::CollisionMesh(const TriMesh& mesh) {
   if (mesh.empty()) throw Error("CollisionMesh", "mesh", "empty");
   auto impl = std::make_shared<Impl>();
   impl->geometry = fcl_mesh(mesh, FclMeshNodes::Obb);
-  impl->parts.push_back({-1, impl->geometry, nullptr, Eigen::Isometry3d::Identity()});
+  impl->parts.push_back({-1, impl->geometry, nullptr, Eigen::Isometry3d::Identity(), nullptr});
   this->impl = impl;
 }
 
@@ -176,8 +175,9 @@ struct ExactChecker::Impl {
   std::shared_ptr<fcl::DynamicAABBTreeCollisionManagerd> env;
   std::vector<int> touching;  // links the attached object may touch
   std::shared_ptr<ObjectPool> pool = std::make_shared<ObjectPool>();  // per parts list, never copied
-  std::shared_ptr<ObjectPool> gap_pool = std::make_shared<ObjectPool>(true);  // the same, for gaps
   bool env_primitives = true;  // every scene shape is a box, cylinder or sphere
+  // The scene's primitives as convex solids with their poses, for gaps (when env_primitives).
+  std::shared_ptr<std::vector<std::pair<ConvexSolid, Eigen::Isometry3d>>> env_convex;
 };
 
 namespace {
@@ -233,7 +233,9 @@ ExactChecker::ExactChecker(const Kinematics& kin, const Scene& env, double scan_
     impl->link_names.push_back(m.links[l].name);
     for (const auto& s : m.links[l].collision) {
       Geometry g = make_geometry(s);
-      impl->parts.push_back({int(l), g, std::make_shared<DistanceGeometry>(s, g), s.origin});
+      std::shared_ptr<const ConvexSolid> convex;
+      if (auto c = ConvexSolid::of(s)) convex = std::make_shared<const ConvexSolid>(std::move(*c));
+      impl->parts.push_back({int(l), g, std::make_shared<DistanceGeometry>(s, g), s.origin, std::move(convex)});
       impl->part_is_object.push_back(0);
     }
   }
@@ -241,9 +243,11 @@ ExactChecker::ExactChecker(const Kinematics& kin, const Scene& env, double scan_
   impl->env_objects = std::make_shared<std::vector<std::unique_ptr<fcl::CollisionObjectd>>>();
   impl->env_names = std::make_shared<std::vector<std::string>>();
   impl->env = std::make_shared<fcl::DynamicAABBTreeCollisionManagerd>();
+  impl->env_convex = std::make_shared<std::vector<std::pair<ConvexSolid, Eigen::Isometry3d>>>();
   for (const auto& o : env.objects)
     for (const auto& s : o.shapes) {
       impl->env_primitives &= s.type != ShapeType::Mesh;
+      if (s.type != ShapeType::Mesh) impl->env_convex->emplace_back(*ConvexSolid::of(s), s.origin);
       impl->env_names->push_back(o.name);
       auto obj = std::make_unique<fcl::CollisionObjectd>(make_geometry(s), s.origin.linear(), s.origin.translation());
       obj->setUserData(reinterpret_cast<void*>(impl->env_names->size()));  // 1-based name index
@@ -281,10 +285,9 @@ ExactChecker ExactChecker::with_attached(const CollisionMesh& object, int link, 
   if (link < 0 || std::size_t(link) >= kin_->model().links.size())
     throw Error("ExactChecker", "attached object", "link index out of range");
   auto impl = std::make_shared<Impl>(*impl_);  // shares the environment and geometry (shared_ptrs)
-  impl->parts.push_back({link, object.impl->geometry, nullptr, object_in_link});
+  impl->parts.push_back({link, object.impl->geometry, nullptr, object_in_link, nullptr});
   impl->part_is_object.push_back(1);
   impl->pool = std::make_shared<ObjectPool>();  // sets hold one object per part: a new list, a new pool
-  impl->gap_pool = std::make_shared<ObjectPool>(true);
   impl->touching = std::move(touching_links);
   build_self_pairs(*impl, *kin_);
   ExactChecker c(*this);
@@ -454,26 +457,31 @@ double ExactChecker::link_distance(const Eigen::VectorXd& q, int link_a, int lin
 }
 
 namespace {
-// FCL's mesh-versus-primitive distances come from GJK with a 1e-6 tolerance: a gap counts only
-// beyond a margin a hundred times that.
+// convex_gap's bound is rigorous up to rounding; a gap counts only beyond 0.1 mm, so what it
+// certifies stays clear of the exact layer's own contact tolerance too.
 constexpr double kGapTolerance = 1e-4;
 }
 
 double ExactChecker::link_environment_gap(const std::vector<Eigen::Isometry3d>& poses, int link) const {
   const Impl& impl = *impl_;
   if (!impl.env_primitives) return 0.0;
-  const auto& env = *impl.env_objects;
-  ObjectPool::Lease lease(*impl.gap_pool, impl.parts);
+  const auto& env = *impl.env_convex;
   double gap = std::numeric_limits<double>::infinity();
+  // Nearest bounding balls first: a solid whose ball is farther than the gap so far cannot lower it.
+  thread_local std::vector<std::pair<double, std::size_t>> order;
   for (std::size_t i = 0; i < impl.parts.size() && gap > 0; ++i) {
     const Part& p = impl.parts[i];
     if (impl.part_is_object[i] || p.link != link) continue;
-    fcl::CollisionObjectd* obj = lease.place(i, poses[std::size_t(p.link)] * p.local);
-    for (std::size_t k = 0; k < env.size() && gap > 0; ++k) {
-      fcl::DistanceRequestd req;
-      fcl::DistanceResultd res;
-      fcl::distance(obj, env[k].get(), req, res);
-      gap = std::min(gap, res.min_distance - kGapTolerance);
+    if (!p.convex) return 0.0;
+    const Eigen::Isometry3d pose = poses[std::size_t(p.link)] * p.local;
+    const Eigen::Vector3d c = pose * p.convex->centre();
+    order.clear();
+    for (std::size_t k = 0; k < env.size(); ++k)
+      order.emplace_back((c - env[k].second * env[k].first.centre()).norm() - p.convex->radius() - env[k].first.radius(), k);
+    std::sort(order.begin(), order.end());
+    for (const auto& [ball_gap, k] : order) {
+      if (ball_gap >= gap || gap <= 0) break;
+      gap = std::min(gap, convex_gap(*p.convex, pose, env[k].first, env[k].second) - kGapTolerance);
     }
   }
   return gap;
@@ -481,25 +489,24 @@ double ExactChecker::link_environment_gap(const std::vector<Eigen::Isometry3d>& 
 
 bool ExactChecker::gaps_are_cheap() const {
   if (!impl_->env_primitives) return false;
-  for (std::size_t l = 0; l < kin_->model().links.size(); ++l)
-    for (const Shape& s : kin_->model().links[l].collision)
-      if (s.type == ShapeType::Mesh) return false;
+  for (std::size_t i = 0; i < impl_->parts.size(); ++i)
+    if (!impl_->part_is_object[i] && !impl_->parts[i].convex) return false;
   return true;
 }
 
 double ExactChecker::link_pair_gap(const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b) const {
   const Impl& impl = *impl_;
-  ObjectPool::Lease lease(*impl.gap_pool, impl.parts);
   double gap = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < impl.parts.size() && gap > 0; ++i) {
-    if (impl.part_is_object[i] || impl.parts[i].link != link_a) continue;
+    const Part& pa = impl.parts[i];
+    if (impl.part_is_object[i] || pa.link != link_a) continue;
+    if (!pa.convex) return 0.0;
     for (std::size_t j = 0; j < impl.parts.size() && gap > 0; ++j) {
-      if (impl.part_is_object[j] || impl.parts[j].link != link_b) continue;
-      fcl::DistanceRequestd req;
-      fcl::DistanceResultd res;
-      fcl::distance(lease.place(i, poses[std::size_t(link_a)] * impl.parts[i].local),
-                    lease.place(j, poses[std::size_t(link_b)] * impl.parts[j].local), req, res);
-      gap = std::min(gap, res.min_distance - kGapTolerance);
+      const Part& pb = impl.parts[j];
+      if (impl.part_is_object[j] || pb.link != link_b) continue;
+      if (!pb.convex) return 0.0;
+      gap = std::min(gap, convex_gap(*pa.convex, poses[std::size_t(link_a)] * pa.local, *pb.convex,
+                                     poses[std::size_t(link_b)] * pb.local) - kGapTolerance);
     }
   }
   return gap;

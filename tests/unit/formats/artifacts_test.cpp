@@ -49,6 +49,7 @@ RobotArtifact sample_robot() {
   mesh.type = ShapeType::Mesh;
   mesh.size = Eigen::Vector3d::Ones();
   mesh.mesh = unit_cube();
+  mesh.hull = mesh.mesh.triangles;  // a cube is its own hull
   m.links[2].collision.push_back(mesh);
   Joint j1;
   j1.name = "j1"; j1.type = JointType::Revolute; j1.parent = 0; j1.child = 1;
@@ -140,6 +141,7 @@ TEST(RobotArtifact, RoundTripKeepsTreeShapesAndPairs) {
   EXPECT_DOUBLE_EQ(m.joints[1].mimic_multiplier, 0.5);
   EXPECT_TRUE(m.joints[0].origin.isApprox(sample_robot().model.joints[0].origin));
   EXPECT_EQ(m.links[2].collision.at(0).mesh.triangles, unit_cube().triangles);
+  EXPECT_EQ(m.links[2].collision.at(0).hull, unit_cube().triangles);
   EXPECT_EQ(m.links[1].collision.at(0).size, Eigen::Vector3d(0.1, 0.1, 0.3));
   EXPECT_EQ(m.allowed_pairs, (std::vector<std::pair<int, int>>{{0, 1}}));
   EXPECT_EQ(m.arm_tip, "tip");
@@ -383,6 +385,27 @@ TEST(LoadGate, RobotsThatValidateRejectsAreNotLoaded) {
   auto far = sample_robot();
   far.model.links[1].collision[0].size.x() = 1e9;  // a 1e9 m box: bake-robot ran out of memory on it
   expect_robot_refused(far, "beyond");
+}
+
+// The exact layer measures gaps against a link mesh's stored hull: one that leaves a vertex out,
+// is open, or points a face inwards would make those gaps too large.
+TEST(LoadGate, HullsThatDoNotContainTheirMeshAreRefused) {
+  auto outside = sample_robot();
+  TriMesh& mesh = outside.model.links[2].collision[0].mesh;
+  mesh.vertices.conservativeResize(mesh.vertices.rows() + 1, 3);
+  mesh.vertices.row(mesh.vertices.rows() - 1) = Eigen::RowVector3d(2, 0.5, 0.5);  // beyond the cube
+  expect_robot_refused(outside, "outside convex hull face");
+  auto open = sample_robot();
+  RowMatrixX3i& hull = open.model.links[2].collision[0].hull;
+  hull.conservativeResize(hull.rows() - 1, 3);
+  expect_robot_refused(open, "not closed");
+  auto inward = sample_robot();
+  RowMatrixX3i& flipped = inward.model.links[2].collision[0].hull;
+  for (Eigen::Index f = 0; f < flipped.rows(); ++f) std::swap(flipped(f, 1), flipped(f, 2));
+  expect_robot_refused(inward, "outside convex hull face");
+  auto index = sample_robot();
+  index.model.links[2].collision[0].hull(0, 0) = 99;
+  expect_robot_refused(index, "hull triangle index out of range");
 }
 
 TEST(LoadGate, EnvironmentsThatValidateRejectsAreNotLoaded) {

@@ -1,4 +1,5 @@
 #include "dmgplace/tools/io/urdf_reader.hpp"
+#include "dmgplace/tools/geometry/convex_hull.hpp"
 
 #include <console_bridge/console.h>
 #include <tinyxml2.h>
@@ -97,6 +98,7 @@ Shape convert_geometry(const urdf::Geometry& g, const std::string& file, const s
       } catch (const Error& e) {
         throw Error(file, where, e.what());
       }
+      s.hull = convex_hull_triangles(s.mesh);
       return s;
     }
   }

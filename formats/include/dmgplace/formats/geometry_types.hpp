@@ -29,6 +29,10 @@ struct Shape {
   // Mesh: scale x, y, z (already applied to `mesh`; kept for the record).
   Eigen::Vector3d size = Eigen::Vector3d::Zero();
   TriMesh mesh;  // only for ShapeType::Mesh
+  // Mesh: its convex hull as triangles over mesh.vertices (outward, counter-clockwise seen from
+  // outside); empty where not computed. The exact layer measures gaps against it: a lower bound
+  // of the mesh's own gap, at GJK's cost instead of a mesh hierarchy's.
+  RowMatrixX3i hull;
   Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
 };
 

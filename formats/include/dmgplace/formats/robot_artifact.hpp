@@ -14,7 +14,7 @@
 namespace dmgplace::formats {
 
 inline constexpr const char* kRobotSchema = "dmgplace.robot";
-inline constexpr int kRobotSchemaVersion = 3;  // 3: self-distance tables
+inline constexpr int kRobotSchemaVersion = 4;  // 3: self-distance tables; 4: convex hulls of mesh shapes
 
 // One sphere of the fast collision model, in its link's frame.
 struct LinkSphere {

@@ -1,6 +1,7 @@
 #pragma once
 // Stores a list of collision shapes (primitives and meshes) as flat tables under one group;
 // shared by the environment and robot artifacts.
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -20,6 +21,8 @@ void write_shapes(H5Writer& w, const std::string& group, const std::vector<Owned
 std::vector<OwnedShape> read_shapes(const H5Reader& r, const std::string& group);
 // Semantic problems (sizes, poses, mesh ranges, owners in [0, owner_count)).
 std::vector<std::string> check_shapes(const std::vector<OwnedShape>& shapes, int owner_count, const std::string& where);
+// Why `hull` is not a closed, outward surface over mesh vertices with every vertex inside it.
+std::optional<std::string> hull_problem(const TriMesh& mesh, const RowMatrixX3i& hull);
 
 // Pose <-> [x y z qx qy qz qw].
 void pose_to_array(const Eigen::Isometry3d& pose, double* out7);

@@ -71,15 +71,16 @@ class ExactChecker {
   std::vector<std::pair<int, int>> colliding_link_pairs(const std::vector<Eigen::Isometry3d>& poses) const;
   // Smallest distance between two links' collision geometry at q (0 when they touch).
   double link_distance(const Eigen::VectorXd& q, int link_a, int link_b) const;
-  // Exact clearances at `poses` for certificates (OBBRSS hierarchies, pooled objects): of `link`
-  // to every scene shape (a certificate must hold against all of them), and between two links.
-  // A value <= 0 means touching or undecided: ask links_environment_free / link_pairs_free. The
-  // scene's shapes must be primitives (a mesh or the scan answers 0).
+  // Proven clearances at `poses` for certificates (convex_gap: GJK's dual bound on primitives and
+  // on link meshes' convex hulls, Shape::hull): of `link` to every scene shape (a certificate must
+  // hold against all of them), and between two links. Lower bounds of the true clearances; a value
+  // <= 0 means touching or undecided (a hull can touch where its mesh does not): ask
+  // links_environment_free / link_pairs_free. The scene's shapes must be primitives (a mesh or
+  // the scan answers 0), and a link mesh needs its hull (0 without).
   double link_environment_gap(const std::vector<Eigen::Isometry3d>& poses, int link) const;
   double link_pair_gap(const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b) const;
-  // Whether those gaps are cheap: every link shape and scene shape a box, cylinder or sphere (GJK
-  // on primitives, a few microseconds). Against link meshes FCL's distance walks both hierarchies
-  // and costs more than the certificates save (docs/motion.md).
+  // Whether those gaps can be had: the scene all primitives, every link shape a primitive or a mesh
+  // with its hull.
   bool gaps_are_cheap() const;
 
   // Exact checks of a and of the segment to b at the states segment_valid (segment_check.hpp) visits.

@@ -1,0 +1,46 @@
+#pragma once
+// Gaps between convex solids given by their support functions (boxes, cylinders, spheres, the hull
+// of a point set), by GJK. The answer is GJK's dual bound: for the direction v of any iterate,
+// every point of A - B lies at least v.w / |v| along v, w being A - B's support point against v.
+// That bound is rigorous whatever the simplex arithmetic does (it needs only exact supports), so
+// a positive answer proves the solids apart by at least that much.
+#include <optional>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "dmgplace/formats/geometry_types.hpp"
+
+namespace dmgplace::runtime {
+
+class ConvexSolid {
+ public:
+  static ConvexSolid box(const Eigen::Vector3d& half_extents);
+  static ConvexSolid cylinder(double radius, double half_length);  // along local z, centred
+  static ConvexSolid sphere(double radius);
+  static ConvexSolid hull(const std::vector<Eigen::Vector3d>& points);  // at least one point
+  // A shape in its own frame (Shape::origin not applied): a mesh through its hull's vertices;
+  // nothing for a mesh without a hull.
+  static std::optional<ConvexSolid> of(const Shape& shape);
+
+  // The solid's farthest point along d (local frame; d need not be unit).
+  Eigen::Vector3d support(const Eigen::Vector3d& d) const;
+  // A ball around the solid (local frame): the broad phase.
+  const Eigen::Vector3d& centre() const { return centre_; }
+  double radius() const { return radius_; }
+
+ private:
+  enum class Kind { Box, Cylinder, Sphere, Hull } kind_ = Kind::Sphere;
+  Eigen::Vector3d size_ = Eigen::Vector3d::Zero();  // box: half extents; cylinder: radius, half length
+  std::vector<double> x_, y_, z_;                   // hull vertices
+  Eigen::Vector3d centre_ = Eigen::Vector3d::Zero();
+  double radius_ = 0;
+};
+
+// A lower bound on the distance between a (placed by ta) and b (placed by tb): never above the
+// true distance; <= 0 when no gap is proven (touching, overlapping, or too close to tell).
+// Iterates until the bound is within `tolerance` of GJK's upper estimate.
+double convex_gap(const ConvexSolid& a, const Eigen::Isometry3d& ta, const ConvexSolid& b, const Eigen::Isometry3d& tb,
+                  double tolerance = 1e-5);
+
+}  // namespace dmgplace::runtime

@@ -1,0 +1,84 @@
+// convex_gap against FCL's own distances: a lower bound always, and a tight one.
+#include <gtest/gtest.h>
+
+#include <fcl/fcl.h>
+
+#include <random>
+
+#include "dmgplace/runtime/geometry/convex_gap.hpp"
+
+using namespace dmgplace;
+
+namespace {
+Eigen::Isometry3d random_pose(std::mt19937_64& rng, double spread) {
+  std::normal_distribution<double> g(0, 1);
+  std::uniform_real_distribution<double> u(-spread, spread);
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized().toRotationMatrix();
+  t.translation() = Eigen::Vector3d(u(rng), u(rng), u(rng));
+  return t;
+}
+
+struct Solid {
+  runtime::ConvexSolid convex;
+  std::shared_ptr<fcl::CollisionGeometryd> fcl;
+};
+
+Solid random_solid(std::mt19937_64& rng, int kind) {
+  std::uniform_real_distribution<double> s(0.02, 0.3);
+  const double a = s(rng), b = s(rng), c = s(rng);
+  switch (kind) {
+    case 0: return {runtime::ConvexSolid::box(Eigen::Vector3d(a, b, c) / 2), std::make_shared<fcl::Boxd>(a, b, c)};
+    case 1: return {runtime::ConvexSolid::cylinder(a, b / 2), std::make_shared<fcl::Cylinderd>(a, b)};
+    default: return {runtime::ConvexSolid::sphere(a), std::make_shared<fcl::Sphered>(a)};
+  }
+}
+}  // namespace
+
+TEST(ConvexGap, NeverAboveFclsDistanceAndCloseToItWhenApart) {
+  std::mt19937_64 rng(7);
+  int apart = 0, touching = 0;
+  for (int n = 0; n < 6000; ++n) {
+    const Solid a = random_solid(rng, n % 3), b = random_solid(rng, (n / 3) % 3);
+    const Eigen::Isometry3d ta = random_pose(rng, 0.4), tb = random_pose(rng, 0.4);
+    fcl::CollisionObjectd oa(a.fcl, ta.linear(), ta.translation()), ob(b.fcl, tb.linear(), tb.translation());
+    fcl::CollisionRequestd creq;
+    fcl::CollisionResultd cres;
+    const double gap = runtime::convex_gap(a.convex, ta, b.convex, tb, 1e-7);
+    if (fcl::collide(&oa, &ob, creq, cres) > 0) {
+      ASSERT_LE(gap, 1e-9) << "case " << n << ": a gap between touching solids";
+      ++touching;
+      continue;
+    }
+    fcl::DistanceRequestd dreq;
+    dreq.gjk_solver_type = fcl::GST_INDEP;
+    dreq.distance_tolerance = 1e-8;
+    fcl::DistanceResultd dres;
+    fcl::distance(&oa, &ob, dreq, dres);
+    ASSERT_LE(gap, dres.min_distance + 1e-6) << "case " << n;
+    if (dres.min_distance > 1e-3) {
+      EXPECT_GT(gap, dres.min_distance - 1e-4) << "case " << n << " kinds " << n % 3 << (n / 3) % 3 << ": a loose bound";
+      ++apart;
+    }
+  }
+  EXPECT_GT(apart, 1000);
+  EXPECT_GT(touching, 500);
+}
+
+// A box given by its eight corners is the same solid as the box: the hull path and the primitive
+// path agree, and a hull's support is its farthest vertex.
+TEST(ConvexGap, HullOfABoxsCornersMeasuresAsTheBox) {
+  std::mt19937_64 rng(11);
+  const Eigen::Vector3d half(0.1, 0.05, 0.2);
+  std::vector<Eigen::Vector3d> corners;
+  for (int i = 0; i < 8; ++i) corners.emplace_back(i & 1 ? half.x() : -half.x(), i & 2 ? half.y() : -half.y(), i & 4 ? half.z() : -half.z());
+  corners.push_back(Eigen::Vector3d::Zero());  // an inner point changes nothing
+  const auto hull = runtime::ConvexSolid::hull(corners), box = runtime::ConvexSolid::box(half);
+  const auto other = runtime::ConvexSolid::cylinder(0.05, 0.1);
+  for (int n = 0; n < 2000; ++n) {
+    const Eigen::Isometry3d ta = random_pose(rng, 0.5), tb = random_pose(rng, 0.5);
+    EXPECT_NEAR(runtime::convex_gap(hull, ta, other, tb, 1e-8), runtime::convex_gap(box, ta, other, tb, 1e-8), 1e-5) << n;
+    const Eigen::Vector3d d = random_pose(rng, 1).translation();
+    EXPECT_NEAR(hull.support(d).dot(d), box.support(d).dot(d), 1e-12);
+  }
+}
