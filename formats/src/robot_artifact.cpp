@@ -257,15 +257,23 @@ std::vector<std::string> check_robot(const RobotArtifact& a) {
 
 Summary summarize_robot(const RobotArtifact& a) {
   const RobotModel& m = a.model;
-  int moving = 0, shapes = 0;
+  int moving = 0, shapes = 0, meshes = 0, hulls = 0;
   for (const auto& j : m.joints) moving += j.type != JointType::Fixed && j.mimic < 0;
-  for (const auto& l : m.links) shapes += int(l.collision.size());
+  for (const auto& l : m.links) {
+    shapes += int(l.collision.size());
+    for (const auto& c : l.collision) {
+      meshes += c.type == ShapeType::Mesh;
+      hulls += c.type == ShapeType::Mesh && c.hull.rows() > 0;
+    }
+  }
   Summary s;
   s.emplace_back("robot", m.name);
   s.emplace_back("links", std::to_string(m.links.size()));
   s.emplace_back("joints", std::to_string(m.joints.size()));
   s.emplace_back("independent_joints", std::to_string(moving));
   s.emplace_back("collision_shapes", std::to_string(shapes));
+  // Meshes with a hull: the exact layer's gaps (certificates near the scene) need every one.
+  s.emplace_back("mesh_hulls", std::to_string(hulls) + " of " + std::to_string(meshes) + " meshes");
   s.emplace_back("allowed_pairs", std::to_string(m.allowed_pairs.size()));
   s.emplace_back("spheres", std::to_string(a.spheres.size()));
   std::string tables = std::to_string(a.self_tables.size());
