@@ -126,15 +126,18 @@ std::optional<std::string> hull_problem(const TriMesh& mesh, const RowMatrixX3i&
   // Every vertex on the inner side of every hull face: the gaps measured against the hull are
   // then lower bounds of the mesh's. The tolerance covers rounding in the planes only.
   const double tol = 1e-9 * std::max(1.0, mesh.vertices.cwiseAbs().maxCoeff());
+  int faces = 0;  // with an area: a solid has at least four
   for (Eigen::Index f = 0; f < hull.rows(); ++f) {
     const Eigen::Vector3d a = mesh.vertices.row(hull(f, 0)), b = mesh.vertices.row(hull(f, 1)), c = mesh.vertices.row(hull(f, 2));
     const Eigen::Vector3d n = (b - a).cross(c - a);
     const double len = n.norm();
     if (!(len > 0)) continue;  // a sliver: its neighbours bound the same side
+    ++faces;
     const double worst = ((mesh.vertices.rowwise() - a.transpose()) * (n / len)).maxCoeff();
     if (worst > tol)
       return "mesh vertex " + std::to_string(worst) + " m outside convex hull face " + std::to_string(f) + " (not the mesh's hull)";
   }
+  if (faces < 4) return "convex hull with fewer than 4 faces of non-zero area (no volume)";
   return std::nullopt;
 }
 

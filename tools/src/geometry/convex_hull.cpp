@@ -5,9 +5,9 @@
 #include <CGAL/convex_hull_3.h>
 
 #include <map>
+#include <vector>
 
 #include "dmgplace/formats/shape_table.hpp"
-#include <vector>
 
 namespace dmgplace::tools {
 namespace {
