@@ -127,7 +127,9 @@ Eigen::Vector3d closest_on_segment(Simplex& s) {
   return a + t * ab;
 }
 
-// Ericson, Real-Time Collision Detection 5.1.5, with the query point at the origin.
+// Ericson, Real-Time Collision Detection 5.1.5, with the query point at the origin: as
+// formats/triangle_distance.hpp, but also shrinking the simplex to the region's vertices (keeping
+// all three instead stalls GJK short of the distance: ConvexGap's tightness test fails).
 Eigen::Vector3d closest_on_triangle(Simplex& s) {
   const Eigen::Vector3d a = s.p[0], b = s.p[1], c = s.p[2];
   const Eigen::Vector3d ab = b - a, ac = c - a, ap = -a;
