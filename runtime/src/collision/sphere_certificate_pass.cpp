@@ -10,6 +10,8 @@ namespace {
 // Below this field clearance (metres) a refined certificate also asks the exact primitives: the
 // node bound's loss is then a large share of the clearance (tried 0.02-0.2 m on MotionBenchMaker).
 constexpr double kExactBelow = 0.05;
+// A field bound above this share of the band may be the band's clamp, not the distance.
+constexpr double kBandShare = 0.75;
 }  // namespace
 
 // Every clearance (a body's to the scene, a pair's) is a candidate limit on the certificate, first
@@ -45,6 +47,17 @@ void SphereFieldChecker::Pass::certificate() {
                                               c.spheres_[std::size_t(j)].radius - c.padding_);
     } else {
       const Body& b = c.bodies_[it->index];
+      // The field stops at its band: where it has clamped, the body's whole bounding sphere against
+      // the exact primitives (one distance) can prove much more than its spheres against the field.
+      if (c.obstacles_ && !it->exact_centre && it->clearance + b.radius + c.padding_ > kBandShare * c.band_) {
+        it->exact_centre = true;
+        const double e = c.obstacles_->distance(s.body_center[it->index]) - b.radius - c.padding_;
+        if (e > it->clearance) {
+          it->clearance = e;
+          it->t = it->speed.time_to_move(e);
+          if (it->t >= limit) continue;
+        }
+      }
       centres(it->index);
       for (int i = b.begin; i < b.end; ++i) c.fine_->prefetch(s.world[std::size_t(i)]);
       for (int i = b.begin; i < b.end; ++i) {
@@ -52,7 +65,9 @@ void SphereFieldChecker::Pass::certificate() {
         const Eigen::Vector3d& w = s.world[std::size_t(i)];
         double sc = std::max(c.coarse_lower_bound(w), c.fine_lower_bound(w)) - sp.radius - c.padding_;
         // Near a surface the node bound's loss is most of the clearance: ask the exact shapes.
-        if (c.obstacles_ && sc < kExactBelow) sc = std::max(sc, c.obstacles_->distance(w) - sp.radius - c.padding_);
+        // So is a sphere the band has clamped (the field then knows only "at least the band").
+        if (c.obstacles_ && (sc < kExactBelow || sc + sp.radius + c.padding_ > kBandShare * c.band_))
+          sc = std::max(sc, c.obstacles_->distance(w) - sp.radius - c.padding_);
         clearance = std::min(clearance, sc);
       }
     }

@@ -33,6 +33,7 @@ struct SphereFieldChecker::Pass {
     bool fine;         // the clearance is already sphere by sphere
     int level;         // 0 static speed, 1 local speed, 2 local speed and sphere clearances (final)
     DisplacementBound speed;
+    bool exact_centre = false;  // a body's bounding sphere was measured against the exact primitives
   };
   // Reused by every query of a thread (sized per query): no allocation once warm.
   struct Scratch {

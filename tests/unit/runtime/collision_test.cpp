@@ -411,6 +411,53 @@ TEST(Certificate, KeepsEverySphereClearOfTheSceneAlongTheStretch) {
   RecordProperty("certified", certified);
 }
 
+// The field stops at its band: far from every obstacle a body's certificate comes from its
+// bounding sphere against the exact primitives, not from the band's "at least 0.3 m". Turning the
+// base with a box 3 m away, the certificate is never shorter than the field's alone, 1.5x longer
+// in the median (then the base link's pairs limit it; 1.0x before), and free for FCL.
+TEST(Certificate, FarFromTheSceneTheFieldsBandDoesNotCapIt) {
+  const Arm arm = built_in_arm();
+  Kinematics kin(arm.model, "dmgarm_link0", "dmgarm_tcp");
+  kin.set_joint_value("dmgarm_finger_joint1", 0.03);
+  Scene scene;
+  scene.objects.push_back({"far", {box({0.1, 0.1, 0.1}, {3, 0, 0.5})}});
+  const double band = 0.3;
+  SphereFieldChecker field_only(
+      kin, arm.spheres, test::analytic_sdf(scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.4), Eigen::Vector3d(1.2, 1.2, 1.6)), 0.02, band),
+      band);
+  field_only.set_self_tables(test::self_distance_tables(kin, arm.spheres));
+  SphereFieldChecker fast = field_only;
+  fast.set_exact_obstacles(PrimitiveObstacles::from_scene(scene));
+  ExactChecker exact(kin, scene);
+  Eigen::VectorXd base_turn = Eigen::VectorXd::Zero(kin.dof());
+  base_turn[0] = 1;
+  std::mt19937_64 rng(5);
+  std::vector<double> with_exact, with_field;
+  for (int i = 0; i < 300; ++i) {
+    const Eigen::VectorXd q = random_q(kin, rng);
+    const SphereCheck c = fast.check_along(q, base_turn);
+    if (!c.free()) continue;
+    const double field = field_only.check_along(q, base_turn).free_distance;
+    EXPECT_GE(c.free_distance, field - 1e-12) << "q = " << q.transpose();
+    with_exact.push_back(c.free_distance);
+    with_field.push_back(field);
+    if (with_exact.size() > 40) continue;
+    for (const double sign : {1.0, -1.0})
+      for (double t = 0.005; t <= std::min(c.free_distance, 1.5); t += 0.005) {
+        const Eigen::VectorXd x = q + sign * t * base_turn;
+        if (!kin.within_limits(x)) break;
+        ASSERT_TRUE(exact.is_free(x)) << "certified " << c.free_distance << " from q = " << q.transpose() << " but "
+                                      << exact.check(x).contact << " at t = " << sign * t;
+      }
+  }
+  ASSERT_GT(with_exact.size(), 100u);
+  auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  EXPECT_GT(median(with_exact), 1.5 * median(with_field));
+}
+
 // Where the spheres flag links (near the scene, pairs close), exact clearances certify the state
 // (TwoLayerChecker::free_distance): never a collision, and every certified stretch free for FCL.
 TEST(TwoLayer, ExactGapCertificatesKeepEveryStateFree) {
