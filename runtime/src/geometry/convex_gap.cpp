@@ -48,6 +48,36 @@ ConvexSolid ConvexSolid::hull(const std::vector<Eigen::Vector3d>& points) {
   return s;
 }
 
+ConvexSolid ConvexSolid::hull(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3i>& triangles) {
+  ConvexSolid s = hull(points);
+  const int n = int(points.size());
+  std::vector<std::vector<int>> around(points.size());
+  for (const auto& t : triangles)
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      if (a < 0 || a >= n || b < 0 || b >= n) throw Error("ConvexSolid", "hull", "vertex index out of range");
+      around[std::size_t(a)].push_back(b);
+      around[std::size_t(b)].push_back(a);
+    }
+  s.first_.push_back(0);
+  for (auto& v : around) {
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+    s.adjacent_.insert(s.adjacent_.end(), v.begin(), v.end());
+    s.first_.push_back(int(s.adjacent_.size()));
+  }
+  // Climbs start from the best of the vertices farthest along the axes and the diagonals.
+  for (int x = -1; x <= 1; ++x)
+    for (int y = -1; y <= 1; ++y)
+      for (int z = -1; z <= 1; ++z) {
+        if ((x == 0 && y == 0 && z == 0) || std::abs(x) + std::abs(y) + std::abs(z) == 2) continue;
+        int at = 0;
+        s.scan(Eigen::Vector3d(x, y, z), at);
+        if (std::find(s.seeds_.begin(), s.seeds_.end(), at) == s.seeds_.end()) s.seeds_.push_back(at);
+      }
+  return s;
+}
+
 std::optional<ConvexSolid> ConvexSolid::of(const Shape& shape) {
   switch (shape.type) {
     case ShapeType::Box: return box(shape.size / 2);
@@ -55,21 +85,29 @@ std::optional<ConvexSolid> ConvexSolid::of(const Shape& shape) {
     case ShapeType::Sphere: return sphere(shape.size[0]);
     case ShapeType::Mesh: {
       if (shape.hull.rows() == 0) return std::nullopt;
-      std::vector<char> used(std::size_t(shape.mesh.vertices.rows()), 0);
+      std::vector<int> index(std::size_t(shape.mesh.vertices.rows()), -1);  // mesh vertex -> hull point
       std::vector<Eigen::Vector3d> points;
-      for (Eigen::Index i = 0; i < shape.hull.size(); ++i) {
-        const int v = shape.hull.data()[i];
-        if (v < 0 || v >= shape.mesh.vertices.rows()) throw Error("ConvexSolid", "hull", "vertex index out of range");
-        if (!used[std::size_t(v)]) points.push_back(shape.mesh.vertices.row(v).transpose());
-        used[std::size_t(v)] = 1;
+      std::vector<Eigen::Vector3i> triangles;
+      for (Eigen::Index r = 0; r < shape.hull.rows(); ++r) {
+        Eigen::Vector3i t;
+        for (int k = 0; k < 3; ++k) {
+          const int v = shape.hull(r, k);
+          if (v < 0 || v >= shape.mesh.vertices.rows()) throw Error("ConvexSolid", "hull", "vertex index out of range");
+          if (index[std::size_t(v)] < 0) {
+            index[std::size_t(v)] = int(points.size());
+            points.push_back(shape.mesh.vertices.row(v).transpose());
+          }
+          t[k] = index[std::size_t(v)];
+        }
+        triangles.push_back(t);
       }
-      return hull(points);
+      return hull(points, triangles);
     }
   }
   return std::nullopt;
 }
 
-Eigen::Vector3d ConvexSolid::support(const Eigen::Vector3d& d) const {
+Eigen::Vector3d ConvexSolid::support(const Eigen::Vector3d& d, int& start) const {
   switch (kind_) {
     case Kind::Box:
       return {std::copysign(size_.x(), d.x()), std::copysign(size_.y(), d.y()), std::copysign(size_.z(), d.z())};
@@ -84,21 +122,58 @@ Eigen::Vector3d ConvexSolid::support(const Eigen::Vector3d& d) const {
       return n > 0 ? Eigen::Vector3d(d * (size_.x() / n)) : Eigen::Vector3d(size_.x(), 0, 0);
     }
     case Kind::Hull: {
-      // Every vertex: a walk over the hull's edges can stall on a flat face's inner vertex.
-      const std::size_t n = x_.size();
-      double best = -std::numeric_limits<double>::infinity();
-      std::size_t at = 0;
-      for (std::size_t i = 0; i < n; ++i) {
-        const double v = x_[i] * d.x() + y_[i] * d.y() + z_[i] * d.z();
-        if (v > best) {
-          best = v;
-          at = i;
-        }
+      if (first_.empty()) return scan(d, start);
+      int at = start;
+      if (at < 0 || at >= int(x_.size())) {
+        at = seeds_[0];
+        for (const int k : seeds_)
+          if (along(k, d) > along(at, d)) at = k;
       }
-      return {x_[at], y_[at], z_[at]};
+      // Climb to a neighbour farther along d while there is one. On a convex surface a vertex no
+      // neighbour beats is the farthest (the simplex method's argument); a near tie (a flat face
+      // or edge across d, where the climb may stop on an inner vertex, or rounding) is settled
+      // by the full scan instead.
+      const double tie = 1e-10 * (centre_.norm() + radius_) * d.lpNorm<1>();
+      double value = along(at, d);
+      for (std::size_t step = 0; step < x_.size(); ++step) {
+        int next = -1;
+        double next_value = value;
+        bool tied = false;
+        for (int e = first_[std::size_t(at)]; e < first_[std::size_t(at) + 1]; ++e) {
+          const int nb = adjacent_[std::size_t(e)];
+          const double v = along(nb, d);
+          if (v > next_value) {
+            next = nb;
+            next_value = v;
+          } else if (v > value - tie) {
+            tied = true;
+          }
+        }
+        if (next < 0) {
+          if (tied) return scan(d, start);
+          start = at;
+          return {x_[std::size_t(at)], y_[std::size_t(at)], z_[std::size_t(at)]};
+        }
+        at = next;
+        value = next_value;
+      }
+      return scan(d, start);
     }
   }
   return Eigen::Vector3d::Zero();
+}
+
+Eigen::Vector3d ConvexSolid::scan(const Eigen::Vector3d& d, int& at) const {
+  double best = -std::numeric_limits<double>::infinity();
+  at = 0;
+  for (int i = 0; i < int(x_.size()); ++i) {
+    const double v = along(i, d);
+    if (v > best) {
+      best = v;
+      at = i;
+    }
+  }
+  return {x_[std::size_t(at)], y_[std::size_t(at)], z_[std::size_t(at)]};
 }
 
 namespace {
@@ -217,8 +292,9 @@ bool closest_on_tetrahedron(Simplex& s, Eigen::Vector3d& out) {
 double convex_gap(const ConvexSolid& a, const Eigen::Isometry3d& ta, const ConvexSolid& b, const Eigen::Isometry3d& tb,
                   double tolerance) {
   // Support of A - B against direction v, in the world frame.
+  int from_a = -1, from_b = -1;  // hull vertices of the last supports: the next climbs start there
   auto support = [&](const Eigen::Vector3d& v) -> Eigen::Vector3d {
-    return ta * a.support(ta.linear().transpose() * -v) - tb * b.support(tb.linear().transpose() * v);
+    return ta * a.support(ta.linear().transpose() * -v, from_a) - tb * b.support(tb.linear().transpose() * v, from_b);
   };
   Eigen::Vector3d v = ta * a.centre() - tb * b.centre();
   if (!(v.squaredNorm() > 0)) v = Eigen::Vector3d::UnitX();
@@ -243,8 +319,9 @@ double convex_gap(const ConvexSolid& a, const Eigen::Isometry3d& ta, const Conve
     if (iter > 0 && !(next.squaredNorm() < v.squaredNorm())) break;
     v = next;
   }
-  // The dual bound alone, less rounding in the support arithmetic.
-  return lower - 1e-12 * (1 + a.radius() + b.radius());
+  // The dual bound alone, less rounding in the support arithmetic and what a climb may miss on a
+  // hull that is convex only to the artifact check's tolerance (1e-9 of its extent).
+  return lower - 1e-12 * (1 + a.radius() + b.radius()) - a.climb_slack() - b.climb_slack();
 }
 
 }  // namespace dmgplace::runtime

@@ -3,6 +3,8 @@
 
 #include <fcl/fcl.h>
 
+#include <array>
+#include <map>
 #include <random>
 
 #include "dmgplace/runtime/geometry/convex_gap.hpp"
@@ -80,5 +82,59 @@ TEST(ConvexGap, HullOfABoxsCornersMeasuresAsTheBox) {
     EXPECT_NEAR(runtime::convex_gap(hull, ta, other, tb, 1e-8), runtime::convex_gap(box, ta, other, tb, 1e-8), 1e-5) << n;
     const Eigen::Vector3d d = random_pose(rng, 1).translation();
     EXPECT_NEAR(hull.support(d).dot(d), box.support(d).dot(d), 1e-12);
+  }
+}
+
+// A hull given as its triangulated surface climbs to its supports. A box's surface with a grid of
+// vertices on every face (inner face and edge vertices are not extreme: a climb can stop on one
+// when a face lies across the direction) must still answer the farthest vertex exactly, from any
+// start: along random directions, along the faces' normals and along edge and corner diagonals
+// (the flat cases), with starts anywhere on the surface.
+TEST(ConvexGap, ClimbedHullSupportsAreTheFarthestVertexFromAnyStart) {
+  const int k = 4;  // grid steps per face side
+  const Eigen::Vector3d half(0.1, 0.05, 0.2);
+  std::vector<Eigen::Vector3d> points;
+  std::map<std::array<int, 3>, int> index;
+  auto vertex = [&](std::array<int, 3> g) {
+    auto [it, fresh] = index.emplace(g, int(points.size()));
+    if (fresh) points.emplace_back(half.x() * (2.0 * g[0] / k - 1), half.y() * (2.0 * g[1] / k - 1), half.z() * (2.0 * g[2] / k - 1));
+    return it->second;
+  };
+  std::vector<Eigen::Vector3i> triangles;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side : {0, k}) {
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      for (int i = 0; i < k; ++i)
+        for (int j = 0; j < k; ++j) {
+          auto at = [&](int a, int b) {
+            std::array<int, 3> g{};
+            g[std::size_t(axis)] = side;
+            g[std::size_t(u)] = a;
+            g[std::size_t(v)] = b;
+            return vertex(g);
+          };
+          triangles.emplace_back(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+          triangles.emplace_back(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+        }
+    }
+  ASSERT_EQ(points.size(), std::size_t(6 * (k - 1) * (k - 1) + 12 * (k - 1) + 8));
+  const auto climbed = runtime::ConvexSolid::hull(points, triangles);
+  std::vector<Eigen::Vector3d> directions;
+  for (int x = -1; x <= 1; ++x)
+    for (int y = -1; y <= 1; ++y)
+      for (int z = -1; z <= 1; ++z)
+        if (x || y || z) directions.emplace_back(x, y, z);
+  std::mt19937_64 rng(12);
+  for (int n = 0; n < 2000; ++n) directions.push_back(random_pose(rng, 1).translation());
+  std::uniform_int_distribution<int> any(0, int(points.size()) - 1);
+  for (const auto& d : directions) {
+    double farthest = -1e300;
+    for (const auto& p : points) farthest = std::max(farthest, p.dot(d));
+    for (int trial = 0; trial < 8; ++trial) {
+      int start = trial == 0 ? -1 : any(rng);
+      EXPECT_EQ(climbed.support(d, start).dot(d), farthest) << d.transpose() << " from " << start;
+      ASSERT_GE(start, 0);
+      EXPECT_EQ(points[std::size_t(start)].dot(d), farthest) << "the start is left at the answer";
+    }
   }
 }

@@ -19,20 +19,39 @@ class ConvexSolid {
   static ConvexSolid cylinder(double radius, double half_length);  // along local z, centred
   static ConvexSolid sphere(double radius);
   static ConvexSolid hull(const std::vector<Eigen::Vector3d>& points);  // at least one point
-  // A shape in its own frame (Shape::origin not applied): a mesh through its hull's vertices;
-  // nothing for a mesh without a hull.
+  // The hull given as its closed triangulated surface (indices into points): supports then climb
+  // its edges instead of scanning every vertex.
+  static ConvexSolid hull(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3i>& triangles);
+  // A shape in its own frame (Shape::origin not applied): a mesh through its hull; nothing for a
+  // mesh without a hull.
   static std::optional<ConvexSolid> of(const Shape& shape);
 
   // The solid's farthest point along d (local frame; d need not be unit).
-  Eigen::Vector3d support(const Eigen::Vector3d& d) const;
+  Eigen::Vector3d support(const Eigen::Vector3d& d) const {
+    int start = -1;
+    return support(d, start);
+  }
+  // The same; `start` is a hull vertex to climb from, updated to the answer's (-1: none yet).
+  // Successive directions that change little (GJK's) then cost a step or two each.
+  Eigen::Vector3d support(const Eigen::Vector3d& d, int& start) const;
   // A ball around the solid (local frame): the broad phase.
   const Eigen::Vector3d& centre() const { return centre_; }
   double radius() const { return radius_; }
+  // How far a climbed support may fall short of the farthest vertex when the surface is convex
+  // only to the stored hull check's tolerance (1e-9 of its extent): ten times that.
+  double climb_slack() const { return first_.empty() ? 0.0 : 1e-8 * (centre_.norm() + radius_); }
 
  private:
   enum class Kind { Box, Cylinder, Sphere, Hull } kind_ = Kind::Sphere;
   Eigen::Vector3d size_ = Eigen::Vector3d::Zero();  // box: half extents; cylinder: radius, half length
   std::vector<double> x_, y_, z_;                   // hull vertices
+  // Hull surface edges (neighbours of vertex i: adjacent_[first_[i] .. first_[i+1]]); empty: scan.
+  std::vector<int> first_, adjacent_;
+  std::vector<int> seeds_;  // the vertices farthest along 14 fixed directions: where a climb starts
+  Eigen::Vector3d scan(const Eigen::Vector3d& d, int& at) const;
+  double along(int i, const Eigen::Vector3d& d) const {
+    return x_[std::size_t(i)] * d.x() + y_[std::size_t(i)] * d.y() + z_[std::size_t(i)] * d.z();
+  }
   Eigen::Vector3d centre_ = Eigen::Vector3d::Zero();
   double radius_ = 0;
 };
