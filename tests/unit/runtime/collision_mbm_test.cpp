@@ -51,7 +51,7 @@ TEST(CollisionMbm, FastLayerNeverSaysFreeWhereFclCollidesOnPandaScenes) {
   const auto& tables = panda.tables;
   std::mt19937_64 rng(2024);
   std::uniform_real_distribution<double> u(0, 1);
-  long total = 0, exact_free = 0, fast_free = 0, full = 0, proven = 0;
+  long total = 0, exact_free = 0, fast_free = 0, full = 0, proven = 0, gap_settled = 0, to_fcl = 0;
   for (auto scene_file : {"mbm_problems/bookshelf_small_panda/scene0001.yaml", "mbm_problems/table_pick_panda/scene0001.yaml"}) {
     Scene scene = test::read_scene(shared / scene_file);
     auto sdf = test::analytic_sdf(scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.3), Eigen::Vector3d(1.6, 1.2, 1.7)),
@@ -81,7 +81,13 @@ TEST(CollisionMbm, FastLayerNeverSaysFreeWhereFclCollidesOnPandaScenes) {
     }
     full += both.counters().exact_full.load();
     proven += both_exact.counters().proven_collisions.load();
+    gap_settled += both_exact.counters().exact_gaps.load();
+    to_fcl += both_exact.counters().exact_pairs.load();
   }
+  // Hull gaps (on by default: link hulls, primitive scenes) settle flagged links and pairs that
+  // are apart without FCL; FCL gets the rest, colliding ones included (measured: 10119 settled by
+  // gaps, 14898 sent to FCL, of 100k).
+  EXPECT_GT(gap_settled, to_fcl / 2) << "hull gaps should settle a large share of the flagged queries";
   EXPECT_GT(exact_free, 0);
   // The wrist pairs' tables let the fast layer prove most free configurations free by itself
   // (without them, link5 / link7 spheres overlap in ~80% of configurations and it proved none).

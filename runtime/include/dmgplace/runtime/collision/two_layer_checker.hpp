@@ -2,6 +2,7 @@
 // The checker IK, the sampler and the planner use: the fast sphere layer answers "free" on its own
 // (it is conservative), and only its "maybe" is sent to the exact FCL layer.
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -18,7 +19,7 @@ struct CheckCounters {
   std::atomic<long> exact_pairs{0};  // settled by exact checks of the flagged links and pairs only
   std::atomic<long> exact_full{0};   // needed the full exact check
   std::atomic<long> proven_collisions{0};  // settled as colliding by the spheres' inner balls
-  std::atomic<long> exact_gaps{0};   // flagged links and pairs settled, and certified, by exact clearances
+  std::atomic<long> exact_gaps{0};   // flagged links and pairs all settled (and certified, when asked) by exact clearances
 };
 
 class TwoLayerChecker {
@@ -104,9 +105,29 @@ class TwoLayerChecker {
     // Only what the spheres flagged goes to FCL: those links against the scene, those link pairs
     // against each other. Overflows and held-object self pairs take the full check.
     if (!f.env_overflow && !f.pairs_overflow && !f.attached_involved) {
+      // Where exact gaps are cheap, a flagged link or pair with a proven clearance is free: only
+      // the others go to FCL (a hull's gap costs a fraction of FCL's mesh test).
+      std::array<int, SphereCheck::kMaxPairs> links;
+      std::array<std::uint64_t, SphereCheck::kMaxPairs> masks;
+      std::array<std::pair<int, int>, SphereCheck::kMaxPairs> pairs;
+      int nl = 0, np = 0;
+      const bool gaps = gaps_ && !f.outside_grid;
+      for (int k = 0; k < f.env_link_count; ++k)
+        if (!gaps || !(exact_.link_environment_gap(poses, f.env_links[std::size_t(k)]) > 0)) {
+          links[std::size_t(nl)] = f.env_links[std::size_t(k)];
+          masks[std::size_t(nl++)] = f.env_masks[std::size_t(k)];
+        }
+      for (int k = 0; k < f.pair_count; ++k) {
+        const auto [a, b] = f.pairs[std::size_t(k)];
+        if (!gaps || !(exact_.link_pair_gap(poses, a, b) > 0)) pairs[std::size_t(np++)] = f.pairs[std::size_t(k)];
+      }
+      if (nl == 0 && np == 0 && !f.attached_near_env) {
+        ++counters_->exact_gaps;
+        return true;
+      }
       ++counters_->exact_pairs;
-      return exact_.links_environment_free(poses, f.env_links.data(), f.env_link_count, f.attached_near_env, f.env_masks.data()) &&
-             exact_.link_pairs_free(poses, f.pairs.data(), f.pair_count);
+      return exact_.links_environment_free(poses, links.data(), nl, f.attached_near_env, masks.data()) &&
+             exact_.link_pairs_free(poses, pairs.data(), np);
     }
     ++counters_->exact_full;
     return exact_.is_free(q);
