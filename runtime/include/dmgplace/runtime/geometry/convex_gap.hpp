@@ -19,8 +19,9 @@ class ConvexSolid {
   static ConvexSolid cylinder(double radius, double half_length);  // along local z, centred
   static ConvexSolid sphere(double radius);
   static ConvexSolid hull(const std::vector<Eigen::Vector3d>& points);  // at least one point
-  // The hull given as its closed triangulated surface (indices into points): supports then climb
-  // its edges instead of scanning every vertex.
+  // The hull given as its closed, convex triangulated surface (indices into points, as a stored
+  // hull passes formats::hull_problem): supports then climb its edges instead of scanning every
+  // vertex.
   static ConvexSolid hull(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3i>& triangles);
   // A shape in its own frame (Shape::origin not applied): a mesh through its hull; nothing for a
   // mesh without a hull.
