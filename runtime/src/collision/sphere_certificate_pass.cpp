@@ -3,7 +3,6 @@
 #include <cmath>
 #include <limits>
 
-#include "dmgplace/runtime/collision/exact_checker.hpp"
 #include "sphere_check_pass.hpp"
 
 namespace dmgplace::runtime {
@@ -26,28 +25,9 @@ void SphereFieldChecker::Pass::certificate() {
       if (v > 0) s.cands.push_back({s.body_clear[bi] / v, s.body_clear[bi], bi, false, false, 0, {}});
     }
   const double limit = std::min(table_limit, enough);
-  const int final_level = finer ? 3 : 2;
   while (!s.cands.empty()) {
     auto it = std::min_element(s.cands.begin(), s.cands.end(), [](const Candidate& x, const Candidate& y) { return x.t < y.t; });
-    if (it->t >= limit || it->level == final_level) break;
-    if (it->level == 2) {
-      // Still the limit: the exact layer's proven gap of the link, or pair (convex hulls and
-      // primitives), has none of the spheres' excess over the geometry. Held objects have none.
-      double gap = 0;
-      if (it->pair) {
-        const Body &a = c.bodies_[std::size_t(c.pairs_[it->index].a)], &b = c.bodies_[std::size_t(c.pairs_[it->index].b)];
-        if (!a.attached && !b.attached) gap = finer->link_pair_gap(poses, a.link, b.link);
-      } else if (!c.bodies_[it->index].attached) {
-        gap = finer->link_environment_gap(poses, c.bodies_[it->index].link);
-      }
-      if (gap - c.padding_ > it->clearance) {
-        it->clearance = gap - c.padding_;
-        it->t = it->speed.time_to_move(it->clearance);
-        out.finer_gap = true;
-      }
-      it->level = 3;
-      continue;
-    }
+    if (it->t >= limit || it->level == 2) break;
     if (it->level == 0) {
       it->speed = it->pair ? c.pair_speed(it->index, poses, s.body_center, *dir)
                          : c.joint_speed(c.bodies_[it->index].chain, poses, s.body_center[it->index], c.bodies_[it->index].radius, *dir);

@@ -31,8 +31,7 @@ struct SphereFieldChecker::Pass {
     std::size_t index; // body, or pair
     bool pair;
     bool fine;         // the clearance is already sphere by sphere
-    int level;         // 0 static speed, 1 local speed, 2 local speed and sphere clearances (final without
-                       // `finer`), 3 and the exact layer's proven gap
+    int level;         // 0 static speed, 1 local speed, 2 local speed and sphere clearances (final)
     DisplacementBound speed;
     bool exact_centre = false;  // a body's bounding sphere was measured against the exact primitives
   };
@@ -47,7 +46,7 @@ struct SphereFieldChecker::Pass {
   static Scratch& thread_scratch();  // this thread's
 
   Pass(const SphereFieldChecker& checker, const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses,
-       const Eigen::VectorXd* dir, double enough, const ExactChecker* finer);
+       const Eigen::VectorXd* dir, double enough);
 
   // Each returns false when the answer is final (a proven collision, or more pairs than fit).
   bool environment();
@@ -79,7 +78,6 @@ struct SphereFieldChecker::Pass {
   const std::vector<Eigen::Isometry3d>& poses;
   const Eigen::VectorXd* dir;
   const double enough;
-  const ExactChecker* finer;  // proven link gaps for the certificate's last refinement, or null
   const bool certify;  // a certificate is asked for and can be had
   Scratch& s;
   SphereCheck out;

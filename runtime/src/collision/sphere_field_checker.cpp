@@ -195,8 +195,8 @@ SphereCheck SphereFieldChecker::check_along(const Eigen::VectorXd& q, const Eige
 }
 
 SphereCheck SphereFieldChecker::check_along(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses,
-                                            const Eigen::VectorXd& direction, double enough, const ExactChecker* finer) const {
-  return evaluate(q, poses, &direction, enough, finer);
+                                            const Eigen::VectorXd& direction, double enough) const {
+  return evaluate(q, poses, &direction, enough);
 }
 
 SphereFieldChecker::Pass::Scratch& SphereFieldChecker::Pass::thread_scratch() {
@@ -205,8 +205,8 @@ SphereFieldChecker::Pass::Scratch& SphereFieldChecker::Pass::thread_scratch() {
 }
 
 SphereFieldChecker::Pass::Pass(const SphereFieldChecker& checker, const Eigen::VectorXd& q_, const std::vector<Eigen::Isometry3d>& poses_,
-                               const Eigen::VectorXd* dir_, double enough_, const ExactChecker* finer_)
-    : c(checker), q(q_), poses(poses_), dir(dir_), enough(enough_), finer(finer_),
+                               const Eigen::VectorXd* dir_, double enough_)
+    : c(checker), q(q_), poses(poses_), dir(dir_), enough(enough_),
       certify(dir_ && checker.certifiable_ && enough_ > 0),  // enough 0: the caller needs no certificate
       s(thread_scratch()) {
   s.body_center.resize(c.bodies_.size());
@@ -221,9 +221,9 @@ SphereFieldChecker::Pass::Pass(const SphereFieldChecker& checker, const Eigen::V
 }
 
 SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses,
-                                         const Eigen::VectorXd* dir, double enough, const ExactChecker* finer) const {
+                                         const Eigen::VectorXd* dir, double enough) const {
   if (poses.size() != kin_->model().links.size()) throw Error("SphereFieldChecker", "link poses", "one pose per link expected");
-  Pass pass(*this, q, poses, dir, enough, finer);
+  Pass pass(*this, q, poses, dir, enough);
   if (pass.environment() && pass.self_pairs() && pass.certify) pass.certificate();
   return pass.out;
 }

@@ -163,7 +163,6 @@ TEST(CollisionMbm, ExactGapCertificatesKeepEveryPandaStateFree) {
     const int walked = test::walk_gap_certificates(both, exact, 1500, 23, &longest);
     EXPECT_GT(walked, 50) << scene_file;
     EXPECT_GT(longest, 0.005) << scene_file;
-    EXPECT_GT(both.counters().finer_gaps.load(), 0) << scene_file << ": hull gaps lengthen some sphere-certified stretches";
   }
 }
 

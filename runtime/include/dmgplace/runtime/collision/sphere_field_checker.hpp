@@ -21,7 +21,6 @@
 #include "dmgplace/runtime/robot/kinematics.hpp"
 
 namespace dmgplace::runtime {
-class ExactChecker;
 
 // Spheres rigidly attached to one link (e.g. the held object under a grasp), in that link's frame.
 struct AttachedSpheres {
@@ -60,7 +59,6 @@ struct SphereCheck {
   // links or pairs are flagged (and nothing overflowed or was proven): the same for everything
   // else, the flagged links and pairs left out, for the exact layer to certify (link_time, pair_time).
   double free_distance = 0;
-  bool finer_gap = false;  // a gap from the exact layer (check_along's `finer`) lengthened it
   bool free() const { return environment_free && self_free; }
 };
 
@@ -96,12 +94,8 @@ class SphereFieldChecker {
   // The same with the link poses at q already computed (Kinematics::link_poses), to share one
   // forward kinematics with the exact layer.
   SphereCheck check(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses) const;
-  // `finer`: the exact layer, when its proven gaps are cheap (ExactChecker::gaps_are_cheap): a
-  // sphere-level clearance that still limits the certificate then asks it for the link's (or
-  // pair's) gap, which has no sphere excess.
   SphereCheck check_along(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses,
-                          const Eigen::VectorXd& direction, double enough = std::numeric_limits<double>::infinity(),
-                          const ExactChecker* finer = nullptr) const;
+                          const Eigen::VectorXd& direction, double enough = std::numeric_limits<double>::infinity()) const;
   bool is_free(const Eigen::VectorXd& q) const { return check(q).free(); }
 
   // How long along `direction` (joint space, as check_along) a flagged link keeps an exact
@@ -180,7 +174,7 @@ class SphereFieldChecker {
   void build_bodies();
   struct Pass;  // one query's passes: environment, self pairs, certificate (src/collision/sphere_check_pass.hpp)
   SphereCheck evaluate(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses, const Eigen::VectorXd* direction,
-                       double enough, const ExactChecker* finer = nullptr) const;
+                       double enough) const;
   const std::vector<Eigen::Isometry3d>& poses_at(const Eigen::VectorXd& q) const;  // thread-local FK
   // How far a ball (a body's bounding sphere) can move along `direction` (displacement_bound.hpp).
   DisplacementBound joint_speed(const std::vector<ChainJoint>& joints, const std::vector<Eigen::Isometry3d>& poses,

@@ -20,7 +20,6 @@ struct CheckCounters {
   std::atomic<long> exact_full{0};   // needed the full exact check
   std::atomic<long> proven_collisions{0};  // settled as colliding by the spheres' inner balls
   std::atomic<long> exact_gaps{0};   // flagged links and pairs all settled (and certified, when asked) by exact clearances
-  std::atomic<long> finer_gaps{0};   // certificates of states the spheres proved free, lengthened by exact clearances
 };
 
 class TwoLayerChecker {
@@ -43,16 +42,14 @@ class TwoLayerChecker {
   // `enough`: the longest certificate the caller can use. Where the spheres flag links (near the
   // scene, or a pair close) and exact gaps are cheap (robot and scene all primitives), the links'
   // exact clearances certify them (exact_gaps): the certificate is the smallest of theirs and the
-  // spheres' for the rest. With those gaps a sphere-level clearance that limits a certificate is
-  // also replaced by its link's exact one where that is longer (finer_gaps). Otherwise (link meshes, touching, a held object, a mesh scene) the
+  // spheres' for the rest. Otherwise (link meshes, touching, a held object, a mesh scene) the
   // exact layer's yes/no decides and certifies nothing beyond q (0).
   double free_distance(const Eigen::VectorXd& q, const Eigen::VectorXd& direction,
                        double enough = std::numeric_limits<double>::infinity()) const {
     const auto& poses = poses_at(q);
-    const SphereCheck f = fast_.check_along(q, poses, direction, enough, gaps_ ? &exact_ : nullptr);
+    const SphereCheck f = fast_.check_along(q, poses, direction, enough);
     if (f.free()) {
       ++counters_->fast;
-      counters_->finer_gaps += f.finer_gap;
       return f.free_distance;
     }
     if (gaps_ && enough > 0 && !f.proven_collision) {
