@@ -176,6 +176,7 @@ struct ExactChecker::Impl {
   std::vector<int> touching;  // links the attached object may touch
   std::shared_ptr<ObjectPool> pool = std::make_shared<ObjectPool>();  // per parts list, never copied
   bool env_primitives = true;  // every scene shape is a box, cylinder or sphere
+  bool link_meshes = false;  // some link shape is a mesh (FCL tests it through a hierarchy)
   // The scene's primitives as convex solids with their poses, for gaps (when env_primitives).
   std::shared_ptr<std::vector<std::pair<ConvexSolid, Eigen::Isometry3d>>> env_convex;
 };
@@ -236,6 +237,7 @@ ExactChecker::ExactChecker(const Kinematics& kin, const Scene& env, double scan_
       std::shared_ptr<const ConvexSolid> convex;
       if (auto c = ConvexSolid::of(s)) convex = std::make_shared<const ConvexSolid>(std::move(*c));
       impl->parts.push_back({int(l), g, std::make_shared<DistanceGeometry>(s, g), s.origin, std::move(convex)});
+      impl->link_meshes |= s.type == ShapeType::Mesh;
       impl->part_is_object.push_back(0);
     }
   }
@@ -462,7 +464,7 @@ namespace {
 constexpr double kGapTolerance = 1e-4;
 }
 
-double ExactChecker::link_environment_gap(const std::vector<Eigen::Isometry3d>& poses, int link) const {
+double ExactChecker::link_environment_gap(const std::vector<Eigen::Isometry3d>& poses, int link, double enough) const {
   const Impl& impl = *impl_;
   if (!impl.env_primitives) return 0.0;
   const auto& env = *impl.env_convex;
@@ -480,8 +482,8 @@ double ExactChecker::link_environment_gap(const std::vector<Eigen::Isometry3d>& 
       order.emplace_back((c - env[k].second * env[k].first.centre()).norm() - p.convex->radius() - env[k].first.radius(), k);
     std::sort(order.begin(), order.end());
     for (const auto& [ball_gap, k] : order) {
-      if (ball_gap >= gap || gap <= 0) break;
-      gap = std::min(gap, convex_gap(*p.convex, pose, env[k].first, env[k].second) - kGapTolerance);
+      if (ball_gap >= std::min(gap, enough) || gap <= 0) break;
+      gap = std::min(gap, convex_gap(*p.convex, pose, env[k].first, env[k].second, 1e-5, enough + kGapTolerance) - kGapTolerance);
     }
   }
   return gap;
@@ -494,7 +496,9 @@ bool ExactChecker::gaps_are_cheap() const {
   return true;
 }
 
-double ExactChecker::link_pair_gap(const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b) const {
+bool ExactChecker::links_have_meshes() const { return impl_->link_meshes; }
+
+double ExactChecker::link_pair_gap(const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b, double enough) const {
   const Impl& impl = *impl_;
   double gap = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < impl.parts.size() && gap > 0; ++i) {
@@ -506,7 +510,7 @@ double ExactChecker::link_pair_gap(const std::vector<Eigen::Isometry3d>& poses, 
       if (impl.part_is_object[j] || pb.link != link_b) continue;
       if (!pb.convex) return 0.0;
       gap = std::min(gap, convex_gap(*pa.convex, poses[std::size_t(link_a)] * pa.local, *pb.convex,
-                                     poses[std::size_t(link_b)] * pb.local) - kGapTolerance);
+                                     poses[std::size_t(link_b)] * pb.local, 1e-5, enough + kGapTolerance) - kGapTolerance);
     }
   }
   return gap;

@@ -290,7 +290,10 @@ bool closest_on_tetrahedron(Simplex& s, Eigen::Vector3d& out) {
 }  // namespace
 
 double convex_gap(const ConvexSolid& a, const Eigen::Isometry3d& ta, const ConvexSolid& b, const Eigen::Isometry3d& tb,
-                  double tolerance) {
+                  double tolerance, double enough) {
+  // What the returned bound gives up: rounding in the support arithmetic, and what a climb may
+  // miss on a hull that is convex only to the artifact check's tolerance (1e-9 of its extent).
+  const double slack = 1e-12 * (1 + a.radius() + b.radius()) + a.climb_slack() + b.climb_slack();
   // Support of A - B against direction v, in the world frame.
   int from_a = -1, from_b = -1;  // hull vertices of the last supports: the next climbs start there
   auto support = [&](const Eigen::Vector3d& v) -> Eigen::Vector3d {
@@ -306,6 +309,10 @@ double convex_gap(const ConvexSolid& a, const Eigen::Isometry3d& ta, const Conve
     const Eigen::Vector3d w = support(v);
     lower = std::max(lower, v.dot(w) / vn);
     if (vn - lower <= tolerance) break;  // the bound is within tolerance of the estimate
+    // Proven above `enough`, or never to be (past the first v, between the centres, v is a point
+    // of A - B: the distance is at most vn).
+    if (enough < std::numeric_limits<double>::infinity() && (lower - slack > enough || (iter > 0 && !(vn - slack > enough))))
+      break;
     bool repeated = false;  // no new support point: no progress left
     for (int k = 0; k < s.n; ++k) repeated |= (s.p[k] - w).squaredNorm() <= 1e-24;
     if (repeated) break;
@@ -319,9 +326,7 @@ double convex_gap(const ConvexSolid& a, const Eigen::Isometry3d& ta, const Conve
     if (iter > 0 && !(next.squaredNorm() < v.squaredNorm())) break;
     v = next;
   }
-  // The dual bound alone, less rounding in the support arithmetic and what a climb may miss on a
-  // hull that is convex only to the artifact check's tolerance (1e-9 of its extent).
-  return lower - 1e-12 * (1 + a.radius() + b.radius()) - a.climb_slack() - b.climb_slack();
+  return lower - slack;  // the dual bound alone
 }
 
 }  // namespace dmgplace::runtime

@@ -67,6 +67,29 @@ TEST(ConvexGap, NeverAboveFclsDistanceAndCloseToItWhenApart) {
   EXPECT_GT(touching, 500);
 }
 
+// A caller asking only whether the gap exceeds a threshold (`enough`) stops early: its answer
+// must be the full computation's on which side of the threshold the gap lies, and still a bound.
+TEST(ConvexGap, AThresholdQueryAgreesWithTheFullGapOnItsSide) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> threshold(-0.01, 0.2);
+  int above = 0, below = 0;
+  for (int n = 0; n < 6000; ++n) {
+    const Solid a = random_solid(rng, n % 3), b = random_solid(rng, (n / 3) % 3);
+    const Eigen::Isometry3d ta = random_pose(rng, 0.4), tb = random_pose(rng, 0.4);
+    const double enough = threshold(rng);
+    const double full = runtime::convex_gap(a.convex, ta, b.convex, tb);
+    const double quick = runtime::convex_gap(a.convex, ta, b.convex, tb, 1e-5, enough);
+    ASSERT_LE(quick, full + 1e-5) << "case " << n << ": the early answer is not a lower bound";
+    // Within GJK's tolerance of the threshold the two may stop on either side of it.
+    if (std::abs(full - enough) <= 2e-5) continue;
+    ASSERT_EQ(quick > enough, full > enough) << "case " << n << ": full " << full << ", quick " << quick
+                                             << ", threshold " << enough;
+    ++(full > enough ? above : below);
+  }
+  EXPECT_GT(above, 1000);
+  EXPECT_GT(below, 1000);
+}
+
 // A box given by its eight corners is the same solid as the box: the hull path and the primitive
 // path agree, and a hull's support is its farthest vertex.
 TEST(ConvexGap, HullOfABoxsCornersMeasuresAsTheBox) {

@@ -3,6 +3,7 @@
 // mesh attached at its grasp, and the environment's exact geometry (primitives, triangle BVHs, an
 // octree for scan points). Used where the fast layer cannot decide and to validate every path.
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -76,12 +77,17 @@ class ExactChecker {
   // hold against all of them), and between two links. Lower bounds of the true clearances; a value
   // <= 0 means touching or undecided (a hull can touch where its mesh does not): ask
   // links_environment_free / link_pairs_free. The scene's shapes must be primitives (a mesh or
-  // the scan answers 0), and a link mesh needs its hull (0 without).
-  double link_environment_gap(const std::vector<Eigen::Isometry3d>& poses, int link) const;
-  double link_pair_gap(const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b) const;
+  // the scan answers 0), and a link mesh needs its hull (0 without). A value >= `enough` says only
+  // that the clearance is at least `enough` (a caller asking for a sign passes 0 and stops early).
+  double link_environment_gap(const std::vector<Eigen::Isometry3d>& poses, int link,
+                              double enough = std::numeric_limits<double>::infinity()) const;
+  double link_pair_gap(const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b,
+                       double enough = std::numeric_limits<double>::infinity()) const;
   // Whether those gaps can be had: the scene all primitives, every link shape a primitive or a mesh
   // with its hull.
   bool gaps_are_cheap() const;
+  // Whether some link shape is a mesh: FCL's test of a primitive link costs less than its gap.
+  bool links_have_meshes() const;
 
   // Exact checks of a and of the segment to b at the states segment_valid (segment_check.hpp) visits.
   bool segment_free(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double resolution) const;

@@ -31,6 +31,7 @@ class TwoLayerChecker {
     if (&fast_.kinematics() != &exact_.kinematics())
       throw Error("TwoLayerChecker", "layers", "the fast and exact layers use different kinematics");
     gaps_ = exact_.gaps_are_cheap();
+    mesh_links_ = exact_.links_have_meshes();
   }
 
   // One forward kinematics per query, shared by both layers.
@@ -106,20 +107,22 @@ class TwoLayerChecker {
     // against each other. Overflows and held-object self pairs take the full check.
     if (!f.env_overflow && !f.pairs_overflow && !f.attached_involved) {
       // Where exact gaps are cheap, a flagged link or pair with a proven clearance is free: only
-      // the others go to FCL (a hull's gap costs a fraction of FCL's mesh test).
+      // the others go to FCL (a hull's gap costs a fraction of FCL's mesh test). Only the sign is
+      // asked: GJK stops at the first separating bound.
       std::array<int, SphereCheck::kMaxPairs> links;
       std::array<std::uint64_t, SphereCheck::kMaxPairs> masks;
       std::array<std::pair<int, int>, SphereCheck::kMaxPairs> pairs;
       int nl = 0, np = 0;
-      const bool gaps = gaps_ && !f.outside_grid;
+      // With the held object near the scene FCL runs anyway: gaps then only spare it link meshes.
+      const bool gaps = gaps_ && !f.outside_grid && (!f.attached_near_env || mesh_links_);
       for (int k = 0; k < f.env_link_count; ++k)
-        if (!gaps || !(exact_.link_environment_gap(poses, f.env_links[std::size_t(k)]) > 0)) {
+        if (!gaps || !(exact_.link_environment_gap(poses, f.env_links[std::size_t(k)], 0.0) > 0)) {
           links[std::size_t(nl)] = f.env_links[std::size_t(k)];
           masks[std::size_t(nl++)] = f.env_masks[std::size_t(k)];
         }
       for (int k = 0; k < f.pair_count; ++k) {
         const auto [a, b] = f.pairs[std::size_t(k)];
-        if (!gaps || !(exact_.link_pair_gap(poses, a, b) > 0)) pairs[std::size_t(np++)] = f.pairs[std::size_t(k)];
+        if (!gaps || !(exact_.link_pair_gap(poses, a, b, 0.0) > 0)) pairs[std::size_t(np++)] = f.pairs[std::size_t(k)];
       }
       if (nl == 0 && np == 0 && !f.attached_near_env) {
         ++counters_->exact_gaps;
@@ -135,6 +138,7 @@ class TwoLayerChecker {
   SphereFieldChecker fast_;
   ExactChecker exact_;
   bool gaps_ = false;  // exact_gaps is worth asking (gaps_are_cheap)
+  bool mesh_links_ = false;  // links_have_meshes
   std::shared_ptr<CheckCounters> counters_;
 };
 

@@ -5,6 +5,7 @@
 // That bound is rigorous whatever the simplex arithmetic does (it needs only exact supports), so
 // a positive answer proves the solids apart by at least that much.
 #include <optional>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -59,8 +60,10 @@ class ConvexSolid {
 
 // A lower bound on the distance between a (placed by ta) and b (placed by tb): never above the
 // true distance; <= 0 when no gap is proven (touching, overlapping, or too close to tell).
-// Iterates until the bound is within `tolerance` of GJK's upper estimate.
+// Iterates until the bound is within `tolerance` of GJK's upper estimate, or is above `enough`
+// (a caller asking only whether the gap exceeds a threshold stops there: a sign takes a few
+// iterations where the distance takes many), or GJK's upper estimate shows it cannot get there.
 double convex_gap(const ConvexSolid& a, const Eigen::Isometry3d& ta, const ConvexSolid& b, const Eigen::Isometry3d& tb,
-                  double tolerance = 1e-5);
+                  double tolerance = 1e-5, double enough = std::numeric_limits<double>::infinity());
 
 }  // namespace dmgplace::runtime
