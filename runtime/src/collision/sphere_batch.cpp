@@ -58,23 +58,36 @@ inline __attribute__((always_inline)) std::uint32_t clear_of_field(const Xyz& p,
   return ok & in_grid;
 }
 
-// Lanes where spheres a and b (centres in lanes) are closer than `reach` (sum of radii + padding).
-inline __attribute__((always_inline)) std::uint32_t overlapping(const Xyz& a, const Xyz& b, double reach) {
+// Lanes where spheres a and b (centres in lanes) are closer than `reach` (sum of radii + padding),
+// as masks, one per half of the lanes: a caller testing many sphere pairs ORs them and takes the
+// bits once (the bits cost more than the test).
+static_assert(N == 2 * lanes::W);
+inline __attribute__((always_inline)) void add_overlaps(const Xyz& a, const Xyz& b, double reach, lanes::M& lo,
+                                                        lanes::M& hi) {
   using lanes::D;
   const D r2 = lanes::splat(reach * reach);
-  std::uint32_t hit = 0;
-  for (int h = 0; h < N; h += lanes::W) {
+  auto near = [&](int h) __attribute__((always_inline)) -> lanes::M {
     const D dx = lanes::load(a.x + h) - lanes::load(b.x + h), dy = lanes::load(a.y + h) - lanes::load(b.y + h),
             dz = lanes::load(a.z + h) - lanes::load(b.z + h);
-    hit |= lanes::bits(dx * dx + dy * dy + dz * dz < r2) << h;
-  }
-  return hit;
+    return (lanes::M)(dx * dx + dy * dy + dz * dz < r2);
+  };
+  lo |= near(0);
+  hi |= near(lanes::W);
+}
+inline __attribute__((always_inline)) std::uint32_t bits(lanes::M lo, lanes::M hi) {
+  return lanes::bits(lo) | lanes::bits(hi) << lanes::W;
+}
+inline __attribute__((always_inline)) std::uint32_t overlapping(const Xyz& a, const Xyz& b, double reach) {
+  lanes::M lo{}, hi{};
+  add_overlaps(a, b, reach, lo, hi);
+  return bits(lo, hi);
 }
 
 }  // namespace
 
 inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lanes_body(const SphereFieldChecker& c,
-                                                                                        const double* const* q, int count) {
+                                                                                        const double* const* q, int count,
+                                                                                        bool wide) {
   const double* in[N];
   for (int k = 0; k < N; ++k) in[k] = q[k < count ? k : 0];  // idle lanes repeat the first
   thread_local PoseBatch poses;
@@ -128,11 +141,17 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
     spheres_of(std::size_t(p.a));
     spheres_of(std::size_t(p.b));
     std::uint32_t hit = 0;
+    lanes::M lo{}, hi{};
     for (int i = a.begin; i < a.end; ++i) {
       const Xyz& wa = world[std::size_t(i)];
-      for (int j = b.begin; j < b.end; ++j) {
-        const Xyz& wb = world[std::size_t(j)];
-        hit |= overlapping(wa, wb, c.spheres_[std::size_t(i)].radius + c.spheres_[std::size_t(j)].radius + c.padding_);
+      const double ra = c.spheres_[std::size_t(i)].radius + c.padding_;
+      // A sphere clear of b's bounding sphere in every lane still open cannot touch b's spheres.
+      if (!(overlapping(wa, cb, ra + b.radius) & near & ~hit)) continue;
+      if (wide) {
+        for (int j = b.begin; j < b.end; ++j) add_overlaps(wa, world[std::size_t(j)], ra + c.spheres_[std::size_t(j)].radius, lo, hi);
+        hit = bits(lo, hi);
+      } else {
+        for (int j = b.begin; j < b.end; ++j) hit |= overlapping(wa, world[std::size_t(j)], ra + c.spheres_[std::size_t(j)].radius);
       }
       if ((hit & near) == near) break;
     }
@@ -144,11 +163,11 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
 
 __attribute__((target("avx2,fma"))) std::uint32_t SphereFieldChecker::free_lanes_avx2(const SphereFieldChecker& c,
                                                                                       const double* const* q, int count) {
-  return free_lanes_body(c, q, count);
+  return free_lanes_body(c, q, count, true);
 }
 
 std::uint32_t SphereFieldChecker::free_lanes_portable(const SphereFieldChecker& c, const double* const* q, int count) {
-  return free_lanes_body(c, q, count);
+  return free_lanes_body(c, q, count, false);
 }
 
 std::uint32_t SphereFieldChecker::free_lanes(const double* const* q, int count) const {

@@ -49,9 +49,16 @@ bool SphereFieldChecker::Pass::self_pairs() {
     centres(std::size_t(p.b));
     bool hit = false;
     double gap = std::numeric_limits<double>::infinity();
+    const Eigen::Vector3d& cb = s.body_center[std::size_t(p.b)];
     for (int i = a.begin; i < a.end && !hit; ++i) {
       const Eigen::Vector3d& wa = s.world[std::size_t(i)];
       const double ra = c.spheres_[std::size_t(i)].radius + c.padding_;
+      // Past b's bounding sphere by `need`, this sphere is past each of b's spheres by as much.
+      const double rab = ra + b.radius + need;
+      if ((wa - cb).squaredNorm() >= rab * rab) {
+        skipped |= certify_this;
+        continue;
+      }
       for (int j = b.begin; j < b.end; ++j) {
         const double r = ra + c.spheres_[std::size_t(j)].radius;
         const double s2 = (wa - s.world[std::size_t(j)]).squaredNorm();

@@ -191,7 +191,9 @@ class SphereFieldChecker {
   // free_lanes' body, compiled for AVX2 + FMA and for the portable baseline (one per path).
   static std::uint32_t free_lanes_avx2(const SphereFieldChecker& c, const double* const* q, int count);
   static std::uint32_t free_lanes_portable(const SphereFieldChecker& c, const double* const* q, int count);
-  static std::uint32_t free_lanes_body(const SphereFieldChecker& c, const double* const* q, int count);
+  // `wide`: a vector of lanes is one register (AVX2), so masks are ORed and turned into bits once;
+  // the portable build compares lane by lane, where bits per test cost less.
+  static std::uint32_t free_lanes_body(const SphereFieldChecker& c, const double* const* q, int count, bool wide);
   std::vector<Body> bodies_;
   std::vector<Pair> pairs_;                   // body pairs checked for self-collision
   std::vector<PairMoves> pair_moves_;         // per pair
