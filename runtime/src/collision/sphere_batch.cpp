@@ -31,19 +31,21 @@ inline __attribute__((always_inline)) void transform(const std::array<PoseBatch:
 // coarse bound where there is one, else the fine one. `alive`: lanes still worth the fine loads.
 inline __attribute__((always_inline)) std::uint32_t clear_of_field(const Xyz& p, double need, std::uint32_t alive,
                                                                   const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
-                                                                  const NodeBoundGrid* coarse, const NodeBoundGrid& fine) {
+                                                                  const NodeBoundGrid* coarse, const NodeBoundGrid& fine,
+                                                                  bool wide) {
   using lanes::D;
   std::uint32_t in_grid = 0;
   for (int h = 0; h < N; h += lanes::W) {
     const D x = lanes::load(p.x + h), y = lanes::load(p.y + h), z = lanes::load(p.z + h);
     in_grid |= lanes::bits((x >= lanes::splat(lo.x())) & (y >= lanes::splat(lo.y())) & (z >= lanes::splat(lo.z())) &
-                           (x <= lanes::splat(hi.x())) & (y <= lanes::splat(hi.y())) & (z <= lanes::splat(hi.z())))
+                           (x <= lanes::splat(hi.x())) & (y <= lanes::splat(hi.y())) & (z <= lanes::splat(hi.z())),
+                           wide)
                << h;
   }
   alignas(32) double b[N];
   auto at_least_need = [&] {
     std::uint32_t ok = 0;
-    for (int h = 0; h < N; h += lanes::W) ok |= lanes::bits(lanes::load(b + h) >= lanes::splat(need)) << h;
+    for (int h = 0; h < N; h += lanes::W) ok |= lanes::bits(lanes::load(b + h) >= lanes::splat(need), wide) << h;
     return ok;
   };
   std::uint32_t ok = 0;
@@ -74,13 +76,13 @@ inline __attribute__((always_inline)) void add_overlaps(const Xyz& a, const Xyz&
   lo |= near(0);
   hi |= near(lanes::W);
 }
-inline __attribute__((always_inline)) std::uint32_t bits(lanes::M lo, lanes::M hi) {
-  return lanes::bits(lo) | lanes::bits(hi) << lanes::W;
+inline __attribute__((always_inline)) std::uint32_t bits(lanes::M lo, lanes::M hi, bool wide) {
+  return lanes::bits(lo, wide) | lanes::bits(hi, wide) << lanes::W;
 }
-inline __attribute__((always_inline)) std::uint32_t overlapping(const Xyz& a, const Xyz& b, double reach) {
+inline __attribute__((always_inline)) std::uint32_t overlapping(const Xyz& a, const Xyz& b, double reach, bool wide) {
   lanes::M lo{}, hi{};
   add_overlaps(a, b, reach, lo, hi);
-  return bits(lo, hi);
+  return bits(lo, hi, wide);
 }
 
 }  // namespace
@@ -111,14 +113,14 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
   const PrimitiveObstacles* prims = c.obstacles_.get();
   std::uint64_t reach = ~std::uint64_t(0);
   auto clear_lanes = [&](const Xyz& p, double r, std::uint32_t lanes) __attribute__((always_inline)) {
-    if (prims) return prims->clear_lanes<N>(p.x, p.y, p.z, r + c.padding_, lanes, reach);
-    return clear_of_field(p, r + c.padding_, lanes, c.lo_, c.hi_, c.coarse_.get(), *c.fine_);
+    if (prims) return prims->clear_lanes<N>(p.x, p.y, p.z, r + c.padding_, lanes, reach, wide);
+    return clear_of_field(p, r + c.padding_, lanes, c.lo_, c.hi_, c.coarse_.get(), *c.fine_, wide);
   };
   for (std::size_t bi = 0; bi < c.bodies_.size(); ++bi) {
     const Body& b = c.bodies_[bi];
     transform(poses.pose[std::size_t(b.link)], b.center, centre[bi]);
     if (!b.moving && !b.attached) continue;
-    if (prims) reach = prims->reaching_lanes<N>(centre[bi].x, centre[bi].y, centre[bi].z, b.radius + c.padding_, alive);
+    if (prims) reach = prims->reaching_lanes<N>(centre[bi].x, centre[bi].y, centre[bi].z, b.radius + c.padding_, alive, wide);
     std::uint32_t open = alive & ~clear_lanes(centre[bi], b.radius, alive);
     if (!open) continue;
     spheres_of(bi);
@@ -131,7 +133,7 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
   }
   for (const Pair& p : c.pairs_) {
     const Xyz &ca = centre[std::size_t(p.a)], &cb = centre[std::size_t(p.b)];
-    std::uint32_t near = overlapping(ca, cb, p.reach) & alive;
+    std::uint32_t near = overlapping(ca, cb, p.reach, wide) & alive;
     if (!near) continue;
     if (p.table >= 0)
       for (int k = 0; k < count; ++k)
@@ -146,12 +148,12 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
       const Xyz& wa = world[std::size_t(i)];
       const double ra = c.spheres_[std::size_t(i)].radius + c.padding_;
       // A sphere clear of b's bounding sphere in every lane still open cannot touch b's spheres.
-      if (!(overlapping(wa, cb, ra + b.radius) & near & ~hit)) continue;
+      if (!(overlapping(wa, cb, ra + b.radius, wide) & near & ~hit)) continue;
       if (wide) {
         for (int j = b.begin; j < b.end; ++j) add_overlaps(wa, world[std::size_t(j)], ra + c.spheres_[std::size_t(j)].radius, lo, hi);
-        hit = bits(lo, hi);
+        hit = bits(lo, hi, wide);
       } else {
-        for (int j = b.begin; j < b.end; ++j) hit |= overlapping(wa, world[std::size_t(j)], ra + c.spheres_[std::size_t(j)].radius);
+        for (int j = b.begin; j < b.end; ++j) hit |= overlapping(wa, world[std::size_t(j)], ra + c.spheres_[std::size_t(j)].radius, wide);
       }
       if ((hit & near) == near) break;
     }

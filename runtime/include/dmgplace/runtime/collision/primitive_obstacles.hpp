@@ -37,15 +37,16 @@ class PrimitiveObstacles {
 
   // Primitives (bit i: the i-th, for the first 64) whose bounding sphere comes within `need` of
   // the point in some `alive` lane (bit k: x[k], y[k], z[k]): a body's bounding sphere asks once,
-  // then its spheres test only these. All ones when there are more than 64 primitives.
+  // then its spheres test only these. All ones when there are more than 64 primitives. `wide`:
+  // compiled for AVX (lanes::bits).
   template <int N>
   DMGPLACE_LANES_INLINE std::uint64_t reaching_lanes(const double* x, const double* y, const double* z, double need,
-                                                     std::uint32_t alive) const {
+                                                     std::uint32_t alive, bool wide = false) const {
     static_assert(N % lanes::W == 0);
     if (!all_have_bits()) return ~std::uint64_t(0);
     std::uint64_t mask = 0;
     for (std::size_t i = 0; i < prims_.size(); ++i)
-      if (near_lanes<N>(prims_[i], x, y, z, need) & alive) mask |= std::uint64_t(1) << i;
+      if (near_lanes<N>(prims_[i], x, y, z, need, wide) & alive) mask |= std::uint64_t(1) << i;
     return mask;
   }
 
@@ -55,7 +56,8 @@ class PrimitiveObstacles {
   // lane for a cylinder).
   template <int N>
   DMGPLACE_LANES_INLINE std::uint32_t clear_lanes(const double* x, const double* y, const double* z, double need,
-                                                  std::uint32_t alive, std::uint64_t candidates = ~std::uint64_t(0)) const {
+                                                  std::uint32_t alive, std::uint64_t candidates = ~std::uint64_t(0),
+                                                  bool wide = false) const {
     static_assert(N % lanes::W == 0);
     using lanes::D;
     std::uint32_t clear = alive;
@@ -63,7 +65,7 @@ class PrimitiveObstacles {
     for (std::size_t i = 0; i < prims_.size() && clear; ++i) {
       if (i < 64 && !(candidates >> i & 1u)) continue;
       const Primitive& s = prims_[i];
-      const std::uint32_t near = near_lanes<N>(s, x, y, z, need) & clear;
+      const std::uint32_t near = near_lanes<N>(s, x, y, z, need, wide) & clear;
       if (!near) continue;
       const Eigen::Matrix3d& R = s.to_local;
       std::uint32_t far = 0;
@@ -86,7 +88,7 @@ class PrimitiveObstacles {
           const D o = lanes::max0(lanes::sqrt(dx * dx + dy * dy + dz * dz) - lanes::splat(s.half.x()));
           out2 = o * o;
         }
-        far |= lanes::bits(out2 >= need2) << h;
+        far |= lanes::bits(out2 >= need2, wide) << h;
       }
       clear &= ~(near & ~far);
     }
@@ -105,14 +107,14 @@ class PrimitiveObstacles {
   // Lanes whose point is within need + bound_radius of the primitive's centre.
   template <int N>
   static DMGPLACE_LANES_INLINE std::uint32_t near_lanes(const Primitive& s, const double* x, const double* y, const double* z,
-                                                        double need) {
+                                                        double need, bool wide) {
     using lanes::D;
     const D reach2 = lanes::splat((need + s.bound_radius) * (need + s.bound_radius));
     std::uint32_t near = 0;
     for (int h = 0; h < N; h += lanes::W) {
       const D dx = lanes::load(x + h) - lanes::splat(s.origin.x()), dy = lanes::load(y + h) - lanes::splat(s.origin.y()),
               dz = lanes::load(z + h) - lanes::splat(s.origin.z());
-      near |= lanes::bits(dx * dx + dy * dy + dz * dz < reach2) << h;
+      near |= lanes::bits(dx * dx + dy * dy + dz * dz < reach2, wide) << h;
     }
     return near;
   }

@@ -40,8 +40,21 @@ DMGPLACE_LANES_INLINE D sqrt(D a) {
 // Truncation towards zero (vcvttpd2dq) and back.
 DMGPLACE_LANES_INLINE I to_int(D a) { return __builtin_convertvector(a, I); }
 DMGPLACE_LANES_INLINE D to_double(I a) { return __builtin_convertvector(a, D); }
-// Bit k set where lane k of the mask is true.
-DMGPLACE_LANES_INLINE std::uint32_t bits(M m) {
+// Bit k set where lane k of the mask is true. `wide`: the caller is compiled for AVX, where the
+// mask is one register and SSE2's movmskpd on each half takes 4 instructions (the masking and OR
+// took 10). The portable build compares lane by lane (GCC lowers 256-bit vectors to scalars
+// there), so its masks are built in general registers, where the masking and OR cost less than
+// moving them back into vectors. The caller passes a constant; the branch folds away.
+DMGPLACE_LANES_INLINE std::uint32_t bits(M m, bool wide = false) {
+#if defined(__SSE2__)
+  if (wide) {
+    typedef double H __attribute__((vector_size(16)));
+    H lo, hi;
+    std::memcpy(&lo, &m, sizeof lo);
+    std::memcpy(&hi, reinterpret_cast<const char*>(&m) + sizeof lo, sizeof hi);
+    return std::uint32_t(__builtin_ia32_movmskpd(lo)) | std::uint32_t(__builtin_ia32_movmskpd(hi)) << 2;
+  }
+#endif
   const M w = m & M{1, 2, 4, 8};
   return std::uint32_t(w[0] | w[1] | w[2] | w[3]);
 }
