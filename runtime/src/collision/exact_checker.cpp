@@ -482,7 +482,8 @@ double ExactChecker::link_environment_gap(const std::vector<Eigen::Isometry3d>& 
       order.emplace_back((c - env[k].second * env[k].first.centre()).norm() - p.convex->radius() - env[k].first.radius(), k);
     std::sort(order.begin(), order.end());
     for (const auto& [ball_gap, k] : order) {
-      if (ball_gap >= std::min(gap, enough) || gap <= 0) break;
+      // Past `enough` by the margin a computed gap gives up, a ball proves enough on its own.
+      if (ball_gap >= gap || ball_gap - kGapTolerance > enough || gap <= 0) break;
       gap = std::min(gap, convex_gap(*p.convex, pose, env[k].first, env[k].second, 1e-5, enough + kGapTolerance) - kGapTolerance);
     }
   }

@@ -475,6 +475,55 @@ TEST(TwoLayer, ExactGapCertificatesKeepEveryStateFree) {
   RecordProperty("walked", walked);
 }
 
+// Plain checks ask gaps for a sign only (enough = 0): it must be the full gap's sign, on random
+// states of the shelf and where a bounding ball alone would pass: an obstacle just off a box's
+// corner touches the box's ball there, closer than the 0.1 mm a computed gap gives up.
+TEST(TwoLayer, AGapsSignQueryAgreesWithTheFullGap) {
+  ShelfWorld w;
+  const ExactChecker exact(w.kin, w.scene);
+  std::mt19937_64 rng(23);
+  std::vector<Eigen::Isometry3d> poses;
+  const int links = int(w.arm.model.links.size());
+  int positive = 0, other = 0;
+  auto agree = [&](double sign, double full, const std::string& what) {
+    ASSERT_EQ(sign > 0, full > 0) << what << ": sign query " << sign << ", full gap " << full;
+    ++(full > 0 ? positive : other);
+  };
+  for (int n = 0; n < 300; ++n) {
+    w.kin.link_poses(random_q(w.kin, rng), poses);
+    for (int a = 0; a < links; ++a) {
+      if (w.arm.model.links[std::size_t(a)].collision.empty()) continue;
+      agree(exact.link_environment_gap(poses, a, 0.0), exact.link_environment_gap(poses, a), w.arm.model.links[std::size_t(a)].name);
+      for (int b = a + 1; b < links; ++b)
+        if (!w.arm.model.links[std::size_t(b)].collision.empty())
+          agree(exact.link_pair_gap(poses, a, b, 0.0), exact.link_pair_gap(poses, a, b), "pair");
+    }
+  }
+  EXPECT_GT(positive, 1000);
+  EXPECT_GT(other, 100);
+
+  const int base = w.arm.model.link_index("dmgarm_link0");
+  const auto& shapes = w.arm.model.links[std::size_t(base)].collision;
+  ASSERT_EQ(shapes.size(), 1u);
+  ASSERT_EQ(shapes[0].type, ShapeType::Box);
+  w.kin.link_poses(Eigen::VectorXd::Zero(w.kin.dof()), poses);
+  const Eigen::Isometry3d pose = poses[std::size_t(base)] * shapes[0].origin;
+  const Eigen::Vector3d corner = pose * Eigen::Vector3d(shapes[0].size / 2);
+  const Eigen::Vector3d out = (corner - pose.translation()).normalized();
+  for (const double d : {2e-5, 5e-5, 9e-5, 3e-4, 1e-2}) {
+    Shape ball;
+    ball.type = ShapeType::Sphere;
+    ball.size = Eigen::Vector3d(0.005, 0, 0);
+    ball.origin.translation() = corner + (0.005 + d) * out;
+    Scene scene;
+    scene.objects.push_back({"ball", {ball}});
+    const ExactChecker near(w.kin, scene);
+    const double full = near.link_environment_gap(poses, base), sign = near.link_environment_gap(poses, base, 0.0);
+    EXPECT_EQ(full > 0, d > 1e-4) << "a gap counts only beyond 0.1 mm; " << d << " m off the corner: " << full;
+    EXPECT_EQ(sign > 0, full > 0) << d << " m off the corner: sign query " << sign << ", full gap " << full;
+  }
+}
+
 namespace {
 // A UV sphere whose vertices lie at `radius` around `at`: inside the ball of that radius, and
 // containing the ball of radius `radius * cos(pi / 12)` (its faces' distance from the centre).
