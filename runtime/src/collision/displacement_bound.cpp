@@ -8,11 +8,16 @@
 namespace dmgplace::runtime {
 
 void BallMotion::add_revolute(const Eigen::Vector3d& axis, const Eigen::Vector3d& origin, double rate, double reach) {
+  const Eigen::Vector3d arm = axis.cross(center_ - origin);  // the centre's velocity per unit of rate
+  add_revolute_arm(axis, arm, arm.norm(), rate, reach);
+}
+
+void BallMotion::add_revolute_arm(const Eigen::Vector3d& axis, const Eigen::Vector3d& arm, double arm_norm, double rate,
+                                  double reach) {
   const double au = std::abs(rate);
   b_.reach_speed += au * reach;
   frame_turn_ += au;
-  const Eigen::Vector3d arm = axis.cross(center_ - origin);  // the centre's velocity per unit of rate
-  const double r = arm.norm() + radius_;
+  const double r = arm_norm + radius_;
   linear_ += rate * arm;
   angular_ += rate * axis;
   b_.local_speed += au * r;
@@ -44,13 +49,21 @@ void DisplacementBound::add(const DisplacementBound& o) {
   turn_rate = std::max(turn_rate, o.turn_rate);
 }
 
-double DisplacementBound::time_to_move(double clearance) const {
+double DisplacementBound::time_to_move(double clearance, double enough) const {
   const double inf = std::numeric_limits<double>::infinity();
   const double t_static = reach_speed > 0 ? clearance / reach_speed : inf;
   double t_local = inf;
-  if (local_speed > 0)
-    t_local = turn_rate > 1e-12 ? std::log1p(clearance * turn_rate / local_speed) / turn_rate : clearance / local_speed;
+  if (local_speed > 0) {
+    if (turn_rate > 1e-12) {
+      // Gronwall's log1p(c w / v) / w, first from log1p(x) >= 2x / (2 + x) (x >= 0): one division.
+      t_local = 2 * clearance / (2 * local_speed + clearance * turn_rate);
+      if (std::max(t_static, t_local) < enough) t_local = std::log1p(clearance * turn_rate / local_speed) / turn_rate;
+    } else {
+      t_local = clearance / local_speed;
+    }
+  }
   const double best = std::max(t_static, t_local);
+  if (best >= enough) return best;
   // The Taylor bound is at least first_order * t: it cannot last past clearance / first_order.
   if (!(first_order * best < clearance)) return best;
   return std::max(best, taylor_time(clearance));

@@ -22,17 +22,18 @@ void SphereFieldChecker::Pass::certificate() {
   for (std::size_t bi = 0; bi < c.bodies_.size(); ++bi)
     if ((c.bodies_[bi].moving || c.bodies_[bi].attached) && std::isfinite(s.body_clear[bi])) {
       const double v = speed(c.bodies_[bi].chain);
-      if (v > 0) s.cands.push_back({s.body_clear[bi] / v, s.body_clear[bi], bi, false, false, 0, {}});
+      if (v > 0) candidate(s.body_clear[bi] / v, s.body_clear[bi], bi, false, false);
     }
   const double limit = std::min(table_limit, enough);
   while (!s.cands.empty()) {
-    auto it = std::min_element(s.cands.begin(), s.cands.end(), [](const Candidate& x, const Candidate& y) { return x.t < y.t; });
+    const auto at = std::size_t(std::min_element(s.times.begin(), s.times.end()) - s.times.begin());
+    Candidate* it = &s.cands[at];
     if (it->t >= limit || it->level == 2) break;
     if (it->level == 0) {
-      it->speed = it->pair ? c.pair_speed(it->index, poses, s.body_center, *dir)
-                         : c.joint_speed(c.bodies_[it->index].chain, poses, s.body_center[it->index], c.bodies_[it->index].radius, *dir);
-      it->t = it->speed.time_to_move(it->clearance);
+      it->speed = it->pair ? pair_speed(it->index) : body_speed(it->index);
+      it->t = it->speed.time_to_move(it->clearance, limit);
       it->level = it->fine ? 2 : 1;
+      s.times[at] = it->t;
       continue;
     }
     // Sphere by sphere (the bounding spheres, or the coarse grid, gave less).
@@ -41,10 +42,20 @@ void SphereFieldChecker::Pass::certificate() {
       const Body &a = c.bodies_[std::size_t(c.pairs_[it->index].a)], &b = c.bodies_[std::size_t(c.pairs_[it->index].b)];
       centres(std::size_t(c.pairs_[it->index].a));
       centres(std::size_t(c.pairs_[it->index].b));
-      for (int i = a.begin; i < a.end; ++i)
-        for (int j = b.begin; j < b.end; ++j)
-          clearance = std::min(clearance, (s.world[std::size_t(i)] - s.world[std::size_t(j)]).norm() - c.spheres_[std::size_t(i)].radius -
-                                              c.spheres_[std::size_t(j)].radius - c.padding_);
+      // A root only where it can lower the minimum: |wa - wb| - r < clearance, squared.
+      const Eigen::Vector3d& cb = s.body_center[std::size_t(c.pairs_[it->index].b)];
+      for (int i = a.begin; i < a.end; ++i) {
+        const Eigen::Vector3d& wa = s.world[std::size_t(i)];
+        const double ra = c.spheres_[std::size_t(i)].radius + c.padding_;
+        const double row = ra + b.radius + clearance;  // past b's bounding sphere by the minimum: no sphere of b is nearer
+        if (row > 0 && (wa - cb).squaredNorm() >= row * row) continue;
+        for (int j = b.begin; j < b.end; ++j) {
+          const double r = ra + c.spheres_[std::size_t(j)].radius, reach = r + clearance;
+          const double d2 = (wa - s.world[std::size_t(j)]).squaredNorm();
+          if (reach > 0 && d2 >= reach * reach) continue;
+          clearance = std::min(clearance, std::sqrt(d2) - r);
+        }
+      }
     } else {
       const Body& b = c.bodies_[it->index];
       // The field stops at its band: where it has clamped, the body's whole bounding sphere against
@@ -54,7 +65,8 @@ void SphereFieldChecker::Pass::certificate() {
         const double e = c.obstacles_->distance(s.body_center[it->index]) - b.radius - c.padding_;
         if (e > it->clearance) {
           it->clearance = e;
-          it->t = it->speed.time_to_move(e);
+          it->t = it->speed.time_to_move(e, limit);
+          s.times[at] = it->t;
           if (it->t >= limit) continue;
         }
       }
@@ -72,13 +84,51 @@ void SphereFieldChecker::Pass::certificate() {
       }
     }
     it->clearance = std::max(clearance, it->clearance);
-    it->t = it->speed.time_to_move(it->clearance);
+    it->t = it->speed.time_to_move(it->clearance, limit);
     it->level = 2;
+    s.times[at] = it->t;
   }
   double fd = table_limit;
-  for (const auto& k : s.cands) fd = std::min(fd, k.t);
+  for (const double t : s.times) fd = std::min(fd, t);
   if (skipped) fd = std::min(fd, enough);
   out.free_distance = std::isfinite(fd) ? fd : 1e9;
+}
+
+void SphereFieldChecker::Pass::levers(std::size_t bi) {
+  if (s.levers_done[bi]) return;
+  s.levers_done[bi] = 1;
+  const Body& b = c.bodies_[bi];
+  for (std::size_t k = 0; k < b.chain.size(); ++k) {
+    const ChainJoint& j = b.chain[k];
+    const auto slot = std::size_t(j.slot);
+    if (!s.slot_done[slot]) {
+      const Eigen::Isometry3d& T = poses[std::size_t(j.child)];
+      s.slot_axis[slot] = T.linear() * j.axis;
+      s.slot_origin[slot] = T.translation();
+      s.slot_done[slot] = 1;
+    }
+    if (j.prismatic) continue;
+    const auto e = std::size_t(b.lever_begin) + k;
+    s.lever[e] = s.slot_axis[slot].cross(s.body_center[bi] - s.slot_origin[slot]);
+    s.lever_norm[e] = s.lever[e].norm();
+  }
+}
+
+DisplacementBound SphereFieldChecker::Pass::ball_speed(std::size_t bi, const std::vector<ChainJoint>& joints, const int* at) {
+  levers(bi);
+  const Body& b = c.bodies_[bi];
+  BallMotion m(s.body_center[bi], b.radius);
+  for (int k = int(joints.size()) - 1; k >= 0; --k) {  // from the top of the chain down
+    const ChainJoint& j = joints[std::size_t(k)];
+    const double rate = (*dir)[j.slot];
+    if (j.prismatic) {
+      m.add_prismatic(s.slot_axis[std::size_t(j.slot)], rate, j.reach);
+      continue;
+    }
+    const auto e = std::size_t(b.lever_begin + (at ? at[k] : k));
+    m.add_revolute_arm(s.slot_axis[std::size_t(j.slot)], s.lever[e], s.lever_norm[e], rate, j.reach);
+  }
+  return m.bound();
 }
 
 }  // namespace dmgplace::runtime

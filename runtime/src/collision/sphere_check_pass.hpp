@@ -42,16 +42,38 @@ struct SphereFieldChecker::Pass {
     std::vector<double> body_clear;   // certified mode: each body's clearance to the scene
     std::vector<char> body_flagged;   // certified mode: left to the exact layer
     std::vector<Candidate> cands;
+    std::vector<double> times;  // cands' t, packed: the certificate's smallest-first scan reads only these
+    // Certified mode, filled on demand: chain joints' world axes and origins (by slot), and each
+    // body's lever arms about its chain joints (Body::lever_begin), shared by the body's bound
+    // and its pairs'.
+    std::vector<Eigen::Vector3d> slot_axis, slot_origin, lever;
+    std::vector<double> lever_norm;
+    std::vector<char> slot_done, levers_done;
   };
   static Scratch& thread_scratch();  // this thread's
 
-  Pass(const SphereFieldChecker& checker, const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses,
+  Pass(const SphereFieldChecker& checker, const Eigen::VectorXd* q, const std::vector<Eigen::Isometry3d>& poses,
        const Eigen::VectorXd* dir, double enough);
 
   // Each returns false when the answer is final (a proven collision, or more pairs than fit).
   bool environment();
   bool self_pairs();
   void certificate();  // out.free_distance
+
+  // How far a body's bounding sphere, or a pair's two, can move along dir (displacement_bound.hpp),
+  // from lever arms cached per body. body_center of the bodies asked about must be set.
+  DisplacementBound body_speed(std::size_t bi) { return ball_speed(bi, c.bodies_[bi].chain, nullptr); }
+  DisplacementBound pair_speed(std::size_t pi) {
+    const Pair& p = c.pairs_[pi];
+    const PairMoves& m = c.pair_moves_[pi];
+    DisplacementBound v = ball_speed(std::size_t(p.a), m.a, m.a_at.data());
+    v.add(ball_speed(std::size_t(p.b), m.b, m.b_at.data()));
+    return v;
+  }
+  // A body's bounding ball moved by `joints` (a subset of its chain, in chain order; `at`: their
+  // places in it, null for the whole chain).
+  DisplacementBound ball_speed(std::size_t bi, const std::vector<ChainJoint>& joints, const int* at);
+  void levers(std::size_t bi);
 
   // World sphere centres of a body, computed at most once per query.
   void centres(std::size_t bi) {
@@ -60,6 +82,10 @@ struct SphereFieldChecker::Pass {
     const Eigen::Isometry3d& T = poses[std::size_t(b.link)];
     for (int i = b.begin; i < b.end; ++i) s.world[std::size_t(i)] = T * c.spheres_[std::size_t(i)].center;
     s.world_done[bi] = 1;
+  }
+  void candidate(double t, double clearance, std::size_t index, bool pair, bool fine) {
+    s.cands.push_back({t, clearance, index, pair, fine, 0, {}});
+    s.times.push_back(t);
   }
   void cleared(std::size_t bi, double clearance) {
     out.min_clearance = std::min(out.min_clearance, clearance);
@@ -74,7 +100,7 @@ struct SphereFieldChecker::Pass {
   bool outside(const Eigen::Vector3d& p) const { return ((p - c.lo_).array() < 0).any() || ((c.hi_ - p).array() < 0).any(); }
 
   const SphereFieldChecker& c;
-  const Eigen::VectorXd& q;
+  const Eigen::VectorXd* q;  // null for a speed query (link_time, pair_time): no self pairs then
   const std::vector<Eigen::Isometry3d>& poses;
   const Eigen::VectorXd* dir;
   const double enough;

@@ -56,9 +56,7 @@ void SphereFieldChecker::build_bodies() {
   for (std::size_t j = 0; j < model.joints.size(); ++j) parent_joint[std::size_t(model.joints[j].child)] = int(j);
   certifiable_ = true;
   for (const auto& j : model.joints) certifiable_ &= !(j.mimic >= 0 && kin_->chain_slot(j.mimic) >= 0);
-  for (auto& b : bodies_) {
-    b.moving = moving[std::size_t(b.link)];
-  }
+  for (auto& b : bodies_) b.moving = moving[std::size_t(b.link)];
   for (auto& b : bodies_) {
     // Bounding sphere: centre of the spheres' box, radius reaching every sphere's far side.
     Eigen::AlignedBox3d box;
@@ -79,6 +77,11 @@ void SphereFieldChecker::build_bodies() {
       l = jt.parent;
     }
   }
+  lever_count_ = 0;
+  for (auto& b : bodies_) {
+    b.lever_begin = lever_count_;
+    lever_count_ += int(b.chain.size());
+  }
   auto allowed = [&](int a, int b) {
     if (a == b) return true;
     for (auto [x, y] : allowed_)
@@ -87,14 +90,17 @@ void SphereFieldChecker::build_bodies() {
   };
   // Joints above both bodies move them together: only the others change their distance.
   auto relative_moves = [](const Body& a, const Body& b) {
-    auto only = [](const Body& x, const Body& y) {
-      std::vector<ChainJoint> out;
-      for (const auto& c : x.chain)
-        if (std::none_of(y.chain.begin(), y.chain.end(), [&](const ChainJoint& d) { return d.slot == c.slot; }))
-          out.push_back(c);
-      return out;
+    auto only = [](const Body& x, const Body& y, std::vector<ChainJoint>& out, std::vector<int>& at) {
+      for (std::size_t k = 0; k < x.chain.size(); ++k)
+        if (std::none_of(y.chain.begin(), y.chain.end(), [&](const ChainJoint& d) { return d.slot == x.chain[k].slot; })) {
+          out.push_back(x.chain[k]);
+          at.push_back(int(k));
+        }
     };
-    return PairMoves{only(a, b), only(b, a)};
+    PairMoves m;
+    only(a, b, m.a, m.a_at);
+    only(b, a, m.b, m.b_at);
+    return m;
   };
   pairs_.clear();
   pair_moves_.clear();
@@ -204,7 +210,7 @@ SphereFieldChecker::Pass::Scratch& SphereFieldChecker::Pass::thread_scratch() {
   return scratch;
 }
 
-SphereFieldChecker::Pass::Pass(const SphereFieldChecker& checker, const Eigen::VectorXd& q_, const std::vector<Eigen::Isometry3d>& poses_,
+SphereFieldChecker::Pass::Pass(const SphereFieldChecker& checker, const Eigen::VectorXd* q_, const std::vector<Eigen::Isometry3d>& poses_,
                                const Eigen::VectorXd* dir_, double enough_)
     : c(checker), q(q_), poses(poses_), dir(dir_), enough(enough_),
       certify(dir_ && checker.certifiable_ && enough_ > 0),  // enough 0: the caller needs no certificate
@@ -217,13 +223,22 @@ SphereFieldChecker::Pass::Pass(const SphereFieldChecker& checker, const Eigen::V
     s.body_flagged.assign(c.bodies_.size(), 0);
   }
   s.cands.clear();
+  s.times.clear();
+  if (certify) {
+    s.levers_done.assign(c.bodies_.size(), 0);
+    s.slot_done.assign(std::size_t(dir->size()), 0);
+    s.lever.resize(std::size_t(c.lever_count_));
+    s.lever_norm.resize(std::size_t(c.lever_count_));
+    s.slot_axis.resize(std::size_t(dir->size()));
+    s.slot_origin.resize(std::size_t(dir->size()));
+  }
   out.min_clearance = c.band_;
 }
 
 SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses,
                                          const Eigen::VectorXd* dir, double enough) const {
   if (poses.size() != kin_->model().links.size()) throw Error("SphereFieldChecker", "link poses", "one pose per link expected");
-  Pass pass(*this, q, poses, dir, enough);
+  Pass pass(*this, &q, poses, dir, enough);
   if (pass.environment() && pass.self_pairs() && pass.certify) pass.certificate();
   return pass.out;
 }
@@ -231,9 +246,13 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const std::ve
 double SphereFieldChecker::link_time(const std::vector<Eigen::Isometry3d>& poses, int link, double gap,
                                      const Eigen::VectorXd& direction) const {
   if (!certifiable_ || gap <= 0) return 0.0;
-  for (const Body& b : bodies_)
-    if (b.link == link && !b.attached)
-      return joint_speed(b.chain, poses, poses[std::size_t(link)] * b.center, b.radius, direction).time_to_move(gap);
+  for (std::size_t bi = 0; bi < bodies_.size(); ++bi) {
+    const Body& b = bodies_[bi];
+    if (b.link != link || b.attached) continue;
+    Pass pass(*this, nullptr, poses, &direction, std::numeric_limits<double>::infinity());
+    pass.s.body_center[bi] = poses[std::size_t(link)] * b.center;
+    return pass.body_speed(bi).time_to_move(gap);
+  }
   return 0.0;
 }
 
@@ -241,36 +260,15 @@ double SphereFieldChecker::pair_time(const std::vector<Eigen::Isometry3d>& poses
                                      const Eigen::VectorXd& direction) const {
   if (!certifiable_ || gap <= 0) return 0.0;
   for (std::size_t pi = 0; pi < pairs_.size(); ++pi) {
-    const Body &a = bodies_[std::size_t(pairs_[pi].a)], &b = bodies_[std::size_t(pairs_[pi].b)];
+    const auto ia = std::size_t(pairs_[pi].a), ib = std::size_t(pairs_[pi].b);
+    const Body &a = bodies_[ia], &b = bodies_[ib];
     if (a.attached || b.attached || !((a.link == link_a && b.link == link_b) || (a.link == link_b && b.link == link_a))) continue;
-    thread_local std::vector<Eigen::Vector3d> centers;
-    centers.resize(bodies_.size());
-    centers[std::size_t(pairs_[pi].a)] = poses[std::size_t(a.link)] * a.center;
-    centers[std::size_t(pairs_[pi].b)] = poses[std::size_t(b.link)] * b.center;
-    return pair_speed(pi, poses, centers, direction).time_to_move(gap);
+    Pass pass(*this, nullptr, poses, &direction, std::numeric_limits<double>::infinity());
+    pass.s.body_center[ia] = poses[std::size_t(a.link)] * a.center;
+    pass.s.body_center[ib] = poses[std::size_t(b.link)] * b.center;
+    return pass.pair_speed(pi).time_to_move(gap);
   }
   return 0.0;
-}
-
-DisplacementBound SphereFieldChecker::joint_speed(const std::vector<ChainJoint>& joints,
-                                                  const std::vector<Eigen::Isometry3d>& poses, const Eigen::Vector3d& center,
-                                                  double radius, const Eigen::VectorXd& dir) const {
-  BallMotion m(center, radius);
-  for (auto it = joints.rbegin(); it != joints.rend(); ++it) {  // from the top of the chain down
-    const Eigen::Isometry3d& T = poses[std::size_t(it->child)];
-    const Eigen::Vector3d axis = T.linear() * it->axis;
-    if (it->prismatic) m.add_prismatic(axis, dir[it->slot], it->reach);
-    else m.add_revolute(axis, T.translation(), dir[it->slot], it->reach);
-  }
-  return m.bound();
-}
-
-DisplacementBound SphereFieldChecker::pair_speed(std::size_t pi, const std::vector<Eigen::Isometry3d>& poses,
-                                                 const std::vector<Eigen::Vector3d>& centers, const Eigen::VectorXd& dir) const {
-  const Pair& p = pairs_[pi];
-  DisplacementBound s = joint_speed(pair_moves_[pi].a, poses, centers[std::size_t(p.a)], bodies_[std::size_t(p.a)].radius, dir);
-  s.add(joint_speed(pair_moves_[pi].b, poses, centers[std::size_t(p.b)], bodies_[std::size_t(p.b)].radius, dir));
-  return s;
 }
 
 }  // namespace dmgplace::runtime

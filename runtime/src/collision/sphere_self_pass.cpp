@@ -24,7 +24,7 @@ bool SphereFieldChecker::Pass::self_pairs() {
       if (certify_this) {
         if (d2 < (rb + need) * (rb + need)) {
           const double gap = std::sqrt(d2) - rb;
-          s.cands.push_back({gap / v, gap, pi, true, false, 0, {}});
+          candidate(gap / v, gap, pi, true, false);
         } else {
           skipped = true;
         }
@@ -34,7 +34,7 @@ bool SphereFieldChecker::Pass::self_pairs() {
     const Body &a = c.bodies_[std::size_t(p.a)], &b = c.bodies_[std::size_t(p.b)];
     if (p.table >= 0) {
       const Table& t = (*c.tables_)[std::size_t(p.table)];
-      const double lb = t.lower_bound(q) - c.padding_;
+      const double lb = t.lower_bound(*q) - c.padding_;
       if (lb > 0) {
         if (certify_this) {
           // Only the table's joints move the pair relative to each other, at most `slope` each.
@@ -79,7 +79,7 @@ bool SphereFieldChecker::Pass::self_pairs() {
       }
     }
     if (!hit) {
-      if (certify_this && std::isfinite(gap)) s.cands.push_back({gap / v, gap, pi, true, true, 0, {}});
+      if (certify_this && std::isfinite(gap)) candidate(gap / v, gap, pi, true, true);
       continue;
     }
     out.self_free = false;

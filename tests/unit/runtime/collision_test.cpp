@@ -475,6 +475,75 @@ TEST(TwoLayer, ExactGapCertificatesKeepEveryStateFree) {
   RecordProperty("walked", walked);
 }
 
+// link_time and pair_time (the exact layer's certificates, from the speed bounds check_along uses)
+// hold for every point of a link's spheres: within the time given for a gap, no point moves that
+// far, and no point of one link changes its distance to a point of the other by that much. Gaps
+// of 2-20 mm keep the times short, where the bounds are tight: a lever arm taken too short, or a
+// joint left out, shows here (halving the arms fails it).
+TEST(Certificate, LinkAndPairTimesKeepEveryPointWithinTheGap) {
+  ShelfWorld w;
+  const SphereFieldChecker fast(w.kin, w.arm.spheres, w.sdf, 0.3);
+  std::mt19937_64 rng(23);
+  std::normal_distribution<double> g(0, 1);
+  std::uniform_real_distribution<double> u(0, 1);
+  // Per link: its spheres' centres and points on their surfaces (link frame).
+  std::vector<std::vector<Eigen::Vector3d>> points(w.kin.model().links.size());
+  for (const auto& sp : w.arm.spheres) {
+    points[std::size_t(sp.link)].push_back(sp.center);
+    for (int k = 0; k < 6; ++k) points[std::size_t(sp.link)].push_back(sp.center + sp.radius * Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized());
+  }
+  const auto moving = w.kin.moving_links();
+  std::vector<int> links;
+  for (std::size_t l = 0; l < points.size(); ++l)
+    if (moving[l] && !points[l].empty()) links.push_back(int(l));
+  ASSERT_GE(links.size(), 5u);
+  auto world = [&](const Eigen::VectorXd& x, int link) {
+    std::vector<Eigen::Isometry3d> poses;
+    w.kin.link_poses(x, poses);
+    std::vector<Eigen::Vector3d> out;
+    for (const auto& p : points[std::size_t(link)]) out.push_back(poses[std::size_t(link)] * p);
+    return out;
+  };
+  int link_cases = 0, pair_cases = 0;
+  double tightest = 0;  // the largest share of the gap any point used
+  for (int trial = 0; trial < 600; ++trial) {
+    const Eigen::VectorXd q = random_q(w.kin, rng);
+    Eigen::VectorXd dir(w.kin.dof());
+    for (int j = 0; j < w.kin.dof(); ++j) dir[j] = g(rng);
+    dir.normalize();
+    std::vector<Eigen::Isometry3d> poses;
+    w.kin.link_poses(q, poses);
+    const double gap = 0.002 + 0.018 * u(rng);
+    const int a = links[std::size_t(rng() % links.size())], b = links[std::size_t(rng() % links.size())];
+    const double tl = fast.link_time(poses, a, gap, dir);
+    ASSERT_GT(tl, 0.0);
+    const auto pa = world(q, a);
+    for (double t = tl / 8; t <= std::min(tl, 2.0); t += tl / 8) {
+      const auto xa = world(q + t * dir, a);
+      for (std::size_t k = 0; k < pa.size(); ++k) {
+        const double moved = (xa[k] - pa[k]).norm();
+        ASSERT_LT(moved, gap) << "link " << a << " at t = " << t << " of " << tl;
+        tightest = std::max(tightest, moved / gap);
+      }
+    }
+    ++link_cases;
+    const double tp = a == b ? 0.0 : fast.pair_time(poses, a, b, gap, dir);
+    if (tp <= 0) continue;  // not a pair the checker tests
+    const auto pb = world(q, b);
+    for (double t = tp / 8; t <= std::min(tp, 2.0); t += tp / 8) {
+      const auto xa = world(q + t * dir, a), xb = world(q + t * dir, b);
+      for (std::size_t i = 0; i < pa.size(); ++i)
+        for (std::size_t j = 0; j < pb.size(); ++j)
+          ASSERT_LT(std::abs((xa[i] - xb[j]).norm() - (pa[i] - pb[j]).norm()), gap) << "links " << a << ", " << b << " at t = " << t;
+    }
+    ++pair_cases;
+  }
+  EXPECT_EQ(link_cases, 600);
+  EXPECT_GT(pair_cases, 100);
+  EXPECT_GT(tightest, 0.5) << "the bound must be close to the true motion somewhere";
+  RecordProperty("tightest", std::to_string(tightest));
+}
+
 // Plain checks ask gaps for a sign only (enough = 0): it must be the full gap's sign, on random
 // states of the shelf and where a bounding ball alone would pass: an obstacle just off a box's
 // corner touches the box's ball there, closer than the 0.1 mm a computed gap gives up.

@@ -167,6 +167,34 @@ TEST(DisplacementBound, SumOfTwoBallsIsBoundedByTheirSum) {
   }
 }
 
+// A caller that needs only `enough` may get any guaranteed time past it: never more than the full
+// answer, and either the full answer or at least `enough`. Over random arm bounds, clearances and
+// needs, both cheap exits (the static and the log-free Gronwall bound) and the full Taylor root
+// must be taken.
+TEST(DisplacementBound, TimeToMoveGivenEnoughIsTheFullAnswerOrPastEnough) {
+  Arm arm;
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> unit(0, 1);
+  const int base = arm.kin.base_link(), tip = arm.kin.tip_link();
+  int early = 0, full = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    Eigen::VectorXd q(arm.kin.dof());
+    for (int i = 0; i < arm.kin.dof(); ++i) q[i] = arm.kin.lower()[i] + unit(rng) * (arm.kin.upper()[i] - arm.kin.lower()[i]);
+    std::vector<Eigen::Isometry3d> poses;
+    arm.kin.link_poses(q, poses);
+    const DisplacementBound b = arm.bound(poses, base, tip, 0.05 * random_unit(3, rng), 0.05 * unit(rng), random_unit(arm.kin.dof(), rng));
+    const double clearance = 0.001 + 0.2 * unit(rng), all = b.time_to_move(clearance);
+    const double enough = all * (0.2 + 1.6 * unit(rng));
+    const double t = b.time_to_move(clearance, enough);
+    ASSERT_LE(t, all + 1e-15) << "a cheaper answer cannot prove more";
+    if (t == all) ++full;
+    else ASSERT_GE(t, enough) << "short of the full answer and of what was needed";
+    if (t < all) ++early;
+  }
+  EXPECT_GT(early, 100);
+  EXPECT_GT(full, 100);
+}
+
 // A ball that no joint moves never runs out of clearance; one on the axis of the only moving joint
 // turns in place (first order 0 at the centre) and moves only through its radius.
 TEST(DisplacementBound, EdgeCases) {

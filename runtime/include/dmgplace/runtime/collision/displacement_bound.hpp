@@ -16,6 +16,7 @@
 // Distances are measured in a frame the listed joints do not move (the base, or for a link pair
 // the last joint both links share); a pair's bound is the sum of its two balls' (`add`).
 #include <Eigen/Core>
+#include <limits>
 
 namespace dmgplace::runtime {
 
@@ -24,8 +25,10 @@ struct DisplacementBound {
 
   // A bound for D_a + D_b (two balls moving independently).
   void add(const DisplacementBound& other);
-  // The longest t with D(t) < clearance guaranteed (infinite when nothing moves).
-  double time_to_move(double clearance) const;
+  // The longest t with D(t) < clearance guaranteed (infinite when nothing moves). Given `enough`,
+  // any guaranteed t >= enough may be returned instead: the cheap bounds first, the Taylor root
+  // (and the logarithm) only when they fall short.
+  double time_to_move(double clearance, double enough = std::numeric_limits<double>::infinity()) const;
   // The smallest of the three bounds on D(t) (for tests and plots).
   double displacement(double t) const;
 
@@ -39,6 +42,9 @@ class BallMotion {
  public:
   BallMotion(const Eigen::Vector3d& center, double radius) : center_(center), radius_(radius) {}
   void add_revolute(const Eigen::Vector3d& axis, const Eigen::Vector3d& origin, double rate, double reach);
+  // The same with the centre's lever arm known: axis x (centre - origin), and its norm (callers
+  // that bound one ball over several joint subsets compute each arm once).
+  void add_revolute_arm(const Eigen::Vector3d& axis, const Eigen::Vector3d& arm, double arm_norm, double rate, double reach);
   void add_prismatic(const Eigen::Vector3d& axis, double rate, double reach);
   DisplacementBound bound() const;
 

@@ -130,6 +130,7 @@ class SphereFieldChecker {
   struct Body {
     int link = -1;
     std::vector<ChainJoint> chain;  // chain joints that move this body, the link's own joint first
+    int lever_begin = 0;     // its chain's first lever arm in a query's per-body cache (Pass::levers)
     int begin = 0, end = 0;  // sphere range
     Eigen::Vector3d center = Eigen::Vector3d::Zero();
     double radius = 0;
@@ -176,15 +177,11 @@ class SphereFieldChecker {
   SphereCheck evaluate(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses, const Eigen::VectorXd* direction,
                        double enough) const;
   const std::vector<Eigen::Isometry3d>& poses_at(const Eigen::VectorXd& q) const;  // thread-local FK
-  // How far a ball (a body's bounding sphere) can move along `direction` (displacement_bound.hpp).
-  DisplacementBound joint_speed(const std::vector<ChainJoint>& joints, const std::vector<Eigen::Isometry3d>& poses,
-                                const Eigen::Vector3d& center, double radius, const Eigen::VectorXd& direction) const;
   // Joints moving one body of a pair relative to the other (those above both move them together).
   struct PairMoves {
     std::vector<ChainJoint> a, b;
+    std::vector<int> a_at, b_at;  // where each of a, b sits in its body's chain (lever arms cached per body)
   };
-  DisplacementBound pair_speed(std::size_t pair, const std::vector<Eigen::Isometry3d>& poses,
-                               const std::vector<Eigen::Vector3d>& centers, const Eigen::VectorXd& direction) const;
   bool certifiable_ = true;  // false when a mimic joint follows a chain joint (speeds unknown)
   const Kinematics* kin_;
   std::vector<formats::LinkSphere> spheres_;  // robot + attached, link frames, grouped by body
@@ -197,6 +194,7 @@ class SphereFieldChecker {
   std::vector<Body> bodies_;
   std::vector<Pair> pairs_;                   // body pairs checked for self-collision
   std::vector<PairMoves> pair_moves_;         // per pair
+  int lever_count_ = 0;                       // chain joints summed over the bodies
   std::shared_ptr<const std::vector<Table>> tables_;  // shared by every per-grasp copy
   // Every `kCoarseStride`-th node of the distance grid: small enough to stay in cache, and with
   // a nearest-node bound (value - distance to the node, 1-Lipschitz) it clears most bodies in one
