@@ -1,10 +1,10 @@
 #include "dmgplace/runtime/motion/multi_goal_rrt_connect.hpp"
+#include "dmgplace/runtime/motion/nearest_states.hpp"
 
 #include <ompl/base/PlannerData.h>
 #include <ompl/base/ProblemDefinition.h>
 #include <ompl/base/ScopedState.h>
 #include <ompl/base/spaces/RealVectorStateSpace.h>
-#include <ompl/datastructures/NearestNeighborsGNATNoThreadSafety.h>
 #include <ompl/geometric/PathGeometric.h>
 
 #include <algorithm>
@@ -23,12 +23,14 @@ struct MultiGoalRRTConnect::Node {
 
 struct MultiGoalRRTConnect::Tree {
   std::vector<std::unique_ptr<Node>> nodes;
-  std::unique_ptr<ompl::NearestNeighbors<Node*>> nn;
+  NearestStates nn;  // nodes[i] is point i
+  explicit Tree(std::size_t dim) : nn(dim) {}
   Node* add(std::vector<double> q, Node* parent) {
+    nn.add(q.data());
     nodes.push_back(std::make_unique<Node>(Node{std::move(q), parent}));
-    nn->add(nodes.back().get());
     return nodes.back().get();
   }
+  Node* nearest(const std::vector<double>& q) const { return nodes[nn.nearest(q.data())].get(); }
 };
 
 MultiGoalRRTConnect::MultiGoalRRTConnect(const ob::SpaceInformationPtr& si) : ob::Planner(si, "MultiGoalRRTConnect") {
@@ -65,13 +67,7 @@ void MultiGoalRRTConnect::clear() {
 }
 
 namespace {
-std::unique_ptr<MultiGoalRRTConnect::Tree> new_tree(
-    const std::function<double(MultiGoalRRTConnect::Node* const&, MultiGoalRRTConnect::Node* const&)>& dist) {
-  auto t = std::make_unique<MultiGoalRRTConnect::Tree>();
-  t->nn = std::make_unique<ompl::NearestNeighborsGNATNoThreadSafety<MultiGoalRRTConnect::Node*>>();
-  t->nn->setDistanceFunction(dist);
-  return t;
-}
+std::unique_ptr<MultiGoalRRTConnect::Tree> new_tree(std::size_t dim) { return std::make_unique<MultiGoalRRTConnect::Tree>(dim); }
 }  // namespace
 
 double MultiGoalRRTConnect::distance(const std::vector<double>& a, const std::vector<double>& b) const {
@@ -104,8 +100,7 @@ void MultiGoalRRTConnect::sample(std::vector<double>& q) {
 }
 
 MultiGoalRRTConnect::Grow MultiGoalRRTConnect::extend(Tree& tree, const std::vector<double>& target, Node*& added) {
-  Node probe{target, nullptr};
-  Node* near = tree.nn->nearest(&probe);
+  Node* near = tree.nearest(target);
   const double d = distance(near->q, target);
   std::vector<double> q = target;
   bool reached = true;
@@ -162,9 +157,8 @@ std::vector<int> MultiGoalRRTConnect::take_rejected() {
 
 void MultiGoalRRTConnect::take_pending() {
   std::lock_guard<std::mutex> lock(mutex_);
-  auto dist = [this](Node* const& a, Node* const& b) { return distance(a->q, b->q); };
   for (auto& [id, q] : pending_add_) {
-    auto t = new_tree(dist);
+    auto t = new_tree(si_->getStateDimension());
     t->add(q, nullptr);
     goal_trees_[id] = std::move(t);
     untried_direct_.push_back(id);
@@ -204,14 +198,13 @@ ob::PlannerStatus MultiGoalRRTConnect::solve(const ob::PlannerTerminationConditi
   // Goals come through add_goal(), not the problem definition: only a start is required.
   if (!pdef_ || pdef_->getStartStateCount() == 0) return ob::PlannerStatus::INVALID_START;
   const auto t0 = std::chrono::steady_clock::now();
-  auto dist = [this](Node* const& a, Node* const& b) { return distance(a->q, b->q); };
   if (!start_tree_) {
     const ob::State* st = pis_.nextStart();
     if (!st) return ob::PlannerStatus::INVALID_START;
     std::vector<double> q;
     si_->getStateSpace()->copyToReals(q, st);
     if (!state_valid(q)) return ob::PlannerStatus::INVALID_START;
-    start_tree_ = new_tree(dist);
+    start_tree_ = new_tree(si_->getStateDimension());
     start_tree_->add(q, nullptr);
   }
   std::vector<double> q_rand;

@@ -1,0 +1,61 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "dmgplace/runtime/motion/nearest_states.hpp"
+
+using dmgplace::runtime::NearestStates;
+
+namespace {
+double squared(const double* a, const double* b, std::size_t dim) {
+  double s = 0;
+  for (std::size_t k = 0; k < dim; ++k) s += (a[k] - b[k]) * (a[k] - b[k]);
+  return s;
+}
+}  // namespace
+
+// The nearest point is the brute-force nearest on both sides of the switch from the flat scan to
+// GNAT (and right at it), for uniform points and for points in tight clusters (an RRT's tree
+// along a corridor): equal distances, so a tie may name either point.
+TEST(NearestStates, IsTheBruteForceNearestOnBothSidesOfTheSwitchToGnat) {
+  for (const bool clustered : {false, true}) {
+    const std::size_t dim = 7;
+    NearestStates set(dim);
+    std::mt19937_64 rng(clustered ? 5 : 4);
+    std::uniform_real_distribution<double> u(-3, 3);
+    std::normal_distribution<double> g(0, 0.02);
+    std::vector<double> centre(dim), q(dim);
+    int checked = 0;
+    for (std::size_t n = 1; n <= NearestStates::kScan + 600; ++n) {
+      if (!clustered || n % 200 == 1)
+        for (auto& c : centre) c = u(rng);
+      for (std::size_t k = 0; k < dim; ++k) q[k] = clustered ? centre[k] + g(rng) : u(rng);
+      ASSERT_EQ(set.add(q.data()), n - 1);
+      ASSERT_EQ(set.size(), n);
+      const bool near_switch = n + 3 >= NearestStates::kScan && n <= NearestStates::kScan + 3;
+      if (n % 97 != 0 && !near_switch && n != NearestStates::kScan + 600) continue;
+      for (int t = 0; t < 20; ++t) {
+        for (std::size_t k = 0; k < dim; ++k) q[k] = clustered && t % 2 ? centre[k] + 5 * g(rng) : u(rng);
+        double best = std::numeric_limits<double>::infinity();
+        for (std::size_t i = 0; i < set.size(); ++i) best = std::min(best, squared(set.point(i), q.data(), dim));
+        const std::size_t got = set.nearest(q.data());
+        ASSERT_LT(got, set.size());
+        ASSERT_EQ(squared(set.point(got), q.data(), dim), best) << n << " points, clustered " << clustered;
+        ++checked;
+      }
+      // A stored point is its own nearest.
+      const std::size_t i = std::size_t(rng() % set.size());
+      ASSERT_EQ(squared(set.point(set.nearest(set.point(i))), set.point(i), dim), 0.0);
+    }
+    EXPECT_GT(checked, 500);
+  }
+}
+
+TEST(NearestStates, RefusesAnEmptySetAndNoDimensions) {
+  EXPECT_THROW(NearestStates(0), std::invalid_argument);
+  NearestStates set(3);
+  const double q[3] = {0, 0, 0};
+  EXPECT_THROW(set.nearest(q), std::logic_error);
+}
