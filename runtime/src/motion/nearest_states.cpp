@@ -3,14 +3,58 @@
 #include <iostream>  // OMPL 1.5's GNAT header uses std::cout without including it
 #include <ompl/datastructures/NearestNeighborsGNATNoThreadSafety.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
+#include "dmgplace/runtime/system/lanes.hpp"
+#include "dmgplace/runtime/system/simd_dispatch.hpp"
+
 namespace dmgplace::runtime {
 namespace {
 constexpr std::size_t kProbe = std::numeric_limits<std::size_t>::max();  // GNAT's query: query_
+constexpr std::size_t kLanes = NearestStates::kBlock;
+constexpr double kEmpty = 1e150;  // an unused lane's coordinate: its squared distance is ~1e300, never the nearest
+
+// The scan over blocks of kLanes points (coordinate k of a block's points contiguous): a block's
+// squared distances in two lanes::D vectors, then one comparison of its smallest with the best so
+// far (most blocks hold no better point). Inlined into an AVX2 + FMA and a baseline entry point,
+// so each is compiled for its own instruction set.
+DMGPLACE_LANES_INLINE std::size_t scan(const double* blocks, std::size_t count, std::size_t dim, const double* q) {
+  static_assert(kLanes == 2 * lanes::W);
+  double best = std::numeric_limits<double>::infinity();
+  std::size_t at = 0;
+  const std::size_t nb = (count + kLanes - 1) / kLanes;
+  for (std::size_t b = 0; b < nb; ++b) {
+    const double* x = blocks + b * dim * kLanes;
+    lanes::D lo{}, hi{};
+    for (std::size_t k = 0; k < dim; ++k) {
+      const lanes::D qk = lanes::splat(q[k]);
+      const lanes::D tl = lanes::load(x + k * kLanes) - qk, th = lanes::load(x + k * kLanes + lanes::W) - qk;
+      lo += tl * tl;
+      hi += th * th;
+    }
+    const lanes::D m4 = lanes::min(lo, hi);
+    const double m = std::min(std::min(m4[0], m4[1]), std::min(m4[2], m4[3]));
+    if (!(m < best)) continue;
+    best = m;
+    for (int i = 0; i < lanes::W; ++i)
+      if (lo[i] == m || hi[i] == m) {
+        at = b * kLanes + std::size_t(lo[i] == m ? i : i + lanes::W);
+        break;
+      }
+  }
+  return at;
 }
+__attribute__((target("avx2,fma"))) std::size_t scan_avx2(const double* blocks, std::size_t count, std::size_t dim,
+                                                          const double* q) {
+  return scan(blocks, count, dim, q);
+}
+std::size_t scan_portable(const double* blocks, std::size_t count, std::size_t dim, const double* q) {
+  return scan(blocks, count, dim, q);
+}
+}  // namespace
 
 struct NearestStates::Gnat {
   ompl::NearestNeighborsGNATNoThreadSafety<std::size_t> nn;
@@ -33,6 +77,9 @@ double NearestStates::distance(std::size_t a, std::size_t b) const {
 std::size_t NearestStates::add(const double* q) {
   const std::size_t index = size();
   flat_.insert(flat_.end(), q, q + dim_);
+  if (index % kLanes == 0) blocks_.resize(blocks_.size() + dim_ * kLanes, kEmpty);
+  double* block = blocks_.data() + (index / kLanes) * dim_ * kLanes;
+  for (std::size_t k = 0; k < dim_; ++k) block[k * kLanes + index % kLanes] = q[k];
   if (gnat_) {
     gnat_->nn.add(index);
   } else if (size() > kScan) {
@@ -51,18 +98,7 @@ std::size_t NearestStates::nearest(const double* q) const {
     query_ = q;
     return gnat_->nn.nearest(kProbe);
   }
-  double best = std::numeric_limits<double>::infinity();
-  std::size_t at = 0;
-  for (std::size_t i = 0, n = size(); i < n; ++i) {
-    const double* x = point(i);
-    double s = 0;
-    for (std::size_t k = 0; k < dim_; ++k) s += (x[k] - q[k]) * (x[k] - q[k]);
-    if (s < best) {
-      best = s;
-      at = i;
-    }
-  }
-  return at;
+  return simd_path() == SimdPath::Avx2 ? scan_avx2(blocks_.data(), size(), dim_, q) : scan_portable(blocks_.data(), size(), dim_, q);
 }
 
 }  // namespace dmgplace::runtime
