@@ -72,15 +72,23 @@ void SphereFieldChecker::Pass::certificate() {
       }
       centres(it->index);
       for (int i = b.begin; i < b.end; ++i) c.fine_->prefetch(s.world[std::size_t(i)]);
+      // Field bounds first. Near a surface the node bound's loss is most of the clearance, so the
+      // exact shapes are asked there; so they are where the band has clamped (the field then knows
+      // only "at least the band"). An exact distance only raises a sphere's bound, so it is asked
+      // only while the field's bound is below the smallest clearance so far, smallest first.
+      s.exact_order.clear();
       for (int i = b.begin; i < b.end; ++i) {
         const auto& sp = c.spheres_[std::size_t(i)];
         const Eigen::Vector3d& w = s.world[std::size_t(i)];
-        double sc = std::max(c.coarse_lower_bound(w), c.fine_lower_bound(w)) - sp.radius - c.padding_;
-        // Near a surface the node bound's loss is most of the clearance: ask the exact shapes.
-        // So is a sphere the band has clamped (the field then knows only "at least the band").
-        if (c.obstacles_ && (sc < kExactBelow || sc + sp.radius + c.padding_ > kBandShare * c.band_))
-          sc = std::max(sc, c.obstacles_->distance(w) - sp.radius - c.padding_);
-        clearance = std::min(clearance, sc);
+        const double sc = std::max(c.coarse_lower_bound(w), c.fine_lower_bound(w)) - sp.radius - c.padding_;
+        if (c.obstacles_ && (sc < kExactBelow || sc + sp.radius + c.padding_ > kBandShare * c.band_)) s.exact_order.push_back({sc, i});
+        else clearance = std::min(clearance, sc);
+      }
+      std::sort(s.exact_order.begin(), s.exact_order.end());
+      for (const auto& [sc, i] : s.exact_order) {
+        if (sc >= clearance) break;  // neither this sphere nor the rest can lower it
+        const auto& sp = c.spheres_[std::size_t(i)];
+        clearance = std::min(clearance, std::max(sc, c.obstacles_->distance(s.world[std::size_t(i)]) - sp.radius - c.padding_));
       }
     }
     it->clearance = std::max(clearance, it->clearance);

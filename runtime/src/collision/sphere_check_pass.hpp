@@ -43,6 +43,7 @@ struct SphereFieldChecker::Pass {
     std::vector<char> body_flagged;   // certified mode: left to the exact layer
     std::vector<Candidate> cands;
     std::vector<double> times;  // cands' t, packed: the certificate's smallest-first scan reads only these
+    std::vector<std::pair<double, int>> exact_order;  // a body's spheres to ask the exact shapes: field bound, sphere
     // Certified mode, filled on demand: chain joints' world axes and origins (by slot), and each
     // body's lever arms about its chain joints (Body::lever_begin), shared by the body's bound
     // and its pairs'.
