@@ -245,20 +245,33 @@ SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const std::ve
 
 double SphereFieldChecker::link_time(const std::vector<Eigen::Isometry3d>& poses, int link, double gap,
                                      const Eigen::VectorXd& direction) const {
-  if (!certifiable_ || gap <= 0) return 0.0;
+  DisplacementBound v;
+  return gap > 0 && link_speed(poses, link, direction, v) ? v.time_to_move(gap) : 0.0;
+}
+
+double SphereFieldChecker::pair_time(const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b, double gap,
+                                     const Eigen::VectorXd& direction) const {
+  DisplacementBound v;
+  return gap > 0 && pair_speed(poses, link_a, link_b, direction, v) ? v.time_to_move(gap) : 0.0;
+}
+
+bool SphereFieldChecker::link_speed(const std::vector<Eigen::Isometry3d>& poses, int link, const Eigen::VectorXd& direction,
+                                    DisplacementBound& bound) const {
+  if (!certifiable_) return false;
   for (std::size_t bi = 0; bi < bodies_.size(); ++bi) {
     const Body& b = bodies_[bi];
     if (b.link != link || b.attached) continue;
     Pass pass(*this, nullptr, poses, &direction, std::numeric_limits<double>::infinity());
     pass.s.body_center[bi] = poses[std::size_t(link)] * b.center;
-    return pass.body_speed(bi).time_to_move(gap);
+    bound = pass.body_speed(bi);
+    return true;
   }
-  return 0.0;
+  return false;
 }
 
-double SphereFieldChecker::pair_time(const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b, double gap,
-                                     const Eigen::VectorXd& direction) const {
-  if (!certifiable_ || gap <= 0) return 0.0;
+bool SphereFieldChecker::pair_speed(const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b,
+                                    const Eigen::VectorXd& direction, DisplacementBound& bound) const {
+  if (!certifiable_) return false;
   for (std::size_t pi = 0; pi < pairs_.size(); ++pi) {
     const auto ia = std::size_t(pairs_[pi].a), ib = std::size_t(pairs_[pi].b);
     const Body &a = bodies_[ia], &b = bodies_[ib];
@@ -266,9 +279,10 @@ double SphereFieldChecker::pair_time(const std::vector<Eigen::Isometry3d>& poses
     Pass pass(*this, nullptr, poses, &direction, std::numeric_limits<double>::infinity());
     pass.s.body_center[ia] = poses[std::size_t(a.link)] * a.center;
     pass.s.body_center[ib] = poses[std::size_t(b.link)] * b.center;
-    return pass.pair_speed(pi).time_to_move(gap);
+    bound = pass.pair_speed(pi);
+    return true;
   }
-  return 0.0;
+  return false;
 }
 
 }  // namespace dmgplace::runtime

@@ -309,9 +309,11 @@ double convex_gap(const ConvexSolid& a, const Eigen::Isometry3d& ta, const Conve
     const Eigen::Vector3d w = support(v);
     lower = std::max(lower, v.dot(w) / vn);
     if (vn - lower <= tolerance) break;  // the bound is within tolerance of the estimate
-    // Proven above `enough`, or never to be (past the first v, between the centres, v is a point
-    // of A - B: the distance is at most vn).
-    if (enough < std::numeric_limits<double>::infinity() && (lower - slack > enough || (iter > 0 && !(vn - slack > enough))))
+    // Proven above `enough`. A sign query (enough <= 0) also stops once it never will be (past the
+    // first v, between the centres, v is a point of A - B: the distance is at most vn); a
+    // certificate asking for more goes on to the best bound it can get.
+    if (enough < std::numeric_limits<double>::infinity() &&
+        (lower - slack > enough || (enough <= 0 && iter > 0 && !(vn - slack > enough))))
       break;
     bool repeated = false;  // no new support point: no progress left
     for (int k = 0; k < s.n; ++k) repeated |= (s.p[k] - w).squaredNorm() <= 1e-24;

@@ -2,7 +2,8 @@
 // Shared by the built-in arm's and the Panda's tests: TwoLayerChecker::free_distance on random
 // states and directions. A collision is never certified; a state the spheres flagged but exact
 // clearances certified keeps every state of its certificate (both ways, 1 mm steps or finer) free
-// for FCL. Returns how many such certificates were walked.
+// for FCL, and a certificate asked for less is at least that long and no longer than the full
+// one. Returns how many such certificates were walked.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -31,6 +32,12 @@ inline int walk_gap_certificates(const runtime::TwoLayerChecker& both, const run
     const bool free = exact.is_free(q);
     EXPECT_EQ(t >= 0, free) << "q = " << q.transpose();
     if (both.counters().exact_gaps.load() == gaps_before || t <= 0) continue;
+    // Asked for less, the gaps are proven only that far: at least what was asked (or all there
+    // is), never more than the full answer.
+    const double all = both.free_distance(q, dir), enough = 0.05 * u(rng);
+    const double limited = both.free_distance(q, dir, enough);
+    EXPECT_GE(limited, std::min(enough, all) - 1e-12) << "q = " << q.transpose();
+    EXPECT_LE(limited, all + 1e-12) << "q = " << q.transpose();
     ++walked;
     *longest = std::max(*longest, t);
     const double step = std::min(0.001, t / 20);

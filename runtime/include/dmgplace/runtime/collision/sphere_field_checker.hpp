@@ -105,6 +105,12 @@ class SphereFieldChecker {
   double link_time(const std::vector<Eigen::Isometry3d>& poses, int link, double gap, const Eigen::VectorXd& direction) const;
   double pair_time(const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b, double gap,
                    const Eigen::VectorXd& direction) const;
+  // The speed bounds behind link_time and pair_time (time = bound.time_to_move(gap)), for a caller
+  // that asks the gap only as far as it needs (bound.displacement(t)); false where those give 0.
+  bool link_speed(const std::vector<Eigen::Isometry3d>& poses, int link, const Eigen::VectorXd& direction,
+                  DisplacementBound& bound) const;
+  bool pair_speed(const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b, const Eigen::VectorXd& direction,
+                  DisplacementBound& bound) const;
 
   // Which of `count` (<= PoseBatch::kLanes) configurations q[0..count) the spheres alone prove
   // free, in one pass over all of them (batch forward kinematics, sphere centres in SIMD lanes):

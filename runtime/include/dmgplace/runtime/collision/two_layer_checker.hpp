@@ -54,7 +54,7 @@ class TwoLayerChecker {
       return f.free_distance;
     }
     if (gaps_ && enough > 0 && !f.proven_collision) {
-      const double t = exact_gaps(poses, f, direction);
+      const double t = exact_gaps(poses, f, direction, enough);
       if (t > 0) {
         ++counters_->fast;
         ++counters_->exact_gaps;
@@ -82,17 +82,31 @@ class TwoLayerChecker {
     return poses;
   }
   // How long the flagged links and pairs of `f` keep their exact clearances along `direction`;
-  // 0 when one cannot be had (the caller then decides by the exact yes/no).
-  double exact_gaps(const std::vector<Eigen::Isometry3d>& poses, const SphereCheck& f, const Eigen::VectorXd& direction) const {
+  // 0 when one cannot be had (the caller then decides by the exact yes/no). Each gap is proven
+  // only as far as lasting `enough` needs (GJK stops there, 1% over). time_to_move's bound is
+  // looser than displacement()'s, so a time can still fall short of `enough`: the full gap then.
+  double exact_gaps(const std::vector<Eigen::Isometry3d>& poses, const SphereCheck& f, const Eigen::VectorXd& direction,
+                    double enough) const {
     if (f.env_overflow || f.pairs_overflow || f.attached_involved || f.attached_near_env || f.outside_grid) return 0.0;
+    auto lasts = [&](const DisplacementBound& v, auto gap_up_to) {
+      const double inf = std::numeric_limits<double>::infinity();
+      const double need = std::isfinite(enough) ? 1.01 * v.displacement(enough) + 1e-9 : inf;
+      const double gap = gap_up_to(need);
+      if (!(gap > 0)) return 0.0;
+      const double t = v.time_to_move(gap, enough);
+      return t < enough && gap >= need ? v.time_to_move(gap_up_to(inf)) : t;
+    };
     double t = std::numeric_limits<double>::infinity();
+    DisplacementBound v;
     for (int k = 0; k < f.env_link_count && t > 0; ++k) {
       const int link = f.env_links[std::size_t(k)];
-      t = std::min(t, fast_.link_time(poses, link, exact_.link_environment_gap(poses, link), direction));
+      if (!fast_.link_speed(poses, link, direction, v)) return 0.0;
+      t = std::min(t, lasts(v, [&](double need) { return exact_.link_environment_gap(poses, link, need); }));
     }
     for (int k = 0; k < f.pair_count && t > 0; ++k) {
       const auto [a, b] = f.pairs[std::size_t(k)];
-      t = std::min(t, fast_.pair_time(poses, a, b, exact_.link_pair_gap(poses, a, b), direction));
+      if (!fast_.pair_speed(poses, a, b, direction, v)) return 0.0;
+      t = std::min(t, lasts(v, [&](double need) { return exact_.link_pair_gap(poses, a, b, need); }));
     }
     return std::isfinite(t) ? t : 0.0;
   }

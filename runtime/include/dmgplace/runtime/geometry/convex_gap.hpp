@@ -61,8 +61,9 @@ class ConvexSolid {
 // A lower bound on the distance between a (placed by ta) and b (placed by tb): never above the
 // true distance; <= 0 when no gap is proven (touching, overlapping, or too close to tell).
 // Iterates until the bound is within `tolerance` of GJK's upper estimate, or is above `enough`
-// (a caller asking only whether the gap exceeds a threshold stops there: a sign takes a few
-// iterations where the distance takes many), or GJK's upper estimate shows it cannot get there.
+// (a caller needing only that much stops there: a sign takes a few iterations where the distance
+// takes many). A sign query (enough <= 0) also stops once GJK's upper estimate shows the bound
+// cannot get there; with enough > 0 the bound is then refined as without it.
 double convex_gap(const ConvexSolid& a, const Eigen::Isometry3d& ta, const ConvexSolid& b, const Eigen::Isometry3d& tb,
                   double tolerance = 1e-5, double enough = std::numeric_limits<double>::infinity());
 
