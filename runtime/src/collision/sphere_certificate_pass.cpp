@@ -85,10 +85,22 @@ void SphereFieldChecker::Pass::certificate() {
         else clearance = std::min(clearance, sc);
       }
       std::sort(s.exact_order.begin(), s.exact_order.end());
-      for (const auto& [sc, i] : s.exact_order) {
-        if (sc >= clearance) break;  // neither this sphere nor the rest can lower it
+      // A clearance lasting `limit` is all the caller needs (1% over): past it the field's bounds
+      // will do. time_to_move's bound is a little looser than displacement()'s, so should the time
+      // still fall short, the rest of the spheres are asked too.
+      double need = std::isfinite(limit) ? 1.01 * it->speed.displacement(limit) + 1e-9 : limit;
+      for (std::size_t k = 0; k < s.exact_order.size();) {
+        const auto [sc, i] = s.exact_order[k];
+        if (sc >= std::min(clearance, need)) {  // neither this sphere nor the rest can lower it below that
+          if (sc >= clearance || !(it->speed.time_to_move(sc, limit) < limit)) {
+            clearance = std::min(clearance, sc);
+            break;
+          }
+          need = std::numeric_limits<double>::infinity();  // fell short: the rest exactly
+        }
         const auto& sp = c.spheres_[std::size_t(i)];
         clearance = std::min(clearance, std::max(sc, c.obstacles_->distance(s.world[std::size_t(i)]) - sp.radius - c.padding_));
+        ++k;
       }
     }
     it->clearance = std::max(clearance, it->clearance);
