@@ -85,10 +85,9 @@ void SphereFieldChecker::Pass::certificate() {
         else clearance = std::min(clearance, sc);
       }
       std::sort(s.exact_order.begin(), s.exact_order.end());
-      // A clearance lasting `limit` is all the caller needs (1% over): past it the field's bounds
-      // will do. time_to_move's bound is a little looser than displacement()'s, so should the time
-      // still fall short, the rest of the spheres are asked too.
-      double need = std::isfinite(limit) ? 1.01 * it->speed.displacement(limit) + 1e-9 : limit;
+      // A clearance lasting `limit` is all the caller needs (clearance_for): past it the field's
+      // bounds will do. Should the time still fall short, the rest of the spheres are asked too.
+      double need = it->speed.clearance_for(limit);
       for (std::size_t k = 0; k < s.exact_order.size();) {
         const auto [sc, i] = s.exact_order[k];
         if (sc >= std::min(clearance, need)) {  // neither this sphere nor the rest can lower it below that

@@ -66,10 +66,6 @@ void MultiGoalRRTConnect::clear() {
   blocked_direct_.clear();
 }
 
-namespace {
-std::unique_ptr<MultiGoalRRTConnect::Tree> new_tree(std::size_t dim) { return std::make_unique<MultiGoalRRTConnect::Tree>(dim); }
-}  // namespace
-
 double MultiGoalRRTConnect::distance(const std::vector<double>& a, const std::vector<double>& b) const {
   double s = 0;
   for (std::size_t i = 0; i < a.size(); ++i) s += (a[i] - b[i]) * (a[i] - b[i]);
@@ -158,7 +154,7 @@ std::vector<int> MultiGoalRRTConnect::take_rejected() {
 void MultiGoalRRTConnect::take_pending() {
   std::lock_guard<std::mutex> lock(mutex_);
   for (auto& [id, q] : pending_add_) {
-    auto t = new_tree(si_->getStateDimension());
+    auto t = std::make_unique<Tree>(si_->getStateDimension());
     t->add(q, nullptr);
     goal_trees_[id] = std::move(t);
     untried_direct_.push_back(id);
@@ -204,7 +200,7 @@ ob::PlannerStatus MultiGoalRRTConnect::solve(const ob::PlannerTerminationConditi
     std::vector<double> q;
     si_->getStateSpace()->copyToReals(q, st);
     if (!state_valid(q)) return ob::PlannerStatus::INVALID_START;
-    start_tree_ = new_tree(si_->getStateDimension());
+    start_tree_ = std::make_unique<Tree>(si_->getStateDimension());
     start_tree_->add(q, nullptr);
   }
   std::vector<double> q_rand;

@@ -16,6 +16,7 @@
 // Distances are measured in a frame the listed joints do not move (the base, or for a link pair
 // the last joint both links share); a pair's bound is the sum of its two balls' (`add`).
 #include <Eigen/Core>
+#include <cmath>
 #include <limits>
 
 namespace dmgplace::runtime {
@@ -31,6 +32,12 @@ struct DisplacementBound {
   double time_to_move(double clearance, double enough = std::numeric_limits<double>::infinity()) const;
   // The smallest of the three bounds on D(t) (for tests and plots).
   double displacement(double t) const;
+  // A clearance that should last t: displacement(t), 1% over (time_to_move's bound is a little
+  // looser). A caller that stops refining a clearance there checks time_to_move and refines on
+  // should it still fall short. Infinite for an infinite t.
+  double clearance_for(double t) const {
+    return std::isfinite(t) ? 1.01 * displacement(t) + 1e-9 : std::numeric_limits<double>::infinity();
+  }
 
  private:
   double taylor_time(double clearance) const;

@@ -83,18 +83,17 @@ class TwoLayerChecker {
   }
   // How long the flagged links and pairs of `f` keep their exact clearances along `direction`;
   // 0 when one cannot be had (the caller then decides by the exact yes/no). Each gap is proven
-  // only as far as lasting `enough` needs (GJK stops there, 1% over). time_to_move's bound is
-  // looser than displacement()'s, so a time can still fall short of `enough`: the full gap then.
+  // only as far as lasting `enough` needs (clearance_for: GJK stops there); should the time still
+  // fall short of `enough`, the full gap.
   double exact_gaps(const std::vector<Eigen::Isometry3d>& poses, const SphereCheck& f, const Eigen::VectorXd& direction,
                     double enough) const {
     if (f.env_overflow || f.pairs_overflow || f.attached_involved || f.attached_near_env || f.outside_grid) return 0.0;
     auto lasts = [&](const DisplacementBound& v, auto gap_up_to) {
-      const double inf = std::numeric_limits<double>::infinity();
-      const double need = std::isfinite(enough) ? 1.01 * v.displacement(enough) + 1e-9 : inf;
+      const double need = v.clearance_for(enough);
       const double gap = gap_up_to(need);
       if (!(gap > 0)) return 0.0;
       const double t = v.time_to_move(gap, enough);
-      return t < enough && gap >= need ? v.time_to_move(gap_up_to(inf)) : t;
+      return t < enough && gap >= need ? v.time_to_move(gap_up_to(std::numeric_limits<double>::infinity())) : t;
     };
     double t = std::numeric_limits<double>::infinity();
     DisplacementBound v;
