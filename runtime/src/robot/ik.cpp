@@ -36,7 +36,8 @@ bool IkSolver::descend(const Eigen::Isometry3d& target, Eigen::VectorXd& q, IkRe
     Eigen::Matrix<double, 6, 6> A;
     A.noalias() = Jw * Jw.transpose();
     A.diagonal().array() += lambda * (1.0 + A.diagonal().array());
-    const Eigen::Matrix<double, 6, 1> step = A.ldlt().solve(e);
+    // Positive definite (damping on the diagonal): Cholesky without pivoting.
+    const Eigen::Matrix<double, 6, 1> step = A.llt().solve(e);
     q_new.noalias() = q + Jw.transpose() * step;
     q_new = q_new.cwiseMax(kin_.lower()).cwiseMin(kin_.upper());
     Eigen::Matrix<double, 6, 1> e_new = weighted_error(q_new, &J_new);

@@ -90,27 +90,6 @@ double Kinematics::joint_value(int j, const Eigen::VectorXd& q) const {
   return slot >= 0 ? q[slot] : fixed_values_[std::size_t(j)];
 }
 
-Eigen::Isometry3d Kinematics::joint_motion(int j, double v) const {
-  const auto& jt = model_->joints[std::size_t(j)];
-  const auto& terms = terms_[std::size_t(j)];
-  Eigen::Isometry3d m = jt.origin;
-  switch (jt.type) {
-    case JointType::Revolute:
-    case JointType::Continuous: {
-      double s, c;
-      fast_sincos(v, s, c);
-      m.linear() += s * terms.OK + (1 - c) * terms.OKK;
-      break;
-    }
-    case JointType::Prismatic:
-      m.translation() += v * terms.Oa;
-      break;
-    case JointType::Fixed:
-      break;
-  }
-  return m;
-}
-
 void Kinematics::link_poses(const Eigen::VectorXd& q, std::vector<Eigen::Isometry3d>& poses) const {
   // Every link but the roots is written below (joints in topological order): only roots are reset.
   if (poses.size() != model_->links.size()) poses.assign(model_->links.size(), Eigen::Isometry3d::Identity());
@@ -150,29 +129,49 @@ void Kinematics::link_poses(const Eigen::VectorXd& q, std::vector<Eigen::Isometr
   for (auto& p : poses) p = to_base * p;
 }
 
-Eigen::Isometry3d Kinematics::tip_pose(const Eigen::VectorXd& q) const {
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  for (int j : path_joints_) t = t * joint_motion(j, joint_value(j, q));
-  return t;
-}
+Eigen::Isometry3d Kinematics::tip_pose(const Eigen::VectorXd& q) const { return chain_pose(q, nullptr); }
 
-void Kinematics::jacobian(const Eigen::VectorXd& q, Jacobian& J) const { tip_pose_and_jacobian(q, J); }
+void Kinematics::jacobian(const Eigen::VectorXd& q, Jacobian& J) const { chain_pose(q, &J); }
 
-Eigen::Isometry3d Kinematics::tip_pose_and_jacobian(const Eigen::VectorXd& q, Jacobian& J) const {
-  J.setZero(6, dof());
-  // Joint axes and origins in the base frame, then the tip; a mimic joint on the path adds its
-  // motion to the column of the joint it follows.
+Eigen::Isometry3d Kinematics::tip_pose_and_jacobian(const Eigen::VectorXd& q, Jacobian& J) const { return chain_pose(q, &J); }
+
+Eigen::Isometry3d Kinematics::chain_pose(const Eigen::VectorXd& q, Jacobian* J) const {
+  // Base to tip as link_poses composes it (each joint's motion folded into its origin: 3x3
+  // products, no 4x4 temporaries). A joint's axis and origin in the base frame give its column; a
+  // mimic joint on the path adds its motion to the column of the joint it follows.
+  if (J) J->setZero(6, dof());
+  Eigen::Matrix3d P = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
   Eigen::Vector3d axes[64], origins[64];
   int cols[64];
   double mult[64];
   bool prismatic[64];
   int n = 0;
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   for (int j : path_joints_) {
     const auto& jt = model_->joints[std::size_t(j)];
-    Eigen::Isometry3d at_joint = t * jt.origin;
-    t = t * joint_motion(j, joint_value(j, q));
-    if (jt.type == JointType::Fixed || n >= 64) continue;
+    const auto& terms = terms_[std::size_t(j)];
+    const Eigen::Vector3d origin = P * jt.origin.translation() + p;  // the joint's frame in the base
+    const Eigen::Vector3d axis = P * terms.Oa;
+    switch (jt.type) {
+      case JointType::Revolute:
+      case JointType::Continuous: {
+        double s, c;
+        fast_sincos(joint_value(j, q), s, c);
+        const Eigen::Matrix3d R = jt.origin.linear() + s * terms.OK + (1 - c) * terms.OKK;
+        P = (P * R).eval();
+        p = origin;
+        break;
+      }
+      case JointType::Prismatic:
+        P = (P * jt.origin.linear()).eval();
+        p = origin + joint_value(j, q) * axis;
+        break;
+      case JointType::Fixed:
+        P = (P * jt.origin.linear()).eval();
+        p = origin;
+        break;
+    }
+    if (!J || jt.type == JointType::Fixed || n >= 64) continue;
     int col = chain_slot_[std::size_t(j)];
     double m = 1.0;
     if (jt.mimic >= 0) {
@@ -180,22 +179,25 @@ Eigen::Isometry3d Kinematics::tip_pose_and_jacobian(const Eigen::VectorXd& q, Ja
       m = jt.mimic_multiplier;
     }
     if (col < 0) continue;
-    axes[n] = at_joint.linear() * jt.axis;
-    origins[n] = at_joint.translation();
+    axes[n] = axis;
+    origins[n] = origin;
     cols[n] = col;
     mult[n] = m;
     prismatic[n] = jt.type == JointType::Prismatic;
     ++n;
   }
-  const Eigen::Vector3d p = t.translation();
   for (int i = 0; i < n; ++i) {
     if (prismatic[i]) {
-      J.block<3, 1>(0, cols[i]) += mult[i] * axes[i];
+      J->block<3, 1>(0, cols[i]) += mult[i] * axes[i];
     } else {
-      J.block<3, 1>(0, cols[i]) += mult[i] * axes[i].cross(p - origins[i]);
-      J.block<3, 1>(3, cols[i]) += mult[i] * axes[i];
+      J->block<3, 1>(0, cols[i]) += mult[i] * axes[i].cross(p - origins[i]);
+      J->block<3, 1>(3, cols[i]) += mult[i] * axes[i];
     }
   }
+  Eigen::Isometry3d t;
+  t.linear() = P;
+  t.translation() = p;
+  t.makeAffine();
   return t;
 }
 

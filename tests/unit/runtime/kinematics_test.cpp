@@ -106,6 +106,47 @@ TEST(Kinematics, PlanarArmMatchesAnalyticForwardKinematicsAndJacobian) {
   }
 }
 
+// A chain with every joint kind the tip's pose and Jacobian handle: revolute and prismatic joints
+// about tilted axes under rotated origins, a mimic joint following the first, a fixed tool.
+TEST(Kinematics, MixedChainTipPoseMatchesLinkPosesAndJacobianMatchesFiniteDifferences) {
+  RobotModel m;
+  m.name = "mixed";
+  for (auto n : {"base", "l1", "l2", "l3", "l4", "tool"}) m.links.push_back({n, {}});
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  auto joint = [&](const char* name, JointType type, int parent) {
+    Joint j;
+    j.name = name;
+    j.type = type;
+    j.parent = parent;
+    j.child = parent + 1;
+    j.lower = -2;
+    j.upper = 2;
+    j.origin.linear() = Eigen::AngleAxisd(2 * u(rng), Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+    j.origin.translation() = 0.3 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+    j.axis = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+    return j;
+  };
+  Joint mimic = joint("j3", JointType::Revolute, 2);
+  mimic.mimic = 0;
+  mimic.mimic_multiplier = -0.7;
+  mimic.mimic_offset = 0.2;
+  m.joints = {joint("j1", JointType::Revolute, 0), joint("j2", JointType::Prismatic, 1), mimic,
+              joint("j4", JointType::Revolute, 3), joint("tool", JointType::Fixed, 4)};
+  Kinematics k(m, "base", "tool");
+  ASSERT_EQ(k.dof(), 3);
+  expect_jacobian_matches_finite_differences(k, 50);
+  std::vector<Eigen::Isometry3d> poses;
+  for (int s = 0; s < 50; ++s) {
+    const Eigen::VectorXd q = random_q(k, rng);
+    k.link_poses(q, poses);
+    Jacobian J;
+    const Eigen::Isometry3d tip = k.tip_pose_and_jacobian(q, J);
+    EXPECT_TRUE(poses[5].isApprox(tip, 1e-12));
+    EXPECT_TRUE(k.tip_pose(q).isApprox(tip, 1e-12));
+  }
+}
+
 TEST(Kinematics, RejectsChainsThatDoNotExist) {
   EXPECT_THROW(Kinematics(planar_arm(), "base", "nope"), Error);
   EXPECT_THROW(Kinematics(planar_arm(), "tool", "base"), Error);

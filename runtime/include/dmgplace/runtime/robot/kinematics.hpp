@@ -64,7 +64,8 @@ class Kinematics {
   std::vector<char> moving_links() const;
 
  private:
-  Eigen::Isometry3d joint_motion(int joint, double value) const;
+  // The tip's pose, and with J its Jacobian (tip_pose, jacobian, tip_pose_and_jacobian).
+  Eigen::Isometry3d chain_pose(const Eigen::VectorXd& q, Jacobian* J) const;
   // Per joint, Rodrigues' formula folded into the origin (rotation O, translation t): the child
   // frame's rotation is O + sin(q) OK + (1 - cos(q)) OKK for a revolute joint (K the axis'
   // cross-product matrix), its translation t + q Oa for a prismatic one. Saves building an
