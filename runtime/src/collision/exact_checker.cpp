@@ -333,7 +333,34 @@ ExactCheck ExactChecker::check(const Eigen::VectorXd& q) const {
   return out;
 }
 
+namespace {
+// convex_gap's bound is rigorous up to rounding; a gap counts only beyond 0.1 mm, so what it
+// certifies stays clear of the exact layer's own contact tolerance too.
+constexpr double kGapTolerance = 1e-4;
+
+// A convex part at `pose` against the scene's primitives: its gap (GJK's rigorous lower bound, less
+// the tolerance), asked only as far as `enough` needs. Nearest bounding balls first: a solid whose
+// ball is farther than the gap so far cannot lower it.
+double part_environment_gap(const ConvexSolid& part, const Eigen::Isometry3d& pose,
+                            const std::vector<std::pair<ConvexSolid, Eigen::Isometry3d>>& env, double enough, double gap) {
+  thread_local std::vector<std::pair<double, std::size_t>> order;
+  const Eigen::Vector3d c = pose * part.centre();
+  order.clear();
+  for (std::size_t k = 0; k < env.size(); ++k)
+    order.emplace_back((c - env[k].second * env[k].first.centre()).norm() - part.radius() - env[k].first.radius(), k);
+  std::sort(order.begin(), order.end());
+  for (const auto& [ball_gap, k] : order) {
+    // Past `enough` by the margin a computed gap gives up, a ball proves enough on its own.
+    if (ball_gap >= gap || ball_gap - kGapTolerance > enough || gap <= 0) break;
+    gap = std::min(gap, convex_gap(part, pose, env[k].first, env[k].second, 1e-5, enough + kGapTolerance) - kGapTolerance);
+  }
+  return gap;
+}
+}  // namespace
+
 bool ExactChecker::links_free(const std::vector<std::pair<int, Eigen::Isometry3d>>& link_poses) const {
+  // FCL alone: proving convex links apart by their gaps first was slower here (the placement's
+  // hand check: the hand sits near the support, where GJK iterates long: CHANGELOG).
   ObjectPool::Lease lease(*impl_->pool, impl_->parts);
   for (std::size_t i = 0; i < impl_->parts.size(); ++i) {
     const Part& p = impl_->parts[i];
@@ -458,34 +485,15 @@ double ExactChecker::link_distance(const Eigen::VectorXd& q, int link_a, int lin
   return best;
 }
 
-namespace {
-// convex_gap's bound is rigorous up to rounding; a gap counts only beyond 0.1 mm, so what it
-// certifies stays clear of the exact layer's own contact tolerance too.
-constexpr double kGapTolerance = 1e-4;
-}
-
 double ExactChecker::link_environment_gap(const std::vector<Eigen::Isometry3d>& poses, int link, double enough) const {
   const Impl& impl = *impl_;
   if (!impl.env_primitives) return 0.0;
-  const auto& env = *impl.env_convex;
   double gap = std::numeric_limits<double>::infinity();
-  // Nearest bounding balls first: a solid whose ball is farther than the gap so far cannot lower it.
-  thread_local std::vector<std::pair<double, std::size_t>> order;
   for (std::size_t i = 0; i < impl.parts.size() && gap > 0; ++i) {
     const Part& p = impl.parts[i];
     if (impl.part_is_object[i] || p.link != link) continue;
     if (!p.convex) return 0.0;
-    const Eigen::Isometry3d pose = poses[std::size_t(p.link)] * p.local;
-    const Eigen::Vector3d c = pose * p.convex->centre();
-    order.clear();
-    for (std::size_t k = 0; k < env.size(); ++k)
-      order.emplace_back((c - env[k].second * env[k].first.centre()).norm() - p.convex->radius() - env[k].first.radius(), k);
-    std::sort(order.begin(), order.end());
-    for (const auto& [ball_gap, k] : order) {
-      // Past `enough` by the margin a computed gap gives up, a ball proves enough on its own.
-      if (ball_gap >= gap || ball_gap - kGapTolerance > enough || gap <= 0) break;
-      gap = std::min(gap, convex_gap(*p.convex, pose, env[k].first, env[k].second, 1e-5, enough + kGapTolerance) - kGapTolerance);
-    }
+    gap = part_environment_gap(*p.convex, poses[std::size_t(p.link)] * p.local, *impl.env_convex, enough, gap);
   }
   return gap;
 }

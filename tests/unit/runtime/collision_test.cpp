@@ -593,6 +593,34 @@ TEST(TwoLayer, AGapsSignQueryAgreesWithTheFullGap) {
   }
 }
 
+// links_free (links at given poses, the placement's hand check) must answer as the exact layer
+// does for the same links placed by forward kinematics, one link at a time and all together.
+TEST(ExactChecker, LinksFreeAtGivenPosesAgreesWithFcl) {
+  ShelfWorld w;
+  const ExactChecker exact(w.kin, w.scene);
+  ASSERT_TRUE(exact.gaps_are_cheap());
+  std::mt19937_64 rng(29);
+  std::vector<Eigen::Isometry3d> poses;
+  const int links = int(w.arm.model.links.size());
+  int free = 0, colliding = 0;
+  for (int n = 0; n < 400; ++n) {
+    w.kin.link_poses(random_q(w.kin, rng), poses);
+    std::vector<std::pair<int, Eigen::Isometry3d>> all;
+    bool all_free = true;
+    for (int a = 0; a < links; ++a) {
+      if (w.arm.model.links[std::size_t(a)].collision.empty()) continue;
+      const bool fcl = exact.links_environment_free(poses, &a, 1, false, nullptr);
+      ASSERT_EQ(exact.links_free({{a, poses[std::size_t(a)]}}), fcl) << w.arm.model.links[std::size_t(a)].name << ", sample " << n;
+      ++(fcl ? free : colliding);
+      all_free = all_free && fcl;
+      all.emplace_back(a, poses[std::size_t(a)]);
+    }
+    EXPECT_EQ(exact.links_free(all), all_free) << "sample " << n;
+  }
+  EXPECT_GT(free, 1000);
+  EXPECT_GT(colliding, 100);
+}
+
 namespace {
 // A UV sphere whose vertices lie at `radius` around `at`: inside the ball of that radius, and
 // containing the ball of radius `radius * cos(pi / 12)` (its faces' distance from the centre).
