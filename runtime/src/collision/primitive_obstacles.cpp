@@ -89,14 +89,21 @@ double PrimitiveObstacles::local_distance(const Primitive& s, const Eigen::Vecto
 }
 
 double PrimitiveObstacles::distance(const Eigen::Vector3d& p) const {
-  double best = std::numeric_limits<double>::infinity();
-  for (const auto& s : prims_) {
-    // The bounding sphere gives a lower bound, |p - origin| - bound_radius: skip shapes that
-    // cannot beat the best so far (compared squared: no root per shape).
-    const double reach = best + s.bound_radius;
-    if (reach <= 0 || (p - s.origin).squaredNorm() >= reach * reach) continue;
-    best = std::min(best, local_distance(s, p));
+  // Each shape's bounding sphere gives a lower bound, |p - origin| - bound_radius. The shape with
+  // the smallest goes first: its exact distance is usually the answer, and every shape whose bound
+  // cannot beat it is skipped (in scene order, the first shapes asked were often far ones).
+  const std::size_t n = prims_.size();
+  thread_local std::vector<double> lower;
+  lower.resize(n);
+  std::size_t first = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    lower[i] = (p - prims_[i].origin).norm() - prims_[i].bound_radius;
+    if (lower[i] < lower[first]) first = i;
   }
+  if (n == 0) return std::numeric_limits<double>::infinity();
+  double best = local_distance(prims_[first], p);
+  for (std::size_t i = 0; i < n; ++i)
+    if (lower[i] < best && i != first) best = std::min(best, local_distance(prims_[i], p));
   return best;
 }
 

@@ -681,6 +681,15 @@ TEST(PrimitiveObstacles, DistanceAgreesWithFclOnBoxesCylindersAndSpheres) {
   }
   EXPECT_GE(near, 100);
   EXPECT_GE(inside, 20);
+  // The nearest bound first, the others skipped by their bounds: still the minimum over every shape.
+  std::uniform_real_distribution<double> wide(-2.0, 2.0);
+  for (int i = 0; i < 3000; ++i) {
+    const Eigen::Vector3d p(wide(rng), wide(rng), wide(rng) + 0.5);
+    double brute = std::numeric_limits<double>::infinity();
+    for (const auto& o : w.scene.objects)
+      for (const auto& shape : o.shapes) brute = std::min(brute, shape_signed_distance(shape, p));
+    EXPECT_NEAR(obstacles->distance(p), brute, 1e-12) << p.transpose();
+  }
   EXPECT_EQ(PrimitiveObstacles::from_scene(Scene{}) ? PrimitiveObstacles::from_scene(Scene{})->size() : 99u, 0u);
   Scene with_mesh = w.scene;
   Shape mesh;
