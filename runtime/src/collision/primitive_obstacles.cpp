@@ -89,21 +89,27 @@ double PrimitiveObstacles::local_distance(const Primitive& s, const Eigen::Vecto
 }
 
 double PrimitiveObstacles::distance(const Eigen::Vector3d& p) const {
-  // Each shape's bounding sphere gives a lower bound, |p - origin| - bound_radius. The shape with
-  // the smallest goes first: its exact distance is usually the answer, and every shape whose bound
-  // cannot beat it is skipped (in scene order, the first shapes asked were often far ones).
+  // The shape nearest the thread's last query goes first (consecutive queries are a body's spheres,
+  // or states along one motion): its exact distance is usually the answer, and every shape whose
+  // bounding sphere cannot beat it is skipped, compared squared (no root per shape). In scene
+  // order, the first shapes asked were often far ones.
   const std::size_t n = prims_.size();
-  thread_local std::vector<double> lower;
-  lower.resize(n);
-  std::size_t first = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    lower[i] = (p - prims_[i].origin).norm() - prims_[i].bound_radius;
-    if (lower[i] < lower[first]) first = i;
-  }
   if (n == 0) return std::numeric_limits<double>::infinity();
-  double best = local_distance(prims_[first], p);
-  for (std::size_t i = 0; i < n; ++i)
-    if (lower[i] < best && i != first) best = std::min(best, local_distance(prims_[i], p));
+  thread_local std::size_t hint = 0;
+  if (hint >= n) hint = 0;
+  double best = local_distance(prims_[hint], p);
+  std::size_t nearest = hint;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Primitive& s = prims_[i];
+    const double reach = best + s.bound_radius;
+    if (i == hint || reach <= 0 || (p - s.origin).squaredNorm() >= reach * reach) continue;
+    const double d = local_distance(s, p);
+    if (d < best) {
+      best = d;
+      nearest = i;
+    }
+  }
+  hint = nearest;
   return best;
 }
 

@@ -681,7 +681,8 @@ TEST(PrimitiveObstacles, DistanceAgreesWithFclOnBoxesCylindersAndSpheres) {
   }
   EXPECT_GE(near, 100);
   EXPECT_GE(inside, 20);
-  // The nearest bound first, the others skipped by their bounds: still the minimum over every shape.
+  // The last query's nearest shape first, the others skipped by their bounds: still the minimum
+  // over every shape, wherever the previous point was.
   std::uniform_real_distribution<double> wide(-2.0, 2.0);
   for (int i = 0; i < 3000; ++i) {
     const Eigen::Vector3d p(wide(rng), wide(rng), wide(rng) + 0.5);
