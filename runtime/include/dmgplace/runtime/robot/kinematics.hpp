@@ -64,6 +64,9 @@ class Kinematics {
   std::vector<char> moving_links() const;
 
  private:
+  // Joint j's child frame in its parent's at q: rotation R, translation t (the motion folded into
+  // the origin, terms_ below). link_poses and chain_pose compose these.
+  void joint_frame(int j, const Eigen::VectorXd& q, Eigen::Matrix3d& R, Eigen::Vector3d& t) const;
   // The tip's pose, and with J its Jacobian (tip_pose, jacobian, tip_pose_and_jacobian).
   Eigen::Isometry3d chain_pose(const Eigen::VectorXd& q, Jacobian* J) const;
   // Per joint, Rodrigues' formula folded into the origin (rotation O, translation t): the child
