@@ -3,6 +3,36 @@
 #include <cmath>
 
 namespace dmgplace::runtime {
+namespace {
+// x with A x = b, A symmetric positive definite (the damped normal matrix): Cholesky with loops of
+// fixed bounds the compiler unrolls (Eigen's LLT runs its loops at run time at this size).
+Eigen::Matrix<double, 6, 1> solve_spd6(const Eigen::Matrix<double, 6, 6>& A, const Eigen::Matrix<double, 6, 1>& b) {
+  double L[6][6], inv[6];
+  for (int j = 0; j < 6; ++j) {
+    double d = A(j, j);
+    for (int k = 0; k < j; ++k) d -= L[j][k] * L[j][k];
+    inv[j] = 1.0 / std::sqrt(d);
+    for (int i = j + 1; i < 6; ++i) {
+      double v = A(i, j);
+      for (int k = 0; k < j; ++k) v -= L[i][k] * L[j][k];
+      L[i][j] = v * inv[j];
+    }
+  }
+  double y[6];
+  for (int i = 0; i < 6; ++i) {
+    double v = b[i];
+    for (int k = 0; k < i; ++k) v -= L[i][k] * y[k];
+    y[i] = v * inv[i];
+  }
+  Eigen::Matrix<double, 6, 1> x;
+  for (int i = 5; i >= 0; --i) {
+    double v = y[i];
+    for (int k = i + 1; k < 6; ++k) v -= L[k][i] * x[k];
+    x[i] = v * inv[i];
+  }
+  return x;
+}
+}  // namespace
 
 Eigen::Matrix<double, 6, 1> pose_error(const Eigen::Isometry3d& cur, const Eigen::Isometry3d& target) {
   Eigen::Matrix<double, 6, 1> e;
@@ -37,7 +67,7 @@ bool IkSolver::descend(const Eigen::Isometry3d& target, Eigen::VectorXd& q, IkRe
     A.noalias() = Jw * Jw.transpose();
     A.diagonal().array() += lambda * (1.0 + A.diagonal().array());
     // Positive definite (damping on the diagonal): Cholesky without pivoting.
-    const Eigen::Matrix<double, 6, 1> step = A.llt().solve(e);
+    const Eigen::Matrix<double, 6, 1> step = solve_spd6(A, e);
     q_new.noalias() = q + Jw.transpose() * step;
     q_new = q_new.cwiseMax(kin_.lower()).cwiseMin(kin_.upper());
     Eigen::Matrix<double, 6, 1> e_new = weighted_error(q_new, &J_new);

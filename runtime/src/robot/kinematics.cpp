@@ -30,6 +30,9 @@ Kinematics::Kinematics(const RobotModel& model, const std::string& base, const s
     link = model_->joints[std::size_t(j)].parent;
   }
   std::reverse(path_joints_.begin(), path_joints_.end());
+  path_moving_end_ = path_joints_.size();
+  while (path_moving_end_ > 0 && model_->joints[std::size_t(path_joints_[path_moving_end_ - 1])].type == JointType::Fixed) --path_moving_end_;
+  for (std::size_t k = path_moving_end_; k < path_joints_.size(); ++k) path_tail_ = path_tail_ * model_->joints[std::size_t(path_joints_[k])].origin;
   chain_slot_.assign(nj, -1);
   for (int j : path_joints_) {
     const auto& jt = model_->joints[std::size_t(j)];
@@ -154,7 +157,8 @@ Eigen::Isometry3d Kinematics::chain_pose(const Eigen::VectorXd& q, Jacobian* J) 
   double mult[64];
   bool prismatic[64];
   int n = 0;
-  for (int j : path_joints_) {
+  for (std::size_t k = 0; k < path_moving_end_; ++k) {
+    const int j = path_joints_[k];
     const auto& jt = model_->joints[std::size_t(j)];
     Eigen::Matrix3d R;
     Eigen::Vector3d t;
@@ -177,6 +181,8 @@ Eigen::Isometry3d Kinematics::chain_pose(const Eigen::VectorXd& q, Jacobian* J) 
     prismatic[n] = jt.type == JointType::Prismatic;
     ++n;
   }
+  p += P * path_tail_.translation();  // the fixed joints that end the path, in one step
+  P = (P * path_tail_.linear()).eval();
   for (int i = 0; i < n; ++i) {
     if (prismatic[i]) {
       J->block<3, 1>(0, cols[i]) += mult[i] * axes[i];
