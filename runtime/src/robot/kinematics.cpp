@@ -97,15 +97,14 @@ double Kinematics::joint_value(int j, const Eigen::VectorXd& q) const {
 __attribute__((always_inline)) inline void Kinematics::joint_frame(int j, const Eigen::VectorXd& q, Eigen::Matrix3d& R, Eigen::Vector3d& t) const {
   const auto& jt = model_->joints[std::size_t(j)];
   const auto& terms = terms_[std::size_t(j)];
-  R = jt.origin.linear();
   t = jt.origin.translation();
   switch (jt.type) {
     case JointType::Revolute:
     case JointType::Continuous: {
       double s, c;
       fast_sincos(joint_value(j, q), s, c);
-      R = jt.origin.linear() + s * terms.OK + (1 - c) * terms.OKK;  // (as link_poses always summed it)
-      break;
+      R = jt.origin.linear() + s * terms.OK + (1 - c) * terms.OKK;
+      return;
     }
     case JointType::Prismatic:
       t += joint_value(j, q) * terms.Oa;
@@ -113,6 +112,7 @@ __attribute__((always_inline)) inline void Kinematics::joint_frame(int j, const 
     case JointType::Fixed:
       break;
   }
+  R = jt.origin.linear();
 }
 
 void Kinematics::link_poses(const Eigen::VectorXd& q, std::vector<Eigen::Isometry3d>& poses) const {
