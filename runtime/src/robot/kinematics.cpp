@@ -8,8 +8,56 @@
 #include "dmgplace/runtime/geometry/fast_sincos.hpp"
 
 namespace dmgplace::runtime {
+namespace {
+// URDFs write a quarter turn as 1.57079632679 (cos = 4.9e-12) or 1.5708: entries this close to 0
+// or +-1 are taken as exact, so the joint takes the quarter-turn form (JointMotionTerms). The
+// change moves a link by under 1e-8 m, and every layer (spheres, exact, tables) sees the same model.
+constexpr double kSnap = 1e-9;
 
-Kinematics::Kinematics(const RobotModel& model, const std::string& base, const std::string& tip) : model_(std::make_shared<const RobotModel>(model)) {
+// Is O a signed permutation within kSnap? Then column c of O is sign[c] * e_perm[c], and O is
+// made exactly that.
+bool snap_quarter_turns(Eigen::Matrix3d& O, int perm[3], double sign[3]) {
+  bool used[3] = {false, false, false};
+  for (int c = 0; c < 3; ++c) {
+    int at = -1;
+    for (int r = 0; r < 3; ++r)
+      if (std::abs(std::abs(O(r, c)) - 1) <= kSnap) at = r;
+      else if (!(std::abs(O(r, c)) <= kSnap)) return false;
+    if (at < 0 || used[at]) return false;
+    used[at] = true;
+    perm[c] = at;
+    sign[c] = O(at, c) > 0 ? 1.0 : -1.0;
+  }
+  for (int c = 0; c < 3; ++c) O.col(c) = sign[c] * Eigen::Vector3d::Unit(perm[c]);
+  return true;
+}
+
+// Is the unit axis a within kSnap of +-e_i? Then a is made exactly that and i returned, else -1.
+int snap_axis(Eigen::Vector3d& a, double& sign) {
+  for (int i = 0; i < 3; ++i)
+    if (std::abs(std::abs(a[i]) - 1) <= kSnap && std::abs(a[(i + 1) % 3]) <= kSnap && std::abs(a[(i + 2) % 3]) <= kSnap) {
+      sign = a[i] > 0 ? 1.0 : -1.0;
+      a = sign * Eigen::Vector3d::Unit(i);
+      return i;
+    }
+  return -1;
+}
+
+RobotModel with_quarter_turns_snapped(RobotModel m) {
+  for (auto& j : m.joints) {
+    Eigen::Matrix3d O = j.origin.linear();
+    int perm[3];
+    double sign[3];
+    if (snap_quarter_turns(O, perm, sign)) j.origin.linear() = O;
+    double s;
+    snap_axis(j.axis, s);
+  }
+  return m;
+}
+}  // namespace
+
+Kinematics::Kinematics(const RobotModel& model, const std::string& base, const std::string& tip)
+    : model_(std::make_shared<const RobotModel>(with_quarter_turns_snapped(model))) {
   base_ = model_->link_index(base);
   tip_ = model_->link_index(tip);
   if (base_ < 0) throw Error(model_->name, "arm base", "no link named '" + base + "'");
@@ -73,6 +121,11 @@ Kinematics::Kinematics(const RobotModel& model, const std::string& base, const s
     m.OK = jt.origin.linear() * K;
     m.OKK = m.OK * K;
     m.Oa = jt.origin.linear() * jt.axis;
+    Eigen::Matrix3d O = jt.origin.linear();
+    Eigen::Vector3d axis = jt.axis;
+    const bool permuted = snap_quarter_turns(O, m.perm, m.sign);
+    m.axis = snap_axis(axis, m.axis_sign);
+    m.quarter = permuted && (m.axis >= 0 || jt.type == JointType::Fixed || jt.type == JointType::Prismatic);
   }
   base_is_root_ = parent_joint[std::size_t(base_)] < 0;
   build_batch_plan();
@@ -94,25 +147,38 @@ double Kinematics::joint_value(int j, const Eigen::VectorXd& q) const {
 }
 
 // Always inlined: in link_poses' loop a call measured 6% slower forward kinematics.
-__attribute__((always_inline)) inline void Kinematics::joint_frame(int j, const Eigen::VectorXd& q, Eigen::Matrix3d& R, Eigen::Vector3d& t) const {
+__attribute__((always_inline)) inline void Kinematics::compose(int j, const Eigen::VectorXd& q, const Eigen::Isometry3d& parent,
+                                                               Eigen::Isometry3d& child) const {
   const auto& jt = model_->joints[std::size_t(j)];
-  const auto& terms = terms_[std::size_t(j)];
-  t = jt.origin.translation();
-  switch (jt.type) {
-    case JointType::Revolute:
-    case JointType::Continuous: {
-      double s, c;
-      fast_sincos(joint_value(j, q), s, c);
-      R = jt.origin.linear() + s * terms.OK + (1 - c) * terms.OKK;
-      return;
-    }
-    case JointType::Prismatic:
-      t += joint_value(j, q) * terms.Oa;
-      break;
-    case JointType::Fixed:
-      break;
+  const auto& m = terms_[std::size_t(j)];
+  const auto P = parent.linear();
+  auto C = child.linear();
+  Eigen::Vector3d t = jt.origin.translation();
+  if (jt.type == JointType::Prismatic) t += joint_value(j, q) * m.Oa;
+  child.translation().noalias() = P * t;
+  child.translation() += parent.translation();
+  const bool revolute = jt.type == JointType::Revolute || jt.type == JointType::Continuous;
+  if (m.quarter) {
+    for (int c = 0; c < 3; ++c) C.col(c) = m.sign[c] * P.col(m.perm[c]);
+    if (!revolute) return;
+    // Turning about e_axis mixes the two columns across it: (u, v) -> (c u + s v, c v - s u).
+    double s, c;
+    fast_sincos(joint_value(j, q), s, c);
+    s *= m.axis_sign;
+    const int a = (m.axis + 1) % 3, b = (m.axis + 2) % 3;
+    const Eigen::Vector3d u = C.col(a), v = C.col(b);
+    C.col(a) = c * u + s * v;
+    C.col(b) = c * v - s * u;
+    return;
   }
-  R = jt.origin.linear();
+  if (!revolute) {
+    C.noalias() = P * jt.origin.linear();
+    return;
+  }
+  double s, c;
+  fast_sincos(joint_value(j, q), s, c);
+  const Eigen::Matrix3d R = jt.origin.linear() + s * m.OK + (1 - c) * m.OKK;
+  C.noalias() = P * R;
 }
 
 void Kinematics::link_poses(const Eigen::VectorXd& q, std::vector<Eigen::Isometry3d>& poses) const {
@@ -124,15 +190,7 @@ void Kinematics::link_poses(const Eigen::VectorXd& q, std::vector<Eigen::Isometr
   // translation (prismatic) in place: no 4x4 temporary per joint.
   for (int j : order_) {
     const auto& jt = model_->joints[std::size_t(j)];
-    const Eigen::Isometry3d& parent = poses[std::size_t(jt.parent)];
-    Eigen::Isometry3d& child = poses[std::size_t(jt.child)];
-    Eigen::Matrix3d R;
-    Eigen::Vector3d t;
-    joint_frame(j, q, R, t);
-    const auto P = parent.linear();
-    child.linear().noalias() = P * R;
-    child.translation().noalias() = P * t;
-    child.translation() += parent.translation();
+    compose(j, q, poses[std::size_t(jt.parent)], poses[std::size_t(jt.child)]);
   }
   if (base_is_root_) return;
   const Eigen::Isometry3d to_base = poses[std::size_t(base_)].inverse();
@@ -150,8 +208,8 @@ Eigen::Isometry3d Kinematics::chain_pose(const Eigen::VectorXd& q, Jacobian* J) 
   // products, no 4x4 temporaries). A joint's axis and origin in the base frame give its column; a
   // mimic joint on the path adds its motion to the column of the joint it follows.
   if (J) J->setZero(6, dof());
-  Eigen::Matrix3d P = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  Eigen::Isometry3d T[2] = {Eigen::Isometry3d::Identity(), Eigen::Isometry3d::Identity()};  // parent, child, alternating
+  int cur = 0;
   Eigen::Vector3d axes[64], origins[64];
   int cols[64];
   double mult[64];
@@ -160,12 +218,9 @@ Eigen::Isometry3d Kinematics::chain_pose(const Eigen::VectorXd& q, Jacobian* J) 
   for (std::size_t k = 0; k < path_moving_end_; ++k) {
     const int j = path_joints_[k];
     const auto& jt = model_->joints[std::size_t(j)];
-    Eigen::Matrix3d R;
-    Eigen::Vector3d t;
-    joint_frame(j, q, R, t);
-    const Eigen::Vector3d axis = P * terms_[std::size_t(j)].Oa;  // in the base frame
-    p += P * t;  // a revolute joint's origin, where its column's lever starts
-    P = (P * R).eval();
+    compose(j, q, T[cur], T[1 - cur]);
+    const Eigen::Vector3d axis = T[cur].linear() * terms_[std::size_t(j)].Oa;  // in the base frame
+    cur = 1 - cur;
     if (!J || jt.type == JointType::Fixed || n >= 64) continue;
     int col = chain_slot_[std::size_t(j)];
     double m = 1.0;
@@ -175,14 +230,14 @@ Eigen::Isometry3d Kinematics::chain_pose(const Eigen::VectorXd& q, Jacobian* J) 
     }
     if (col < 0) continue;
     axes[n] = axis;
-    origins[n] = p;
+    origins[n] = T[cur].translation();  // a revolute joint's origin, where its column's lever starts
     cols[n] = col;
     mult[n] = m;
     prismatic[n] = jt.type == JointType::Prismatic;
     ++n;
   }
-  p += P * path_tail_.translation();  // the fixed joints that end the path, in one step
-  P = (P * path_tail_.linear()).eval();
+  Eigen::Isometry3d tip = T[cur] * path_tail_;  // the fixed joints that end the path, in one step
+  const Eigen::Vector3d p = tip.translation();
   for (int i = 0; i < n; ++i) {
     if (prismatic[i]) {
       J->block<3, 1>(0, cols[i]) += mult[i] * axes[i];
@@ -191,9 +246,6 @@ Eigen::Isometry3d Kinematics::chain_pose(const Eigen::VectorXd& q, Jacobian* J) 
       J->block<3, 1>(3, cols[i]) += mult[i] * axes[i];
     }
   }
-  Eigen::Isometry3d tip;
-  tip.linear() = P;
-  tip.translation() = p;
   tip.makeAffine();
   return tip;
 }

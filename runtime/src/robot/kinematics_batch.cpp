@@ -36,6 +36,32 @@ inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>&
     const auto& A = P[std::size_t(j.parent)];
     auto& C = P[std::size_t(j.child)];
     for (int k = 0; k < N; ++k) v[k] = j.slot >= 0 ? j.mult * q[k][j.slot] + j.offset : j.offset;
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < N; ++k) {
+        const double m = j.type == 2 ? v[k] : 0.0;
+        const double tx = j.t[0] + m * j.a[0], ty = j.t[1] + m * j.a[1], tz = j.t[2] + m * j.a[2];
+        C[std::size_t(9 + r)][std::size_t(k)] = A[std::size_t(3 * r)][std::size_t(k)] * tx + A[std::size_t(3 * r + 1)][std::size_t(k)] * ty +
+                                                A[std::size_t(3 * r + 2)][std::size_t(k)] * tz + A[std::size_t(9 + r)][std::size_t(k)];
+      }
+    if (j.quarter) {
+      // The parent's columns permuted (a quarter-turn origin); a revolute joint then turns the two
+      // columns across its axis: (u, v) -> (c u + s v, c v - s u). Kinematics::compose, in lanes.
+      for (int r = 0; r < 3; ++r)
+        for (int col = 0; col < 3; ++col)
+          for (int k = 0; k < N; ++k)
+            C[std::size_t(3 * r + col)][std::size_t(k)] = j.sign[col] * A[std::size_t(3 * r + j.perm[col])][std::size_t(k)];
+      if (j.type != 1) continue;
+      sincos_lanes(v, s, c);
+      const int a = (j.axis + 1) % 3, b = (j.axis + 2) % 3;
+      for (int r = 0; r < 3; ++r)
+        for (int k = 0; k < N; ++k) {
+          const double sk = j.axis_sign * s[k];
+          const double u = C[std::size_t(3 * r + a)][std::size_t(k)], w = C[std::size_t(3 * r + b)][std::size_t(k)];
+          C[std::size_t(3 * r + a)][std::size_t(k)] = c[k] * u + sk * w;
+          C[std::size_t(3 * r + b)][std::size_t(k)] = c[k] * w - sk * u;
+        }
+      continue;
+    }
     if (j.type == 1) {
       sincos_lanes(v, s, c);
       for (int e = 0; e < 9; ++e)
@@ -51,13 +77,6 @@ inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>&
           C[std::size_t(3 * r + col)][std::size_t(k)] =
               A[std::size_t(3 * r)][std::size_t(k)] * R[col][k] + A[std::size_t(3 * r + 1)][std::size_t(k)] * R[3 + col][k] +
               A[std::size_t(3 * r + 2)][std::size_t(k)] * R[6 + col][k];
-    for (int r = 0; r < 3; ++r)
-      for (int k = 0; k < N; ++k) {
-        const double m = j.type == 2 ? v[k] : 0.0;
-        const double tx = j.t[0] + m * j.a[0], ty = j.t[1] + m * j.a[1], tz = j.t[2] + m * j.a[2];
-        C[std::size_t(9 + r)][std::size_t(k)] = A[std::size_t(3 * r)][std::size_t(k)] * tx + A[std::size_t(3 * r + 1)][std::size_t(k)] * ty +
-                                                A[std::size_t(3 * r + 2)][std::size_t(k)] * tz + A[std::size_t(9 + r)][std::size_t(k)];
-      }
   }
   if (base_is_root) return;
   // Express every link in the base frame: pose = inverse(base) x pose, per lane.
@@ -127,6 +146,10 @@ void Kinematics::build_batch_plan() {
         p.OKK[3 * r + col] = terms.OKK(r, col);
       }
     for (int r = 0; r < 3; ++r) p.t[r] = jt.origin.translation()[r], p.a[r] = terms.Oa[r];
+    p.quarter = terms.quarter;
+    p.axis = terms.axis;
+    p.axis_sign = terms.axis_sign;
+    for (int c = 0; c < 3; ++c) p.perm[c] = terms.perm[c], p.sign[c] = terms.sign[c];
   }
 }
 

@@ -8,6 +8,7 @@
 #include "dmgplace/runtime/geometry/fast_sincos.hpp"
 #include "dmgplace/runtime/robot/ik.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
+#include "dmgplace/runtime/system/simd_dispatch.hpp"
 #include "fixtures.hpp"
 #include "test_support.hpp"
 
@@ -145,6 +146,73 @@ TEST(Kinematics, MixedChainTipPoseMatchesLinkPosesAndJacobianMatchesFiniteDiffer
     EXPECT_TRUE(poses[5].isApprox(tip, 1e-12));
     EXPECT_TRUE(k.tip_pose(q).isApprox(tip, 1e-12));
   }
+}
+
+// Quarter-turn joints (origins turned by multiples of pi/2, written as URDFs write them, to 11
+// digits; axes along +-x, +-y, +-z) take Kinematics' permuted-column form: link_poses, the tip
+// pose and the batch equal the plain product origin x AngleAxis(q, axis) of the model as read.
+TEST(Kinematics, QuarterTurnJointsEqualTheirPlainProduct) {
+  RobotModel m;
+  m.name = "quarter";
+  const int nj = 9;
+  for (int l = 0; l <= nj; ++l) m.links.push_back({"l" + std::to_string(l), {}});
+  std::mt19937_64 rng(17);
+  std::uniform_int_distribution<int> pick(0, 3), axis_pick(0, 5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double quarter = 1.57079632679;  // as the Panda's URDF writes it
+  for (int j = 0; j < nj; ++j) {
+    Joint jt;
+    jt.name = "j" + std::to_string(j);
+    jt.parent = j;
+    jt.child = j + 1;
+    jt.type = j == 4 ? JointType::Fixed : j == 6 ? JointType::Prismatic : JointType::Revolute;
+    jt.lower = -2.5;
+    jt.upper = 2.5;
+    jt.origin.linear() = (Eigen::AngleAxisd(pick(rng) * quarter, Eigen::Vector3d::UnitX()) *
+                          Eigen::AngleAxisd(pick(rng) * quarter, Eigen::Vector3d::UnitY()) *
+                          Eigen::AngleAxisd(pick(rng) * quarter, Eigen::Vector3d::UnitZ()))
+                             .toRotationMatrix();
+    jt.origin.translation() = 0.2 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+    const int a = axis_pick(rng);
+    jt.axis = (a < 3 ? 1.0 : -1.0) * Eigen::Vector3d::Unit(a % 3);
+    if (j == 8) jt.axis = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();  // one general joint among them
+    m.joints.push_back(jt);
+  }
+  Kinematics k(m, "l0", "l" + std::to_string(nj));
+  ASSERT_EQ(k.dof(), nj - 1);
+  std::vector<Eigen::Isometry3d> poses;
+  for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
+    force_simd_path(path);
+    for (int round = 0; round < 40; ++round) {
+      std::vector<Eigen::VectorXd> qs;
+      const double* ptr[PoseBatch::kLanes];
+      for (int lane = 0; lane < PoseBatch::kLanes; ++lane) qs.push_back(random_q(k, rng));
+      for (int lane = 0; lane < PoseBatch::kLanes; ++lane) ptr[lane] = qs[std::size_t(lane)].data();
+      PoseBatch batch;
+      k.link_poses_batch(ptr, batch);
+      for (int lane = 0; lane < PoseBatch::kLanes; ++lane) {
+        const Eigen::VectorXd& q = qs[std::size_t(lane)];
+        k.link_poses(q, poses);
+        Eigen::Isometry3d want = Eigen::Isometry3d::Identity();
+        for (int j = 0, slot = 0; j < nj; ++j) {
+          const Joint& jt = m.joints[std::size_t(j)];
+          Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
+          if (jt.type == JointType::Revolute) motion.linear() = Eigen::AngleAxisd(q[slot++], jt.axis).toRotationMatrix();
+          if (jt.type == JointType::Prismatic) motion.translation() = q[slot++] * jt.axis;
+          want = want * jt.origin * motion;
+          const auto l = std::size_t(j + 1);
+          ASSERT_LT((poses[l].matrix() - want.matrix()).cwiseAbs().maxCoeff(), 1e-8) << "link " << l;
+          for (int e = 0; e < 12; ++e) {
+            const double w = e < 9 ? want.linear()(e / 3, e % 3) : want.translation()[e - 9];
+            ASSERT_NEAR(batch.pose[l][std::size_t(e)][std::size_t(lane)], w, 1e-8) << to_string(path) << " link " << l << " element " << e;
+          }
+        }
+        EXPECT_LT((k.tip_pose(q).matrix() - want.matrix()).cwiseAbs().maxCoeff(), 1e-8);
+      }
+    }
+  }
+  force_simd_path(SimdPath::Avx2);  // back to what the CPU has
+  expect_jacobian_matches_finite_differences(k, 30);
 }
 
 TEST(Kinematics, RejectsChainsThatDoNotExist) {

@@ -25,7 +25,9 @@ struct PoseBatch {
 
 class Kinematics {
  public:
-  // Throws dmgplace::Error when base/tip are not links or tip does not descend from base.
+  // Throws dmgplace::Error when base/tip are not links or tip does not descend from base. Joint
+  // origins within 1e-9 of quarter turns, and axes within 1e-9 of a frame axis, are made exact
+  // (URDFs write pi/2 to a few digits); model() is the model so cleaned, which every layer uses.
   Kinematics(const RobotModel& model, const std::string& base, const std::string& tip);
 
   int dof() const { return int(chain_joints_.size()); }
@@ -64,9 +66,10 @@ class Kinematics {
   std::vector<char> moving_links() const;
 
  private:
-  // Joint j's child frame in its parent's at q: rotation R, translation t (the motion folded into
-  // the origin, terms_ below). link_poses and chain_pose compose these.
-  void joint_frame(int j, const Eigen::VectorXd& q, Eigen::Matrix3d& R, Eigen::Vector3d& t) const;
+  // child = parent x joint j's frame at q (parent and child distinct): link_poses and chain_pose
+  // compose these. A quarter-turn joint (JointMotionTerms::quarter) takes the parent's columns
+  // permuted and turns two of them; others use the Rodrigues terms.
+  void compose(int j, const Eigen::VectorXd& q, const Eigen::Isometry3d& parent, Eigen::Isometry3d& child) const;
   // The tip's pose, and with J its Jacobian (tip_pose, jacobian, tip_pose_and_jacobian).
   Eigen::Isometry3d chain_pose(const Eigen::VectorXd& q, Jacobian* J) const;
   // Per joint, Rodrigues' formula folded into the origin (rotation O, translation t): the child
@@ -76,6 +79,16 @@ class Kinematics {
   struct JointMotionTerms {
     Eigen::Matrix3d OK, OKK;
     Eigen::Vector3d Oa;
+    // Most arms' joints (the Panda's, UR's, KUKA's) have origins turned by quarter turns and
+    // axes along a frame axis. Then the origin rotation is a signed permutation (column c is
+    // sign[c] * e_perm[c]) and a revolute joint turns only the two columns across its axis
+    // (axis_sign * e_axis): 12 products per joint instead of 54. `quarter`: the joint is of this
+    // form (a fixed or prismatic joint needs only the permutation).
+    bool quarter = false;
+    int perm[3] = {0, 1, 2};
+    double sign[3] = {1, 1, 1};
+    int axis = -1;  // -1: not along a frame axis
+    double axis_sign = 1;
   };
   std::vector<JointMotionTerms> terms_;
   std::vector<int> roots_;  // links without a parent joint
@@ -88,6 +101,9 @@ class Kinematics {
     int parent = 0, child = 0, slot = -1;
     double mult = 1, offset = 0;
     double O[9], OK[9], OKK[9], t[3], a[3];  // origin rotation (row-major), Rodrigues terms, translation, O * axis
+    bool quarter = false;  // JointMotionTerms' quarter-turn form
+    int perm[3] = {0, 1, 2}, axis = -1;
+    double sign[3] = {1, 1, 1}, axis_sign = 1;
   };
 
  private:
