@@ -204,7 +204,9 @@ TEST(DisplacementBound, PadeLogarithmStaysBelowLog1pAndCloseBelowHalf) {
   for (double x = 1e-9; x < 1e4; x *= 1.0001, ++checked) {
     const double exact = std::log1p(x) / x, pade = log1p_ratio_lower(x);
     ASSERT_LE(pade, exact) << "x = " << x;
-    if (x <= 0.5) ASSERT_GE(pade, exact * (1 - 2e-4)) << "x = " << x;
+    if (x <= 0.5) {
+      ASSERT_GE(pade, exact * (1 - 2e-4)) << "x = " << x;
+    }
   }
   EXPECT_GT(checked, 100000);
 }
