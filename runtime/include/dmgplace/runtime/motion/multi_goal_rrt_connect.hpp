@@ -48,6 +48,8 @@ class MultiGoalRRTConnect : public ompl::base::Planner {
   void set_path_callback(std::function<void(const FoundPath&)> cb) { callback_ = std::move(cb); }
   // Optional last word on a path before it is reported (e.g. an exact checker); false drops it.
   void set_path_validator(std::function<bool(const JointPath&)> v) { validator_ = std::move(v); }
+  // A fixed extension range (joint-space length). Unset, the range is wide for the first
+  // extensions and narrow after (setup()).
   void set_range(double r) { range_ = r; }
   void set_seed(std::uint64_t seed) { rng_.seed(seed); }
   // solve() keeps going after a connection until the condition says stop (anytime mode) or, when
@@ -89,7 +91,9 @@ class MultiGoalRRTConnect : public ompl::base::Planner {
   std::function<void(const FoundPath&)> callback_;
   std::function<bool(const JointPath&)> validator_;
   std::mt19937_64 rng_{1};
-  double range_ = 0;  // 0: 8% of the space's maximum extent
+  double range_ = 0;  // set_range's; 0: the wide-then-narrow schedule below
+  double wide_range_ = 0, narrow_range_ = 0;
+  long extensions_ = 0;  // since clear(): the schedule's clock
   bool anytime_ = true;
   std::size_t dim_ = 0;
   std::vector<double> lo_, hi_;
