@@ -25,15 +25,28 @@ void SphereFieldChecker::Pass::certificate() {
       if (v > 0) candidate(s.body_clear[bi] / v, s.body_clear[bi], bi, false, false);
     }
   const double limit = std::min(table_limit, enough);
+  // A candidate lasting `limit` needs no more work: it is set aside and only the smallest such
+  // time kept, so the smallest-first scan reads only the candidates still short of it.
+  double beyond = std::numeric_limits<double>::infinity();
+  auto keep = [&](std::size_t at) {  // after s.times[at] changed
+    if (s.times[at] < limit) return;
+    beyond = std::min(beyond, s.times[at]);
+    s.cands[at] = s.cands.back();
+    s.cands.pop_back();
+    s.times[at] = s.times.back();
+    s.times.pop_back();
+  };
+  for (std::size_t at = s.cands.size(); at-- > 0;) keep(at);
   while (!s.cands.empty()) {
     const auto at = std::size_t(std::min_element(s.times.begin(), s.times.end()) - s.times.begin());
     Candidate* it = &s.cands[at];
-    if (it->t >= limit || it->level == 2) break;
+    if (it->level == 2) break;
     if (it->level == 0) {
       it->speed = it->pair ? pair_speed(it->index) : body_speed(it->index);
       it->t = it->speed.time_to_move(it->clearance, limit);
       it->level = it->fine ? 2 : 1;
       s.times[at] = it->t;
+      keep(at);
       continue;
     }
     // Sphere by sphere (the bounding spheres, or the coarse grid, gave less).
@@ -67,7 +80,10 @@ void SphereFieldChecker::Pass::certificate() {
           it->clearance = e;
           it->t = it->speed.time_to_move(e, limit);
           s.times[at] = it->t;
-          if (it->t >= limit) continue;
+          if (it->t >= limit) {
+            keep(at);
+            continue;
+          }
         }
       }
       centres(it->index);
@@ -106,8 +122,9 @@ void SphereFieldChecker::Pass::certificate() {
     it->t = it->speed.time_to_move(it->clearance, limit);
     it->level = 2;
     s.times[at] = it->t;
+    keep(at);
   }
-  double fd = table_limit;
+  double fd = std::min(table_limit, beyond);
   for (const double t : s.times) fd = std::min(fd, t);
   if (skipped) fd = std::min(fd, enough);
   out.free_distance = std::isfinite(fd) ? fd : 1e9;
