@@ -18,12 +18,15 @@ struct alignas(64) Xyz {
   double x[N], y[N], z[N];
 };
 
-// c = R p + t in every lane.
+// c = R p + t in every lane (p in registers: as a loop over lanes GCC reloaded it per lane).
 inline __attribute__((always_inline)) void transform(const std::array<PoseBatch::Lanes, 12>& T, const Eigen::Vector3d& p, Xyz& c) {
-  for (int k = 0; k < N; ++k) {
-    c.x[k] = T[0][std::size_t(k)] * p.x() + T[1][std::size_t(k)] * p.y() + T[2][std::size_t(k)] * p.z() + T[9][std::size_t(k)];
-    c.y[k] = T[3][std::size_t(k)] * p.x() + T[4][std::size_t(k)] * p.y() + T[5][std::size_t(k)] * p.z() + T[10][std::size_t(k)];
-    c.z[k] = T[6][std::size_t(k)] * p.x() + T[7][std::size_t(k)] * p.y() + T[8][std::size_t(k)] * p.z() + T[11][std::size_t(k)];
+  using lanes::D;
+  const D px = lanes::splat(p.x()), py = lanes::splat(p.y()), pz = lanes::splat(p.z());
+  for (int h = 0; h < N; h += lanes::W) {
+    auto t = [&](int e) __attribute__((always_inline)) { return lanes::load(T[std::size_t(e)].data() + h); };
+    lanes::store(c.x + h, t(0) * px + t(1) * py + t(2) * pz + t(9));
+    lanes::store(c.y + h, t(3) * px + t(4) * py + t(5) * pz + t(10));
+    lanes::store(c.z + h, t(6) * px + t(7) * py + t(8) * pz + t(11));
   }
 }
 

@@ -5,6 +5,7 @@
 
 #include "dmgplace/runtime/geometry/fast_sincos.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
+#include "dmgplace/runtime/system/lanes.hpp"
 #include "dmgplace/runtime/system/simd_dispatch.hpp"
 
 namespace dmgplace::runtime {
@@ -28,55 +29,62 @@ inline __attribute__((always_inline)) void sincos_lanes(const double* x, double*
 
 inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>& plan, const std::vector<int>& roots, int base,
                                                    bool base_is_root, const double* const* q, PoseBatch& out) {
+  using lanes::D;
+  constexpr int W = lanes::W;
+  static_assert(N % W == 0);
   auto& P = out.pose;
   for (int r : roots)
     for (int e = 0; e < 12; ++e) P[std::size_t(r)][std::size_t(e)].fill(e == 0 || e == 4 || e == 8 ? 1.0 : 0.0);
-  alignas(64) double v[N], s[N], c[N], R[9][N];
+  // Every step below is written in lanes.hpp vectors, one half of the lanes at a time, with the
+  // joint's constants splatted into registers: as plain loops over lanes GCC kept some scalar (it
+  // cannot tell the child's stores from the plan's constants).
+  alignas(64) double v[N], s[N], c[N];
   for (const JointPlan& j : plan) {
     const auto& A = P[std::size_t(j.parent)];
     auto& C = P[std::size_t(j.child)];
     for (int k = 0; k < N; ++k) v[k] = j.slot >= 0 ? j.mult * q[k][j.slot] + j.offset : j.offset;
-    for (int r = 0; r < 3; ++r)
-      for (int k = 0; k < N; ++k) {
-        const double m = j.type == 2 ? v[k] : 0.0;
-        const double tx = j.t[0] + m * j.a[0], ty = j.t[1] + m * j.a[1], tz = j.t[2] + m * j.a[2];
-        C[std::size_t(9 + r)][std::size_t(k)] = A[std::size_t(3 * r)][std::size_t(k)] * tx + A[std::size_t(3 * r + 1)][std::size_t(k)] * ty +
-                                                A[std::size_t(3 * r + 2)][std::size_t(k)] * tz + A[std::size_t(9 + r)][std::size_t(k)];
+    if (j.type == 1) sincos_lanes(v, s, c);
+    const D t0 = lanes::splat(j.t[0]), t1 = lanes::splat(j.t[1]), t2 = lanes::splat(j.t[2]);
+    for (int h = 0; h < N; h += W) {
+      auto a = [&](int e) __attribute__((always_inline)) { return lanes::load(A[std::size_t(e)].data() + h); };
+      auto put = [&](int e, D x) __attribute__((always_inline)) { lanes::store(C[std::size_t(e)].data() + h, x); };
+      // Translation: parent R (t + v a) + parent t.
+      D tx = t0, ty = t1, tz = t2;
+      if (j.type == 2) {
+        const D m = lanes::load(v + h);
+        tx += m * lanes::splat(j.a[0]), ty += m * lanes::splat(j.a[1]), tz += m * lanes::splat(j.a[2]);
       }
-    if (j.quarter) {
-      // The parent's columns permuted (a quarter-turn origin); a revolute joint then turns the two
-      // columns across its axis: (u, v) -> (c u + s v, c v - s u). Kinematics::compose, in lanes.
-      for (int r = 0; r < 3; ++r)
-        for (int col = 0; col < 3; ++col)
-          for (int k = 0; k < N; ++k)
-            C[std::size_t(3 * r + col)][std::size_t(k)] = j.sign[col] * A[std::size_t(3 * r + j.perm[col])][std::size_t(k)];
-      if (j.type != 1) continue;
-      sincos_lanes(v, s, c);
-      const int a = (j.axis + 1) % 3, b = (j.axis + 2) % 3;
-      for (int r = 0; r < 3; ++r)
-        for (int k = 0; k < N; ++k) {
-          const double sk = j.axis_sign * s[k];
-          const double u = C[std::size_t(3 * r + a)][std::size_t(k)], w = C[std::size_t(3 * r + b)][std::size_t(k)];
-          C[std::size_t(3 * r + a)][std::size_t(k)] = c[k] * u + sk * w;
-          C[std::size_t(3 * r + b)][std::size_t(k)] = c[k] * w - sk * u;
+      for (int r = 0; r < 3; ++r) put(9 + r, a(3 * r) * tx + a(3 * r + 1) * ty + a(3 * r + 2) * tz + a(9 + r));
+      if (j.quarter) {
+        // The parent's columns permuted (a quarter-turn origin); a revolute joint then turns the
+        // two columns across its axis: (u, w) -> (c u + s w, c w - s u). Kinematics::compose.
+        const int ia = (j.axis + 1) % 3, ib = (j.axis + 2) % 3;
+        const D sg0 = lanes::splat(j.sign[0]), sg1 = lanes::splat(j.sign[1]), sg2 = lanes::splat(j.sign[2]);
+        for (int r = 0; r < 3; ++r) {
+          D x[3] = {sg0 * a(3 * r + j.perm[0]), sg1 * a(3 * r + j.perm[1]), sg2 * a(3 * r + j.perm[2])};
+          if (j.type == 1) {
+            const D ck = lanes::load(c + h), sk = lanes::splat(j.axis_sign) * lanes::load(s + h);
+            const D u = x[ia], w = x[ib];
+            x[ia] = ck * u + sk * w;
+            x[ib] = ck * w - sk * u;
+          }
+          for (int col = 0; col < 3; ++col) put(3 * r + col, x[col]);
         }
-      continue;
+        continue;
+      }
+      // The joint's rotation (origin, then Rodrigues about the axis), then parent R x it.
+      D R[9];
+      if (j.type == 1) {
+        const D sk = lanes::load(s + h), ck = lanes::splat(1.0) - lanes::load(c + h);
+        for (int e = 0; e < 9; ++e) R[e] = lanes::splat(j.O[e]) + sk * lanes::splat(j.OK[e]) + ck * lanes::splat(j.OKK[e]);
+      } else {
+        for (int e = 0; e < 9; ++e) R[e] = lanes::splat(j.O[e]);
+      }
+      for (int r = 0; r < 3; ++r) {
+        const D p0 = a(3 * r), p1 = a(3 * r + 1), p2 = a(3 * r + 2);
+        for (int col = 0; col < 3; ++col) put(3 * r + col, p0 * R[col] + p1 * R[3 + col] + p2 * R[6 + col]);
+      }
     }
-    if (j.type == 1) {
-      sincos_lanes(v, s, c);
-      for (int e = 0; e < 9; ++e)
-        for (int k = 0; k < N; ++k) R[e][k] = j.O[e] + s[k] * j.OK[e] + (1 - c[k]) * j.OKK[e];
-    } else {
-      for (int e = 0; e < 9; ++e)
-        for (int k = 0; k < N; ++k) R[e][k] = j.O[e];
-    }
-    // Child rotation = parent rotation x joint rotation; translation = parent R x (t + v a) + parent t.
-    for (int r = 0; r < 3; ++r)
-      for (int col = 0; col < 3; ++col)
-        for (int k = 0; k < N; ++k)
-          C[std::size_t(3 * r + col)][std::size_t(k)] =
-              A[std::size_t(3 * r)][std::size_t(k)] * R[col][k] + A[std::size_t(3 * r + 1)][std::size_t(k)] * R[3 + col][k] +
-              A[std::size_t(3 * r + 2)][std::size_t(k)] * R[6 + col][k];
   }
   if (base_is_root) return;
   // Express every link in the base frame: pose = inverse(base) x pose, per lane.
