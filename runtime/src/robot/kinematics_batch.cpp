@@ -1,6 +1,6 @@
-// Forward kinematics of 8 configurations at once (Kinematics::link_poses_batch): every step is a
-// loop over the lanes, which the compiler turns into SIMD arithmetic; compiled twice, for AVX2 +
-// FMA and for the portable x86-64 baseline, and chosen at run time (system/simd_dispatch).
+// Forward kinematics of 8 configurations at once (Kinematics::link_poses_batch): every step runs
+// in SIMD lanes (lanes.hpp vectors, sincos as a loop the compiler vectorises); compiled twice, for
+// AVX2 + FMA and for the portable x86-64 baseline, and chosen at run time (system/simd_dispatch).
 #include <cmath>
 
 #include "dmgplace/runtime/geometry/fast_sincos.hpp"
