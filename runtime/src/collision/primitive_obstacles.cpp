@@ -40,6 +40,18 @@ Eigen::Vector3d half_extents(const Shape& s) {
 }
 }  // namespace
 
+PrimitiveObstacles::LanePrimitive PrimitiveObstacles::to_lanes(const Primitive& p) {
+  LanePrimitive f{};
+  f.type = p.type;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) f.to_local[3 * r + c] = float(p.to_local(r, c));
+    f.origin[r] = float(p.origin[r]);
+    f.half[r] = float(p.half[r]);
+  }
+  f.bound_radius = std::nextafter(float(p.bound_radius), std::numeric_limits<float>::infinity());
+  return f;
+}
+
 std::shared_ptr<const PrimitiveObstacles> PrimitiveObstacles::from_scene(const Scene& scene) {
   if (scene.points.rows() > 0) return nullptr;
   auto out = std::make_shared<PrimitiveObstacles>();
@@ -55,6 +67,8 @@ std::shared_ptr<const PrimitiveObstacles> PrimitiveObstacles::from_scene(const S
                        : s.type == ShapeType::Cylinder ? std::hypot(p.half.x(), p.half.z())
                                                         : p.half.x();
       out->prims_.push_back(p);
+      out->lanes_.push_back(to_lanes(p));
+      out->extent_ = std::max(out->extent_, p.origin.cwiseAbs().maxCoeff() + p.bound_radius);
     }
   return out;
 }

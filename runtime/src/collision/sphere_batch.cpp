@@ -1,9 +1,13 @@
 // SphereFieldChecker::free_lanes: the fast layer's "proven free" for 8 configurations at once.
-// Forward kinematics runs in SIMD lanes (Kinematics::link_poses_batch); every step after it takes
-// one body or sphere across all lanes (centres, grid indices, bounds, exact primitive distances,
-// pair distances), so the arithmetic vectorises; only the field loads are one per lane. Compiled for AVX2 + FMA and for
-// the portable baseline, chosen at run time (system/simd_dispatch).
+// Forward kinematics runs in SIMD lanes (Kinematics::link_poses_batch, doubles); every step after
+// it takes one body or sphere across all lanes in floats (lanes::F: 8 lanes, one AVX register):
+// centres, bounds, exact primitive distances, pair distances. Every test that can say "free" adds
+// a rounding margin (lane_margin), so the floats stay conservative. Only the field loads are one
+// per lane. Compiled for AVX2 + FMA and for the portable baseline, chosen at run time
+// (system/simd_dispatch).
+#include <algorithm>
 #include <array>
+#include <cmath>
 
 #include "dmgplace/runtime/collision/sphere_field_checker.hpp"
 #include "dmgplace/runtime/system/lanes.hpp"
@@ -13,82 +17,98 @@ namespace dmgplace::runtime {
 namespace {
 
 constexpr int N = PoseBatch::kLanes;
-static_assert(N % lanes::W == 0);
-struct alignas(64) Xyz {
-  double x[N], y[N], z[N];
+static_assert(N == lanes::WF, "one float vector per coordinate");
+using lanes::F;
+using lanes::splatf;
+struct alignas(32) Xyz {
+  float x[N], y[N], z[N];
+};
+// A link's pose in every lane: rotation row-major, then the translation. Plain floats read with
+// lanes::load: a vector type's alignment is 16 in code built without AVX, so arrays of them are
+// not safe for the AVX path's aligned moves.
+struct alignas(32) LinkPose {
+  float e[12][N];
 };
 
-// c = R p + t in every lane (p in registers: as a loop over lanes GCC reloaded it per lane).
-inline __attribute__((always_inline)) void transform(const std::array<PoseBatch::Lanes, 12>& T, const Eigen::Vector3d& p, Xyz& c) {
-  using lanes::D;
-  const D px = lanes::splat(p.x()), py = lanes::splat(p.y()), pz = lanes::splat(p.z());
-  for (int h = 0; h < N; h += lanes::W) {
-    auto t = [&](int e) __attribute__((always_inline)) { return lanes::load(T[std::size_t(e)].data() + h); };
-    lanes::store(c.x + h, t(0) * px + t(1) * py + t(2) * pz + t(9));
-    lanes::store(c.y + h, t(3) * px + t(4) * py + t(5) * pz + t(10));
-    lanes::store(c.z + h, t(6) * px + t(7) * py + t(8) * pz + t(11));
-  }
+inline __attribute__((always_inline)) void to_float(const std::array<PoseBatch::Lanes, 12>& T, LinkPose& out) {
+  for (std::size_t e = 0; e < 12; ++e)
+    lanes::store(out.e[e], lanes::to_float(lanes::load(T[e].data()), lanes::load(T[e].data() + lanes::W)));
+}
+
+// c = R p + t in every lane.
+inline __attribute__((always_inline)) void transform(const LinkPose& T, const Eigen::Vector3d& p, Xyz& c) {
+  const F px = splatf(float(p.x())), py = splatf(float(p.y())), pz = splatf(float(p.z()));
+  auto t = [&](int e) __attribute__((always_inline)) { return lanes::load(T.e[e]); };
+  lanes::store(c.x, t(0) * px + t(1) * py + t(2) * pz + t(9));
+  lanes::store(c.y, t(3) * px + t(4) * py + t(5) * pz + t(10));
+  lanes::store(c.z, t(6) * px + t(7) * py + t(8) * pz + t(11));
 }
 
 // Lanes whose point p is at least `need` from the scene by the field (inside the grid only): the
 // coarse bound where there is one, else the fine one. `alive`: lanes still worth the fine loads.
+// The grid reads doubles: p's floats widened (need carries their rounding).
 inline __attribute__((always_inline)) std::uint32_t clear_of_field(const Xyz& p, double need, std::uint32_t alive,
                                                                   const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
                                                                   const NodeBoundGrid* coarse, const NodeBoundGrid& fine,
                                                                   bool wide) {
   using lanes::D;
+  alignas(32) double x[N], y[N], z[N], b[N];
   std::uint32_t in_grid = 0;
   for (int h = 0; h < N; h += lanes::W) {
-    const D x = lanes::load(p.x + h), y = lanes::load(p.y + h), z = lanes::load(p.z + h);
-    in_grid |= lanes::bits((x >= lanes::splat(lo.x())) & (y >= lanes::splat(lo.y())) & (z >= lanes::splat(lo.z())) &
-                           (x <= lanes::splat(hi.x())) & (y <= lanes::splat(hi.y())) & (z <= lanes::splat(hi.z())),
-                           wide)
-               << h;
+    const D px = lanes::to_double(lanes::load(p.x), h), py = lanes::to_double(lanes::load(p.y), h),
+            pz = lanes::to_double(lanes::load(p.z), h);
+    lanes::store(x + h, px);
+    lanes::store(y + h, py);
+    lanes::store(z + h, pz);
+    const lanes::M inside = (px >= lanes::splat(lo.x())) & (py >= lanes::splat(lo.y())) & (pz >= lanes::splat(lo.z())) &
+                            (px <= lanes::splat(hi.x())) & (py <= lanes::splat(hi.y())) & (pz <= lanes::splat(hi.z()));
+    in_grid |= lanes::bits(inside, wide) << h;
   }
-  alignas(32) double b[N];
   auto at_least_need = [&] {
     std::uint32_t ok = 0;
-    for (int h = 0; h < N; h += lanes::W) ok |= lanes::bits(lanes::load(b + h) >= lanes::splat(need), wide) << h;
+    for (int h = 0; h < N; h += lanes::W) ok |= lanes::bits(lanes::M(lanes::load(b + h) >= lanes::splat(need)), wide) << h;
     return ok;
   };
   std::uint32_t ok = 0;
   if (coarse) {
-    coarse->lower_bound_lanes<N>(p.x, p.y, p.z, b);
+    coarse->lower_bound_lanes<N>(x, y, z, b);
     ok = at_least_need() & in_grid;
   }
   if ((ok & alive) != (in_grid & alive)) {
-    fine.lower_bound_lanes<N>(p.x, p.y, p.z, b);
+    fine.lower_bound_lanes<N>(x, y, z, b);
     ok |= at_least_need();
   }
   return ok & in_grid;
 }
 
-// Lanes where spheres a and b (centres in lanes) are closer than `reach` (sum of radii + padding),
-// as masks, one per half of the lanes: a caller testing many sphere pairs ORs them and takes the
-// bits once (the bits cost more than the test).
-static_assert(N == 2 * lanes::W);
-inline __attribute__((always_inline)) void add_overlaps(const Xyz& a, const Xyz& b, double reach, lanes::M& lo,
-                                                        lanes::M& hi) {
-  using lanes::D;
-  const D r2 = lanes::splat(reach * reach);
-  auto near = [&](int h) __attribute__((always_inline)) -> lanes::M {
-    const D dx = lanes::load(a.x + h) - lanes::load(b.x + h), dy = lanes::load(a.y + h) - lanes::load(b.y + h),
-            dz = lanes::load(a.z + h) - lanes::load(b.z + h);
-    return (lanes::M)(dx * dx + dy * dy + dz * dz < r2);
-  };
-  lo |= near(0);
-  hi |= near(lanes::W);
+// Lanes where spheres a and b (centres in lanes) are closer than `reach` (sum of radii + padding +
+// margin), as a mask: a caller testing many sphere pairs ORs them and takes the bits once (the
+// bits cost more than the test).
+inline __attribute__((always_inline)) lanes::MF overlaps(const Xyz& a, const Xyz& b, float reach) {
+  const F dx = lanes::load(a.x) - lanes::load(b.x), dy = lanes::load(a.y) - lanes::load(b.y), dz = lanes::load(a.z) - lanes::load(b.z);
+  return dx * dx + dy * dy + dz * dz < splatf(reach * reach);
 }
-inline __attribute__((always_inline)) std::uint32_t bits(lanes::M lo, lanes::M hi, bool wide) {
-  return lanes::bits(lo, wide) | lanes::bits(hi, wide) << lanes::W;
-}
-inline __attribute__((always_inline)) std::uint32_t overlapping(const Xyz& a, const Xyz& b, double reach, bool wide) {
-  lanes::M lo{}, hi{};
-  add_overlaps(a, b, reach, lo, hi);
-  return bits(lo, hi, wide);
+
+// Lanes with every coordinate of p within `limit` (false for NaN): lane_margin holds there.
+inline __attribute__((always_inline)) lanes::MF within(const Xyz& p, float limit) {
+  const F l = splatf(limit);
+  return (lanes::abs(lanes::load(p.x)) <= l) & (lanes::abs(lanes::load(p.y)) <= l) & (lanes::abs(lanes::load(p.z)) <= l);
 }
 
 }  // namespace
+
+double SphereFieldChecker::lane_limit() const {
+  double scene = std::max({2.0, lo_.cwiseAbs().maxCoeff(), hi_.cwiseAbs().maxCoeff(), obstacles_ ? obstacles_->extent() : 0.0});
+  return std::max(scene, reach_);
+}
+
+double SphereFieldChecker::lane_margin() const {
+  // Every float step rounds by at most 2^-24 of the magnitudes it meets: coordinates up to
+  // lane_limit (body centres past it drop their lane), sphere offsets within reach_, primitive
+  // extents. A pose element, a transform, a difference, a rotation into a primitive's frame and a
+  // squared distance each add a few such roundings; 64 of them bound the lot with room to spare.
+  return 64.0 * 0x1p-24 * (lane_limit() + 2.0 * reach_ + 1.0);
+}
 
 inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lanes_body(const SphereFieldChecker& c,
                                                                                         const double* const* q, int count,
@@ -100,15 +120,17 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
   const std::uint32_t all = (1u << count) - 1;
   std::uint32_t alive = all;
   thread_local std::vector<Xyz> world, centre;
+  thread_local std::vector<LinkPose> pose;
   thread_local std::vector<char> done;
   world.resize(c.spheres_.size());
   centre.resize(c.bodies_.size());
+  pose.resize(c.bodies_.size());
   done.assign(c.bodies_.size(), 0);
+  const float margin = float(c.lane_margin()), limit = float(c.lane_limit());
   auto spheres_of = [&](std::size_t bi) {
     if (done[bi]) return;
     const Body& b = c.bodies_[bi];
-    const auto& T = poses.pose[std::size_t(b.link)];
-    for (int i = b.begin; i < b.end; ++i) transform(T, c.spheres_[std::size_t(i)].center, world[std::size_t(i)]);
+    for (int i = b.begin; i < b.end; ++i) transform(pose[bi], c.spheres_[std::size_t(i)].center, world[std::size_t(i)]);
     done[bi] = 1;
   };
   // A scene of primitives is tested exactly, in cache: a body's bounding sphere finds the
@@ -116,14 +138,18 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
   const PrimitiveObstacles* prims = c.obstacles_.get();
   std::uint64_t reach = ~std::uint64_t(0);
   auto clear_lanes = [&](const Xyz& p, double r, std::uint32_t lanes) __attribute__((always_inline)) {
-    if (prims) return prims->clear_lanes<N>(p.x, p.y, p.z, r + c.padding_, lanes, reach, wide);
-    return clear_of_field(p, r + c.padding_, lanes, c.lo_, c.hi_, c.coarse_.get(), *c.fine_, wide);
+    const double need = r + c.padding_ + margin;
+    if (prims) return prims->clear_lanes(p.x, p.y, p.z, float(need), lanes, reach, wide);
+    return clear_of_field(p, need, lanes, c.lo_, c.hi_, c.coarse_.get(), *c.fine_, wide);
   };
+  lanes::MF in_range = ~lanes::MF{};
   for (std::size_t bi = 0; bi < c.bodies_.size(); ++bi) {
     const Body& b = c.bodies_[bi];
-    transform(poses.pose[std::size_t(b.link)], b.center, centre[bi]);
+    to_float(poses.pose[std::size_t(b.link)], pose[bi]);
+    transform(pose[bi], b.center, centre[bi]);
+    in_range &= within(centre[bi], limit);
     if (!b.moving && !b.attached) continue;
-    if (prims) reach = prims->reaching_lanes<N>(centre[bi].x, centre[bi].y, centre[bi].z, b.radius + c.padding_, alive, wide);
+    if (prims) reach = prims->reaching_lanes(centre[bi].x, centre[bi].y, centre[bi].z, float(b.radius + c.padding_ + margin), alive, wide);
     std::uint32_t open = alive & ~clear_lanes(centre[bi], b.radius, alive);
     if (!open) continue;
     spheres_of(bi);
@@ -134,9 +160,11 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
     }
     if (!alive) return 0;
   }
+  alive &= lanes::bits(in_range, wide);
   for (const Pair& p : c.pairs_) {
+    if (!alive) return 0;
     const Xyz &ca = centre[std::size_t(p.a)], &cb = centre[std::size_t(p.b)];
-    std::uint32_t near = overlapping(ca, cb, p.reach, wide) & alive;
+    std::uint32_t near = lanes::bits(overlaps(ca, cb, float(p.reach) + margin), wide) & alive;
     if (!near) continue;
     if (p.table >= 0)
       for (int k = 0; k < count; ++k)
@@ -146,27 +174,27 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
     spheres_of(std::size_t(p.a));
     spheres_of(std::size_t(p.b));
     std::uint32_t hit = 0;
-    lanes::M lo{}, hi{};
+    lanes::MF acc{};
     for (int i = a.begin; i < a.end; ++i) {
       const Xyz& wa = world[std::size_t(i)];
-      const double ra = c.spheres_[std::size_t(i)].radius + c.padding_;
+      const float ra = float(c.spheres_[std::size_t(i)].radius + c.padding_) + margin;
       // A sphere clear of b's bounding sphere in every lane still open cannot touch b's spheres.
-      if (!(overlapping(wa, cb, ra + b.radius, wide) & near & ~hit)) continue;
+      if (!(lanes::bits(overlaps(wa, cb, ra + float(b.radius)), wide) & near & ~hit)) continue;
       if (wide) {
-        for (int j = b.begin; j < b.end; ++j) add_overlaps(wa, world[std::size_t(j)], ra + c.spheres_[std::size_t(j)].radius, lo, hi);
-        hit = bits(lo, hi, wide);
+        for (int j = b.begin; j < b.end; ++j) acc |= overlaps(wa, world[std::size_t(j)], ra + float(c.spheres_[std::size_t(j)].radius));
+        hit = lanes::bits(acc, wide);
       } else {
-        for (int j = b.begin; j < b.end; ++j) hit |= overlapping(wa, world[std::size_t(j)], ra + c.spheres_[std::size_t(j)].radius, wide);
+        for (int j = b.begin; j < b.end; ++j)
+          hit |= lanes::bits(overlaps(wa, world[std::size_t(j)], ra + float(c.spheres_[std::size_t(j)].radius)), wide);
       }
       if ((hit & near) == near) break;
     }
     alive &= ~(hit & near);
-    if (!alive) return 0;
   }
   return alive & all;
 }
 
-__attribute__((target("avx2,fma"))) std::uint32_t SphereFieldChecker::free_lanes_avx2(const SphereFieldChecker& c,
+__attribute__((target("avx2,fma"), flatten)) std::uint32_t SphereFieldChecker::free_lanes_avx2(const SphereFieldChecker& c,
                                                                                       const double* const* q, int count) {
   return free_lanes_body(c, q, count, true);
 }

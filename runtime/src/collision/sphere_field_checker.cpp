@@ -52,6 +52,7 @@ void SphereFieldChecker::build_bodies() {
     bodies_.push_back(b);
   }
   const auto& model = kin_->model();
+  reach_ = 0;
   std::vector<int> parent_joint(model.links.size(), -1);
   for (std::size_t j = 0; j < model.joints.size(); ++j) parent_joint[std::size_t(model.joints[j].child)] = int(j);
   certifiable_ = true;
@@ -76,6 +77,7 @@ void SphereFieldChecker::build_bodies() {
       reach += jt.origin.translation().norm() + (prismatic ? std::max(std::abs(jt.lower), std::abs(jt.upper)) : 0.0);
       l = jt.parent;
     }
+    reach_ = std::max(reach_, reach);
   }
   lever_count_ = 0;
   for (auto& b : bodies_) {

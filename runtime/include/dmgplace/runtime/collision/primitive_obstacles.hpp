@@ -36,64 +36,60 @@ class PrimitiveObstacles {
   std::size_t size() const { return prims_.size(); }
 
   // Primitives (bit i: the i-th, for the first 64) whose bounding sphere comes within `need` of
-  // the point in some `alive` lane (bit k: x[k], y[k], z[k]): a body's bounding sphere asks once,
-  // then its spheres test only these. All ones when there are more than 64 primitives. `wide`:
-  // compiled for AVX (lanes::bits).
-  template <int N>
-  DMGPLACE_LANES_INLINE std::uint64_t reaching_lanes(const double* x, const double* y, const double* z, double need,
+  // the point in some `alive` lane (bit k: x[k], y[k], z[k], lanes::WF points): a body's bounding
+  // sphere asks once, then its spheres test only these. All ones when there are more than 64
+  // primitives. In floats: the caller adds its rounding margin to `need`. `wide`: compiled for AVX
+  // (lanes::bits).
+  DMGPLACE_LANES_INLINE std::uint64_t reaching_lanes(const float* x, const float* y, const float* z, float need,
                                                      std::uint32_t alive, bool wide = false) const {
-    static_assert(N % lanes::W == 0);
     if (!all_have_bits()) return ~std::uint64_t(0);
+    const lanes::F px = lanes::load(x), py = lanes::load(y), pz = lanes::load(z);
     std::uint64_t mask = 0;
-    for (std::size_t i = 0; i < prims_.size(); ++i)
-      if (near_lanes<N>(prims_[i], x, y, z, need, wide) & alive) mask |= std::uint64_t(1) << i;
+    for (std::size_t i = 0; i < lanes_.size(); ++i)  // no branch: which primitives are near varies by batch
+      mask |= std::uint64_t((near_lanes(lanes_[i], px, py, pz, need, wide) & alive) != 0) << i;
     return mask;
   }
 
   // Of the `alive` lanes, those at least `need` (> 0) from every primitive in `candidates`
-  // (reaching_lanes; the others are known to be farther): exact, no field margin, valid anywhere.
-  // One primitive at a time across all lanes (lanes.hpp vectors), squared distances (one root per
-  // lane for a cylinder).
-  template <int N>
-  DMGPLACE_LANES_INLINE std::uint32_t clear_lanes(const double* x, const double* y, const double* z, double need,
+  // (reaching_lanes; the others are known to be farther): exact but for float rounding (the
+  // caller's margin in `need`), no field margin, valid anywhere. One primitive at a time across
+  // all lanes, squared distances (one root per lane for a cylinder or sphere).
+  DMGPLACE_LANES_INLINE std::uint32_t clear_lanes(const float* x, const float* y, const float* z, float need,
                                                   std::uint32_t alive, std::uint64_t candidates = ~std::uint64_t(0),
                                                   bool wide = false) const {
-    static_assert(N % lanes::W == 0);
-    using lanes::D;
+    using lanes::F;
+    using lanes::splatf;
     std::uint32_t clear = alive;
-    const D need2 = lanes::splat(need * need);
-    for (std::size_t i = 0; i < prims_.size() && clear; ++i) {
+    const F need2 = splatf(need * need);
+    const F qx = lanes::load(x), qy = lanes::load(y), qz = lanes::load(z);
+    for (std::size_t i = 0; i < lanes_.size() && clear; ++i) {
       if (i < 64 && !(candidates >> i & 1u)) continue;
-      const Primitive& s = prims_[i];
-      const std::uint32_t near = near_lanes<N>(s, x, y, z, need, wide) & clear;
+      const LanePrimitive& s = lanes_[i];
+      const std::uint32_t near = near_lanes(s, qx, qy, qz, need, wide) & clear;
       if (!near) continue;
-      const Eigen::Matrix3d& R = s.to_local;
-      std::uint32_t far = 0;
-      for (int h = 0; h < N; h += lanes::W) {
-        const D dx = lanes::load(x + h) - lanes::splat(s.origin.x()), dy = lanes::load(y + h) - lanes::splat(s.origin.y()),
-                dz = lanes::load(z + h) - lanes::splat(s.origin.z());
-        const D px = lanes::splat(R(0, 0)) * dx + lanes::splat(R(0, 1)) * dy + lanes::splat(R(0, 2)) * dz;
-        const D py = lanes::splat(R(1, 0)) * dx + lanes::splat(R(1, 1)) * dy + lanes::splat(R(1, 2)) * dz;
-        const D pz = lanes::splat(R(2, 0)) * dx + lanes::splat(R(2, 1)) * dy + lanes::splat(R(2, 2)) * dz;
-        D out2;  // squared distance from the shape's outside, 0 inside
-        if (s.type == ShapeType::Box) {
-          const D ox = lanes::max0(lanes::abs(px) - lanes::splat(s.half.x())), oy = lanes::max0(lanes::abs(py) - lanes::splat(s.half.y())),
-                  oz = lanes::max0(lanes::abs(pz) - lanes::splat(s.half.z()));
-          out2 = ox * ox + oy * oy + oz * oz;
-        } else if (s.type == ShapeType::Cylinder) {
-          const D orad = lanes::max0(lanes::sqrt(px * px + py * py) - lanes::splat(s.half.x()));
-          const D oz = lanes::max0(lanes::abs(pz) - lanes::splat(s.half.z()));
-          out2 = orad * orad + oz * oz;
-        } else {  // a sphere (from_scene stores nothing else)
-          const D o = lanes::max0(lanes::sqrt(dx * dx + dy * dy + dz * dz) - lanes::splat(s.half.x()));
-          out2 = o * o;
-        }
-        far |= lanes::bits(out2 >= need2, wide) << h;
+      const F dx = qx - splatf(s.origin[0]), dy = qy - splatf(s.origin[1]), dz = qz - splatf(s.origin[2]);
+      const F px = splatf(s.to_local[0]) * dx + splatf(s.to_local[1]) * dy + splatf(s.to_local[2]) * dz;
+      const F py = splatf(s.to_local[3]) * dx + splatf(s.to_local[4]) * dy + splatf(s.to_local[5]) * dz;
+      const F pz = splatf(s.to_local[6]) * dx + splatf(s.to_local[7]) * dy + splatf(s.to_local[8]) * dz;
+      F out2;  // squared distance from the shape's outside, 0 inside
+      if (s.type == ShapeType::Box) {
+        const F ox = lanes::max0(lanes::abs(px) - splatf(s.half[0])), oy = lanes::max0(lanes::abs(py) - splatf(s.half[1])),
+                oz = lanes::max0(lanes::abs(pz) - splatf(s.half[2]));
+        out2 = ox * ox + oy * oy + oz * oz;
+      } else if (s.type == ShapeType::Cylinder) {
+        const F orad = lanes::max0(lanes::sqrt(px * px + py * py) - splatf(s.half[0]));
+        const F oz = lanes::max0(lanes::abs(pz) - splatf(s.half[2]));
+        out2 = orad * orad + oz * oz;
+      } else {  // a sphere (from_scene stores nothing else)
+        const F o = lanes::max0(lanes::sqrt(dx * dx + dy * dy + dz * dz) - splatf(s.half[0]));
+        out2 = o * o;
       }
-      clear &= ~(near & ~far);
+      clear &= ~(near & ~lanes::bits(out2 >= need2, wide));
     }
     return clear;
   }
+  // Largest coordinate magnitude of any primitive's points (float rounding grows with it).
+  double extent() const { return extent_; }
 
  private:
   struct Primitive {
@@ -104,20 +100,22 @@ class PrimitiveObstacles {
     double bound_radius = 0;     // every point of the shape is within this of `origin`
   };
   static double local_distance(const Primitive& s, const Eigen::Vector3d& p);
+  // A primitive as the float lanes read it (rotation row-major; the bounding radius rounded up).
+  struct LanePrimitive {
+    ShapeType type;
+    float to_local[9], origin[3], half[3], bound_radius;
+  };
+  static LanePrimitive to_lanes(const Primitive& p);
   // Lanes whose point is within need + bound_radius of the primitive's centre.
-  template <int N>
-  static DMGPLACE_LANES_INLINE std::uint32_t near_lanes(const Primitive& s, const double* x, const double* y, const double* z,
-                                                        double need, bool wide) {
-    using lanes::D;
-    const D reach2 = lanes::splat((need + s.bound_radius) * (need + s.bound_radius));
-    std::uint32_t near = 0;
-    for (int h = 0; h < N; h += lanes::W) {
-      const D dx = lanes::load(x + h) - lanes::splat(s.origin.x()), dy = lanes::load(y + h) - lanes::splat(s.origin.y()),
-              dz = lanes::load(z + h) - lanes::splat(s.origin.z());
-      near |= lanes::bits(dx * dx + dy * dy + dz * dz < reach2, wide) << h;
-    }
-    return near;
+  static DMGPLACE_LANES_INLINE std::uint32_t near_lanes(const LanePrimitive& s, lanes::F x, lanes::F y, lanes::F z,
+                                                        float need, bool wide) {
+    using lanes::splatf;
+    const float reach = need + s.bound_radius;
+    const lanes::F dx = x - splatf(s.origin[0]), dy = y - splatf(s.origin[1]), dz = z - splatf(s.origin[2]);
+    return lanes::bits(dx * dx + dy * dy + dz * dz < splatf(reach * reach), wide);
   }
+  std::vector<LanePrimitive> lanes_;  // prims_ in floats
+  double extent_ = 0;
   std::vector<Primitive> prims_;
 };
 

@@ -197,7 +197,13 @@ class SphereFieldChecker {
   // `wide`: a vector of lanes is one register (AVX2), so masks are ORed and turned into bits once;
   // the portable build compares lane by lane, where bits per test cost less.
   static std::uint32_t free_lanes_body(const SphereFieldChecker& c, const double* const* q, int count, bool wide);
+  // free_lanes works in floats: lanes whose body centres stay within lane_limit() metres of the
+  // origin on every axis, every test that can say "free" widened by lane_margin() metres, which
+  // bounds the rounding there.
+  double lane_limit() const;
+  double lane_margin() const;
   std::vector<Body> bodies_;
+  double reach_ = 0;  // no sphere gets farther than this from the model root's origin
   std::vector<Pair> pairs_;                   // body pairs checked for self-collision
   std::vector<PairMoves> pair_moves_;         // per pair
   int lever_count_ = 0;                       // chain joints summed over the bodies

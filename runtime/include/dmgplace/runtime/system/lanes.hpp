@@ -40,23 +40,73 @@ DMGPLACE_LANES_INLINE D sqrt(D a) {
 // Truncation towards zero (vcvttpd2dq) and back.
 DMGPLACE_LANES_INLINE I to_int(D a) { return __builtin_convertvector(a, I); }
 DMGPLACE_LANES_INLINE D to_double(I a) { return __builtin_convertvector(a, D); }
+// One vmovmskpd / vmovmskps for a whole mask. Not always_inline: inlined only into callers compiled
+// for AVX (the SIMD dispatch's avx2 functions), where bits(m, true) asks for it.
+inline __attribute__((target("avx"))) std::uint32_t movemask_avx(M m) {
+  return std::uint32_t(__builtin_ia32_movmskpd256((D)m));
+}
 // Bit k set where lane k of the mask is true. `wide`: the caller is compiled for AVX, where the
-// mask is one register and SSE2's movmskpd on each half takes 4 instructions (the masking and OR
-// took 10). The portable build compares lane by lane (GCC lowers 256-bit vectors to scalars
-// there), so its masks are built in general registers, where the masking and OR cost less than
-// moving them back into vectors. The caller passes a constant; the branch folds away.
+// mask is one register and one instruction takes its sign bits. The portable build compares lane
+// by lane (GCC lowers 256-bit vectors to scalars there), so its masks are built in general
+// registers, where the masking and OR cost less than moving them back into vectors. The caller
+// passes a constant; the branch folds away.
 DMGPLACE_LANES_INLINE std::uint32_t bits(M m, bool wide = false) {
-#if defined(__SSE2__)
-  if (wide) {
-    typedef double H __attribute__((vector_size(16)));
-    H lo, hi;
-    std::memcpy(&lo, &m, sizeof lo);
-    std::memcpy(&hi, reinterpret_cast<const char*>(&m) + sizeof lo, sizeof hi);
-    return std::uint32_t(__builtin_ia32_movmskpd(lo)) | std::uint32_t(__builtin_ia32_movmskpd(hi)) << 2;
-  }
-#endif
+  if (wide) return movemask_avx(m);
   const M w = m & M{1, 2, 4, 8};
   return std::uint32_t(w[0] | w[1] | w[2] | w[3]);
+}
+
+// Eight lanes of floats, one register under AVX (two SSE ones in the portable build): the batch
+// sphere check after forward kinematics, where single precision plus a rounding margin is enough
+// and each operation then covers all 8 configurations.
+constexpr int WF = 8;
+typedef float F __attribute__((vector_size(WF * sizeof(float))));
+typedef int MF __attribute__((vector_size(WF * sizeof(int))));
+
+// One broadcast under AVX. These helpers are lowered before they are inlined into the AVX
+// functions, and GCC 12 lowers F{v, ..., v} there as for SSE, a chain of inserts; a shuffle of a
+// one-lane vector stays a broadcast. (The portable build then stores lane by lane.)
+DMGPLACE_LANES_INLINE F splatf(float v) {
+  typedef float F4 __attribute__((vector_size(4 * sizeof(float))));
+  F4 x;
+  x[0] = v;
+  return __builtin_shufflevector(x, x, 0, 0, 0, 0, 0, 0, 0, 0);
+}
+DMGPLACE_LANES_INLINE F load(const float* p) {
+  F v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+DMGPLACE_LANES_INLINE void store(float* p, F v) { std::memcpy(p, &v, sizeof v); }
+DMGPLACE_LANES_INLINE F min(F a, F b) { return a < b ? a : b; }
+DMGPLACE_LANES_INLINE F max(F a, F b) { return a > b ? a : b; }
+DMGPLACE_LANES_INLINE F max0(F a) { return max(a, F{}); }
+DMGPLACE_LANES_INLINE F abs(F a) { return max(a, -a); }
+DMGPLACE_LANES_INLINE F sqrt(F a) {
+  F r;
+  for (int k = 0; k < WF; ++k) r[k] = __builtin_sqrtf(a[k]);
+  return r;
+}
+// Two vectors of four doubles (lanes 0-3, 4-7) rounded to one of eight floats.
+DMGPLACE_LANES_INLINE F to_float(D lo, D hi) {
+  typedef float F4 __attribute__((vector_size(16)));
+  const F4 a = __builtin_convertvector(lo, F4), b = __builtin_convertvector(hi, F4);
+  return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
+}
+// And back: lanes 0-3 (h = 0) or 4-7 (h = 4) as doubles.
+DMGPLACE_LANES_INLINE D to_double(F a, int h) {
+  typedef float F4 __attribute__((vector_size(16)));
+  const F4 half = h == 0 ? __builtin_shufflevector(a, a, 0, 1, 2, 3) : __builtin_shufflevector(a, a, 4, 5, 6, 7);
+  return __builtin_convertvector(half, D);
+}
+// As bits(M) for eight float lanes.
+inline __attribute__((target("avx"))) std::uint32_t movemask_avx(MF m) {
+  return std::uint32_t(__builtin_ia32_movmskps256((F)m));
+}
+DMGPLACE_LANES_INLINE std::uint32_t bits(MF m, bool wide = false) {
+  if (wide) return movemask_avx(m);
+  const MF w = m & MF{1, 2, 4, 8, 16, 32, 64, 128};
+  return std::uint32_t(w[0] | w[1] | w[2] | w[3] | w[4] | w[5] | w[6] | w[7]);
 }
 
 }  // namespace dmgplace::runtime::lanes
