@@ -44,8 +44,8 @@ PrimitiveObstacles::LanePrimitive PrimitiveObstacles::to_lanes(const Primitive& 
   LanePrimitive f{};
   f.type = p.type;
   for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) f.to_local[3 * r + c] = float(p.to_local(r, c));
-    f.origin[r] = float(p.origin[r]);
+    for (int c = 0; c < 3; ++c) std::fill_n(f.to_local[3 * r + c], lanes::WF, float(p.to_local(r, c)));
+    std::fill_n(f.origin[r], lanes::WF, float(p.origin[r]));
     f.half[r] = float(p.half[r]);
   }
   f.bound_radius = std::nextafter(float(p.bound_radius), std::numeric_limits<float>::infinity());

@@ -67,10 +67,11 @@ class PrimitiveObstacles {
       const LanePrimitive& s = lanes_[i];
       const std::uint32_t near = near_lanes(s, qx, qy, qz, need, wide) & clear;
       if (!near) continue;
-      const F dx = qx - splatf(s.origin[0]), dy = qy - splatf(s.origin[1]), dz = qz - splatf(s.origin[2]);
-      const F px = splatf(s.to_local[0]) * dx + splatf(s.to_local[1]) * dy + splatf(s.to_local[2]) * dz;
-      const F py = splatf(s.to_local[3]) * dx + splatf(s.to_local[4]) * dy + splatf(s.to_local[5]) * dz;
-      const F pz = splatf(s.to_local[6]) * dx + splatf(s.to_local[7]) * dy + splatf(s.to_local[8]) * dz;
+      auto R = [&](int e) __attribute__((always_inline)) { return lanes::load(s.to_local[e]); };
+      const F dx = qx - lanes::load(s.origin[0]), dy = qy - lanes::load(s.origin[1]), dz = qz - lanes::load(s.origin[2]);
+      const F px = R(0) * dx + R(1) * dy + R(2) * dz;
+      const F py = R(3) * dx + R(4) * dy + R(5) * dz;
+      const F pz = R(6) * dx + R(7) * dy + R(8) * dz;
       F out2;  // squared distance from the shape's outside, 0 inside
       if (s.type == ShapeType::Box) {
         const F ox = lanes::max0(lanes::abs(px) - splatf(s.half[0])), oy = lanes::max0(lanes::abs(py) - splatf(s.half[1])),
@@ -100,10 +101,12 @@ class PrimitiveObstacles {
     double bound_radius = 0;     // every point of the shape is within this of `origin`
   };
   static double local_distance(const Primitive& s, const Eigen::Vector3d& p);
-  // A primitive as the float lanes read it (rotation row-major; the bounding radius rounded up).
-  struct LanePrimitive {
+  // A primitive as the float lanes read it: rotation (row-major) and origin already in every lane
+  // (a load as an operand costs less than a broadcast); the bounding radius rounded up.
+  struct alignas(32) LanePrimitive {
+    float to_local[9][lanes::WF], origin[3][lanes::WF];
+    float half[3], bound_radius;
     ShapeType type;
-    float to_local[9], origin[3], half[3], bound_radius;
   };
   static LanePrimitive to_lanes(const Primitive& p);
   // Lanes whose point is within need + bound_radius of the primitive's centre.
@@ -111,7 +114,7 @@ class PrimitiveObstacles {
                                                         float need, bool wide) {
     using lanes::splatf;
     const float reach = need + s.bound_radius;
-    const lanes::F dx = x - splatf(s.origin[0]), dy = y - splatf(s.origin[1]), dz = z - splatf(s.origin[2]);
+    const lanes::F dx = x - lanes::load(s.origin[0]), dy = y - lanes::load(s.origin[1]), dz = z - lanes::load(s.origin[2]);
     return lanes::bits(dx * dx + dy * dy + dz * dz < splatf(reach * reach), wide);
   }
   std::vector<LanePrimitive> lanes_;  // prims_ in floats
