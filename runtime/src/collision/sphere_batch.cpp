@@ -194,8 +194,11 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
   return alive & all;
 }
 
+// flatten: lanes::movemask_avx (AVX only, so not always_inline) is inlined here too; left to the
+// inliner, this function is past its size limits and each mask became a call.
 __attribute__((target("avx2,fma"), flatten)) std::uint32_t SphereFieldChecker::free_lanes_avx2(const SphereFieldChecker& c,
-                                                                                      const double* const* q, int count) {
+                                                                                               const double* const* q,
+                                                                                               int count) {
   return free_lanes_body(c, q, count, true);
 }
 
