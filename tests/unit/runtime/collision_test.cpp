@@ -199,9 +199,9 @@ TEST(Batch, FreeLanesAreFreeForTheScalarLayerAndFclAndMostAreProven) {
 // it matters, at the edge of "free". With the scene's exact primitives the scalar layer's verdict
 // on the scene is continuous (every sphere's exact distance), so bisecting between a configuration
 // it proves free and one where only the scene stops it gives one within 1e-12 of that edge on the
-// blocked side; there the batch must not say free. (Float rounding is ~1e-7 m: without the margin
-// about a third of these lanes come out free. The field's nearest-node bound jumps between nodes,
-// so its edges are no test of rounding.)
+// blocked side; there the batch must not say free. (Float rounding is ~1e-7 m: with the margin
+// set to 0 this fails. The field's nearest-node bound jumps between nodes, so its edges are no
+// test of rounding.)
 TEST(Batch, FloatLanesStayConservativeAtTheEdgeOfTheScene) {
   ShelfWorld w;
   SphereFieldChecker checker(w.kin, w.arm.spheres, w.sdf, 0.3);
