@@ -46,36 +46,26 @@ inline __attribute__((always_inline)) void transform(const LinkPose& T, const Ei
 
 // Lanes whose point p is at least `need` from the scene by the field (inside the grid only): the
 // coarse bound where there is one, else the fine one. `alive`: lanes still worth the fine loads.
-// The grid reads doubles: p's floats widened (need carries their rounding).
-inline __attribute__((always_inline)) std::uint32_t clear_of_field(const Xyz& p, double need, std::uint32_t alive,
-                                                                  const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
-                                                                  const NodeBoundGrid* coarse, const NodeBoundGrid& fine,
-                                                                  bool wide) {
-  using lanes::D;
-  alignas(32) double x[N], y[N], z[N], b[N];
-  std::uint32_t in_grid = 0;
-  for (int h = 0; h < N; h += lanes::W) {
-    const D px = lanes::to_double(lanes::load(p.x), h), py = lanes::to_double(lanes::load(p.y), h),
-            pz = lanes::to_double(lanes::load(p.z), h);
-    lanes::store(x + h, px);
-    lanes::store(y + h, py);
-    lanes::store(z + h, pz);
-    const lanes::M inside = (px >= lanes::splat(lo.x())) & (py >= lanes::splat(lo.y())) & (pz >= lanes::splat(lo.z())) &
-                            (px <= lanes::splat(hi.x())) & (py <= lanes::splat(hi.y())) & (pz <= lanes::splat(hi.z()));
-    in_grid |= lanes::bits(inside, wide) << h;
-  }
-  auto at_least_need = [&] {
-    std::uint32_t ok = 0;
-    for (int h = 0; h < N; h += lanes::W) ok |= lanes::bits(lanes::M(lanes::load(b + h) >= lanes::splat(need)), wide) << h;
-    return ok;
-  };
+// In floats: `need` carries the margin, and the grid box is shrunk by it, so a lane inside is
+// inside for its unrounded point too.
+inline __attribute__((always_inline)) std::uint32_t clear_of_field(const Xyz& p, float need, float margin,
+                                                                  std::uint32_t alive, const Eigen::Vector3d& lo,
+                                                                  const Eigen::Vector3d& hi, const NodeBoundGrid* coarse,
+                                                                  const NodeBoundGrid& fine, bool wide) {
+  const F px = lanes::load(p.x), py = lanes::load(p.y), pz = lanes::load(p.z);
+  auto low = [&](double v) { return splatf(float(v) + margin); };
+  auto high = [&](double v) { return splatf(float(v) - margin); };
+  const std::uint32_t in_grid = lanes::bits((px >= low(lo.x())) & (py >= low(lo.y())) & (pz >= low(lo.z())) &
+                                            (px <= high(hi.x())) & (py <= high(hi.y())) & (pz <= high(hi.z())), wide);
+  alignas(32) float b[N];
+  auto at_least_need = [&] { return lanes::bits(lanes::load(b) >= splatf(need), wide); };
   std::uint32_t ok = 0;
   if (coarse) {
-    coarse->lower_bound_lanes<N>(x, y, z, b);
+    coarse->lower_bound_lanes(p.x, p.y, p.z, b);
     ok = at_least_need() & in_grid;
   }
   if ((ok & alive) != (in_grid & alive)) {
-    fine.lower_bound_lanes<N>(x, y, z, b);
+    fine.lower_bound_lanes(p.x, p.y, p.z, b);
     ok |= at_least_need();
   }
   return ok & in_grid;
@@ -140,7 +130,7 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
   auto clear_lanes = [&](const Xyz& p, double r, std::uint32_t lanes) __attribute__((always_inline)) {
     const double need = r + c.padding_ + margin;
     if (prims) return prims->clear_lanes(p.x, p.y, p.z, float(need), lanes, reach, wide);
-    return clear_of_field(p, need, lanes, c.lo_, c.hi_, c.coarse_.get(), *c.fine_, wide);
+    return clear_of_field(p, float(need), margin, lanes, c.lo_, c.hi_, c.coarse_.get(), *c.fine_, wide);
   };
   lanes::MF in_range = ~lanes::MF{};
   for (std::size_t bi = 0; bi < c.bodies_.size(); ++bi) {

@@ -32,31 +32,30 @@ class NodeBoundGrid {
     __builtin_prefetch(values_.data() + node(p, c));
   }
   double resolution() const { return res_; }
-  // lower_bound of N points (structure of arrays x[N], y[N], z[N]) into out[N]; the index and
-  // distance arithmetic runs in SIMD lanes (lanes.hpp), the loads are one per point.
-  template <int N>
-  DMGPLACE_LANES_INLINE void lower_bound_lanes(const double* x, const double* y, const double* z, double* out) const {
-    static_assert(N % lanes::W == 0);
-    using lanes::D;
-    using lanes::I;
-    alignas(32) int idx[N];
-    alignas(32) double dist[N];
-    const D inv = lanes::splat(inv_), res = lanes::splat(res_), half = lanes::splat(0.5);
-    for (int h = 0; h < N; h += lanes::W) {
-      // Clamped to the grid (a NaN goes to 0: max0 keeps 0 for it), then rounded to the nearest node.
-      const D px = lanes::load(x + h), py = lanes::load(y + h), pz = lanes::load(z + h);
-      const D ox = lanes::splat(origin_[0]), oy = lanes::splat(origin_[1]), oz = lanes::splat(origin_[2]);
-      const D u = lanes::min(lanes::max0((px - ox) * inv), lanes::splat(double(dims_[0] - 1)));
-      const D v = lanes::min(lanes::max0((py - oy) * inv), lanes::splat(double(dims_[1] - 1)));
-      const D w = lanes::min(lanes::max0((pz - oz) * inv), lanes::splat(double(dims_[2] - 1)));
-      const I cx = lanes::to_int(u + half), cy = lanes::to_int(v + half), cz = lanes::to_int(w + half);
-      const I index = cx + dims_[0] * (cy + dims_[1] * cz);
-      std::memcpy(idx + h, &index, sizeof index);
-      const D dx = px - (ox + res * lanes::to_double(cx)), dy = py - (oy + res * lanes::to_double(cy)),
-              dz = pz - (oz + res * lanes::to_double(cz));
-      lanes::store(dist + h, lanes::sqrt(dx * dx + dy * dy + dz * dz));
-    }
-    for (int k = 0; k < N; ++k) out[k] = double(values_[std::size_t(idx[k])]) * kUnit - dist[k];
+  // lower_bound of lanes::WF points (structure of arrays) into out, in floats: the index and
+  // distance arithmetic in SIMD lanes (lanes.hpp), the loads one per point. Any node gives a valid
+  // bound, so the rounded index arithmetic is harmless; the rounded distance to the node and value
+  // are the caller's margin to cover (SphereFieldChecker::lane_margin).
+  DMGPLACE_LANES_INLINE void lower_bound_lanes(const float* x, const float* y, const float* z, float* out) const {
+    using lanes::F;
+    using lanes::MF;
+    using lanes::splatf;
+    const F inv = splatf(float(inv_)), res = splatf(float(res_)), half = splatf(0.5f);
+    const F ox = splatf(float(origin_[0])), oy = splatf(float(origin_[1])), oz = splatf(float(origin_[2]));
+    const F px = lanes::load(x), py = lanes::load(y), pz = lanes::load(z);
+    const F u = lanes::min(lanes::max0((px - ox) * inv), splatf(float(dims_[0] - 1)));
+    const F v = lanes::min(lanes::max0((py - oy) * inv), splatf(float(dims_[1] - 1)));
+    const F w = lanes::min(lanes::max0((pz - oz) * inv), splatf(float(dims_[2] - 1)));
+    const MF cx = __builtin_convertvector(u + half, MF), cy = __builtin_convertvector(v + half, MF),
+             cz = __builtin_convertvector(w + half, MF);
+    const MF index = cx + dims_[0] * (cy + dims_[1] * cz);
+    const F dx = px - (ox + res * __builtin_convertvector(cx, F)), dy = py - (oy + res * __builtin_convertvector(cy, F)),
+            dz = pz - (oz + res * __builtin_convertvector(cz, F));
+    alignas(32) int idx[lanes::WF];
+    alignas(32) float dist[lanes::WF];
+    std::memcpy(idx, &index, sizeof index);
+    lanes::store(dist, lanes::sqrt(dx * dx + dy * dy + dz * dz));
+    for (int k = 0; k < lanes::WF; ++k) out[k] = float(values_[std::size_t(idx[k])]) * float(kUnit) - dist[k];
   }
 
  private:

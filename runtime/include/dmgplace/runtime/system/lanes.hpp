@@ -19,7 +19,6 @@ namespace dmgplace::runtime::lanes {
 constexpr int W = 4;  // lanes per vector
 typedef double D __attribute__((vector_size(W * sizeof(double))));
 typedef long long M __attribute__((vector_size(W * sizeof(long long))));
-typedef int I __attribute__((vector_size(W * sizeof(int))));
 
 DMGPLACE_LANES_INLINE D splat(double v) { return D{v, v, v, v}; }
 DMGPLACE_LANES_INLINE D load(const double* p) {
@@ -37,9 +36,6 @@ DMGPLACE_LANES_INLINE D sqrt(D a) {
   for (int k = 0; k < W; ++k) r[k] = __builtin_sqrt(a[k]);
   return r;
 }
-// Truncation towards zero (vcvttpd2dq) and back.
-DMGPLACE_LANES_INLINE I to_int(D a) { return __builtin_convertvector(a, I); }
-DMGPLACE_LANES_INLINE D to_double(I a) { return __builtin_convertvector(a, D); }
 // One vmovmskpd / vmovmskps for a whole mask. Not always_inline: inlined only into callers compiled
 // for AVX (the SIMD dispatch's avx2 functions), where bits(m, true) asks for it.
 inline __attribute__((target("avx"))) std::uint32_t movemask_avx(M m) {
@@ -92,12 +88,6 @@ DMGPLACE_LANES_INLINE F to_float(D lo, D hi) {
   typedef float F4 __attribute__((vector_size(16)));
   const F4 a = __builtin_convertvector(lo, F4), b = __builtin_convertvector(hi, F4);
   return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
-}
-// And back: lanes 0-3 (h = 0) or 4-7 (h = 4) as doubles.
-DMGPLACE_LANES_INLINE D to_double(F a, int h) {
-  typedef float F4 __attribute__((vector_size(16)));
-  const F4 half = h == 0 ? __builtin_shufflevector(a, a, 0, 1, 2, 3) : __builtin_shufflevector(a, a, 4, 5, 6, 7);
-  return __builtin_convertvector(half, D);
 }
 // As bits(M) for eight float lanes.
 inline __attribute__((target("avx"))) std::uint32_t movemask_avx(MF m) {
