@@ -2,7 +2,7 @@
 // Forward kinematics runs in SIMD lanes (Kinematics::link_poses_batch, doubles); every step after
 // it takes one body or sphere across all lanes in floats (lanes::F: 8 lanes, one AVX register):
 // centres, bounds, exact primitive distances, pair distances. Every test that can say "free" adds
-// a rounding margin (lane_margin), so the floats stay conservative. Only the field loads are one
+// a rounding margin (lane_margin_), so the floats stay conservative. Only the field loads are one
 // per lane. Compiled for AVX2 + FMA and for the portable baseline, chosen at run time
 // (system/simd_dispatch).
 #include <algorithm>
@@ -79,7 +79,7 @@ inline __attribute__((always_inline)) lanes::MF overlaps(const Xyz& a, const Xyz
   return dx * dx + dy * dy + dz * dz < splatf(reach * reach);
 }
 
-// Lanes with every coordinate of p within `limit` (false for NaN): lane_margin holds there.
+// Lanes with every coordinate of p within `limit` (false for NaN): lane_margin_ holds there.
 inline __attribute__((always_inline)) lanes::MF within(const Xyz& p, float limit) {
   const F l = splatf(limit);
   return (lanes::abs(lanes::load(p.x)) <= l) & (lanes::abs(lanes::load(p.y)) <= l) & (lanes::abs(lanes::load(p.z)) <= l);
@@ -87,17 +87,20 @@ inline __attribute__((always_inline)) lanes::MF within(const Xyz& p, float limit
 
 }  // namespace
 
-double SphereFieldChecker::lane_limit() const {
-  double scene = std::max({2.0, lo_.cwiseAbs().maxCoeff(), hi_.cwiseAbs().maxCoeff(), obstacles_ ? obstacles_->extent() : 0.0});
-  return std::max(scene, reach_);
-}
-
-double SphereFieldChecker::lane_margin() const {
+void SphereFieldChecker::set_lane_bounds() {
+  const double scene =
+      std::max({2.0, lo_.cwiseAbs().maxCoeff(), hi_.cwiseAbs().maxCoeff(), obstacles_ ? obstacles_->extent() : 0.0});
+  lane_limit_ = std::max(scene, reach_);
   // Every float step rounds by at most 2^-24 of the magnitudes it meets: coordinates up to
-  // lane_limit (body centres past it drop their lane), sphere offsets within reach_, primitive
+  // lane_limit_ (body centres past it drop their lane), sphere offsets within reach_, primitive
   // extents. A pose element, a transform, a difference, a rotation into a primitive's frame and a
   // squared distance each add a few such roundings; 64 of them bound the lot with room to spare.
-  return 64.0 * 0x1p-24 * (lane_limit() + 2.0 * reach_ + 1.0);
+  lane_margin_ = 64.0 * 0x1p-24 * (lane_limit_ + 2.0 * reach_ + 1.0);
+}
+
+void SphereFieldChecker::set_exact_obstacles(std::shared_ptr<const PrimitiveObstacles> obstacles) {
+  obstacles_ = std::move(obstacles);
+  set_lane_bounds();
 }
 
 inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lanes_body(const SphereFieldChecker& c,
@@ -116,7 +119,7 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
   centre.resize(c.bodies_.size());
   pose.resize(c.bodies_.size());
   done.assign(c.bodies_.size(), 0);
-  const float margin = float(c.lane_margin()), limit = float(c.lane_limit());
+  const float margin = float(c.lane_margin_), limit = float(c.lane_limit_);
   auto spheres_of = [&](std::size_t bi) {
     if (done[bi]) return;
     const Body& b = c.bodies_[bi];

@@ -79,6 +79,7 @@ void SphereFieldChecker::build_bodies() {
     }
     reach_ = std::max(reach_, reach);
   }
+  set_lane_bounds();
   lever_count_ = 0;
   for (auto& b : bodies_) {
     b.lever_begin = lever_count_;

@@ -75,7 +75,7 @@ class SphereFieldChecker {
 
   // The environment's exact primitives, when it is made only of those (PrimitiveObstacles::
   // from_scene): spheres the field leaves undecided are settled by their exact distance.
-  void set_exact_obstacles(std::shared_ptr<const PrimitiveObstacles> obstacles) { obstacles_ = std::move(obstacles); }
+  void set_exact_obstacles(std::shared_ptr<const PrimitiveObstacles> obstacles);
 
   // A checker for one grasp: same robot and environment (shared, no copy), plus the object.
   SphereFieldChecker with_attached(AttachedSpheres object) const;
@@ -197,11 +197,11 @@ class SphereFieldChecker {
   // `wide`: a vector of lanes is one register (AVX2), so masks are ORed and turned into bits once;
   // the portable build compares lane by lane, where bits per test cost less.
   static std::uint32_t free_lanes_body(const SphereFieldChecker& c, const double* const* q, int count, bool wide);
-  // free_lanes works in floats: lanes whose body centres stay within lane_limit() metres of the
-  // origin on every axis, every test that can say "free" widened by lane_margin() metres, which
-  // bounds the rounding there.
-  double lane_limit() const;
-  double lane_margin() const;
+  // free_lanes works in floats: lanes whose body centres stay within lane_limit_ metres of the
+  // origin on every axis, every test that can say "free" widened by lane_margin_ metres, which
+  // bounds the rounding there. Set with the robot's bodies and the scene (set_lane_bounds).
+  void set_lane_bounds();
+  double lane_limit_ = 0, lane_margin_ = 0;
   std::vector<Body> bodies_;
   double reach_ = 0;  // no sphere gets farther than this from the model root's origin
   std::vector<Pair> pairs_;                   // body pairs checked for self-collision

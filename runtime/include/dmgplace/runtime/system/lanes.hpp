@@ -1,13 +1,15 @@
 #pragma once
-// Four lanes of doubles as one GCC/Clang vector (vector_size 32): a function compiled for AVX2
-// (simd_dispatch.hpp) runs each operation as one instruction, the portable build as two SSE2 ones.
-// The batch kernels take their 8 configurations as two such halves. Written this way they
+// Four doubles (D) or eight floats (F) as one GCC/Clang vector (vector_size 32): a function
+// compiled for AVX2 (simd_dispatch.hpp) runs each operation as one instruction, the portable build
+// as two SSE2 ones. Batch forward kinematics takes its 8 configurations as two D halves, the
+// sphere passes after it one F. Written this way they
 // vectorise for certain, where plain loops depend on the auto-vectoriser's cost model; operands
 // are whole vectors (splat), since a scalar operand makes GCC compare lane by lane. Comparisons
 // give a mask: -1 in true lanes, 0 elsewhere. The files using sqrt() are built with
 // -fno-math-errno, so it is one instruction too.
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 
 #define DMGPLACE_LANES_INLINE inline __attribute__((always_inline))
 
@@ -21,21 +23,6 @@ typedef double D __attribute__((vector_size(W * sizeof(double))));
 typedef long long M __attribute__((vector_size(W * sizeof(long long))));
 
 DMGPLACE_LANES_INLINE D splat(double v) { return D{v, v, v, v}; }
-DMGPLACE_LANES_INLINE D load(const double* p) {
-  D v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-DMGPLACE_LANES_INLINE void store(double* p, D v) { std::memcpy(p, &v, sizeof v); }
-DMGPLACE_LANES_INLINE D min(D a, D b) { return a < b ? a : b; }
-DMGPLACE_LANES_INLINE D max(D a, D b) { return a > b ? a : b; }
-DMGPLACE_LANES_INLINE D max0(D a) { return max(a, D{}); }
-DMGPLACE_LANES_INLINE D abs(D a) { return max(a, -a); }
-DMGPLACE_LANES_INLINE D sqrt(D a) {
-  D r;
-  for (int k = 0; k < W; ++k) r[k] = __builtin_sqrt(a[k]);
-  return r;
-}
 // One vmovmskpd / vmovmskps for a whole mask. Not always_inline: inlined only into callers compiled
 // for AVX (the SIMD dispatch's avx2 functions), where bits(m, true) asks for it.
 inline __attribute__((target("avx"))) std::uint32_t movemask_avx(M m) {
@@ -68,19 +55,35 @@ DMGPLACE_LANES_INLINE F splatf(float v) {
   x[0] = v;
   return __builtin_shufflevector(x, x, 0, 0, 0, 0, 0, 0, 0, 0);
 }
-DMGPLACE_LANES_INLINE F load(const float* p) {
-  F v;
+// The same operations for both kinds of vector.
+template <class V>
+concept Vector = std::is_same_v<V, D> || std::is_same_v<V, F>;
+template <class T>
+using VectorOf = std::conditional_t<std::is_same_v<T, double>, D, F>;
+template <class T>
+  requires Vector<VectorOf<T>>
+DMGPLACE_LANES_INLINE VectorOf<T> load(const T* p) {
+  VectorOf<T> v;
   std::memcpy(&v, p, sizeof v);
   return v;
 }
-DMGPLACE_LANES_INLINE void store(float* p, F v) { std::memcpy(p, &v, sizeof v); }
-DMGPLACE_LANES_INLINE F min(F a, F b) { return a < b ? a : b; }
-DMGPLACE_LANES_INLINE F max(F a, F b) { return a > b ? a : b; }
-DMGPLACE_LANES_INLINE F max0(F a) { return max(a, F{}); }
-DMGPLACE_LANES_INLINE F abs(F a) { return max(a, -a); }
-DMGPLACE_LANES_INLINE F sqrt(F a) {
-  F r;
-  for (int k = 0; k < WF; ++k) r[k] = __builtin_sqrtf(a[k]);
+template <class T>
+DMGPLACE_LANES_INLINE void store(T* p, VectorOf<T> v) { std::memcpy(p, &v, sizeof v); }
+template <Vector V>
+DMGPLACE_LANES_INLINE V min(V a, V b) { return a < b ? a : b; }
+template <Vector V>
+DMGPLACE_LANES_INLINE V max(V a, V b) { return a > b ? a : b; }
+template <Vector V>
+DMGPLACE_LANES_INLINE V max0(V a) { return max(a, V{}); }
+template <Vector V>
+DMGPLACE_LANES_INLINE V abs(V a) { return max(a, -a); }
+template <Vector V>
+DMGPLACE_LANES_INLINE V sqrt(V a) {
+  V r;
+  for (int k = 0; k < int(sizeof(V) / sizeof(a[0])); ++k) {
+    if constexpr (std::is_same_v<V, F>) r[k] = __builtin_sqrtf(a[k]);
+    else r[k] = __builtin_sqrt(a[k]);
+  }
   return r;
 }
 // Two vectors of four doubles (lanes 0-3, 4-7) rounded to one of eight floats.
