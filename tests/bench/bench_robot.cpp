@@ -121,10 +121,10 @@ void BM_Fk(benchmark::State& st) {
 }
 BENCHMARK(BM_Fk);
 
-void BM_FkBatch8(benchmark::State& st) {
+template <class T>
+void fk_batches(benchmark::State& st) {
   auto& w = world();
-  runtime::force_simd_path(st.range(0) ? runtime::SimdPath::Avx2 : runtime::SimdPath::Portable);
-  runtime::PoseBatch poses;
+  runtime::PoseBatchOf<T> poses;
   std::size_t i = 0;
   const double* q[runtime::PoseBatch::kLanes];
   for (auto _ : st) {
@@ -132,11 +132,18 @@ void BM_FkBatch8(benchmark::State& st) {
     w.kin->link_poses_batch(q, poses);
     benchmark::DoNotOptimize(poses.pose.data());
   }
+}
+// Arguments: the SIMD path (0 portable, 1 AVX2 where the CPU has it); the precision (0 doubles,
+// 1 floats, as the batch sphere check runs it).
+void BM_FkBatch8(benchmark::State& st) {
+  runtime::force_simd_path(st.range(0) ? runtime::SimdPath::Avx2 : runtime::SimdPath::Portable);
+  if (st.range(1)) fk_batches<float>(st);
+  else fk_batches<double>(st);
   st.SetItemsProcessed(st.iterations() * runtime::PoseBatch::kLanes);
   st.SetLabel(runtime::to_string(runtime::simd_path()));
   runtime::force_simd_path(runtime::SimdPath::Avx2);
 }
-BENCHMARK(BM_FkBatch8)->Arg(0)->Arg(1);
+BENCHMARK(BM_FkBatch8)->Args({0, 0})->Args({1, 0})->Args({0, 1})->Args({1, 1});
 
 // check_along on the configurations the fast layer proves free (a planner's motions are mostly
 // free), unit random directions; the argument is `enough` in mrad (0: unlimited).

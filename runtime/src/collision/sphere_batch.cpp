@@ -1,8 +1,9 @@
 // SphereFieldChecker::free_lanes: the fast layer's "proven free" for 8 configurations at once.
-// Forward kinematics runs in SIMD lanes (Kinematics::link_poses_batch, doubles); every step after
-// it takes one body or sphere across all lanes in floats (lanes::F: 8 lanes, one AVX register):
-// centres, bounds, exact primitive distances, pair distances. Every test that can say "free" adds
-// a rounding margin (lane_margin_), so the floats stay conservative. Only the field loads are one
+// Every step runs in floats across all 8 lanes (lanes::F, one AVX register): forward kinematics
+// (Kinematics::link_poses_batch into a PoseBatchF), then one body or sphere at a time: centres,
+// bounds, exact primitive distances, pair distances. Every test that can say "free" adds a
+// rounding margin (lane_margin_: the kinematics' own error bound and the steps after it), so the
+// floats stay conservative. Only the field loads are one
 // per lane. Compiled for AVX2 + FMA and for the portable baseline, chosen at run time
 // (system/simd_dispatch).
 #include <algorithm>
@@ -23,22 +24,13 @@ using lanes::splatf;
 struct alignas(32) Xyz {
   float x[N], y[N], z[N];
 };
-// A link's pose in every lane: rotation row-major, then the translation. Plain floats read with
-// lanes::load: a vector type's alignment is 16 in code built without AVX, so arrays of them are
-// not safe for the AVX path's aligned moves.
-struct alignas(32) LinkPose {
-  float e[12][N];
-};
-
-inline __attribute__((always_inline)) void to_float(const std::array<PoseBatch::Lanes, 12>& T, LinkPose& out) {
-  for (std::size_t e = 0; e < 12; ++e)
-    lanes::store(out.e[e], lanes::to_float(lanes::load(T[e].data()), lanes::load(T[e].data() + lanes::W)));
-}
+// A link's pose in every lane (PoseBatchF): rotation row-major, then the translation.
+using LinkPose = std::array<PoseBatchF::Lanes, 12>;
 
 // c = R p + t in every lane.
 inline __attribute__((always_inline)) void transform(const LinkPose& T, const Eigen::Vector3d& p, Xyz& c) {
   const F px = splatf(float(p.x())), py = splatf(float(p.y())), pz = splatf(float(p.z()));
-  auto t = [&](int e) __attribute__((always_inline)) { return lanes::load(T.e[e]); };
+  auto t = [&](int e) __attribute__((always_inline)) { return lanes::load(T[std::size_t(e)].data()); };
   lanes::store(c.x, t(0) * px + t(1) * py + t(2) * pz + t(9));
   lanes::store(c.y, t(3) * px + t(4) * py + t(5) * pz + t(10));
   lanes::store(c.z, t(6) * px + t(7) * py + t(8) * pz + t(11));
@@ -95,7 +87,9 @@ void SphereFieldChecker::set_lane_bounds() {
   // lane_limit_ (body centres past it drop their lane), sphere offsets within reach_, primitive
   // extents. A pose element, a transform, a difference, a rotation into a primitive's frame and a
   // squared distance each add a few such roundings; 64 of them bound the lot with room to spare.
-  lane_margin_ = 64.0 * 0x1p-24 * (lane_limit_ + 2.0 * reach_ + 1.0);
+  // Forward kinematics in floats adds its own bound, for points as far from their link's origin
+  // as any sphere's far side.
+  lane_margin_ = 64.0 * 0x1p-24 * (lane_limit_ + 2.0 * reach_ + 1.0) + kin_->float_pose_error(link_reach_);
 }
 
 void SphereFieldChecker::set_exact_obstacles(std::shared_ptr<const PrimitiveObstacles> obstacles) {
@@ -108,22 +102,21 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
                                                                                         bool wide) {
   const double* in[N];
   for (int k = 0; k < N; ++k) in[k] = q[k < count ? k : 0];  // idle lanes repeat the first
-  thread_local PoseBatch poses;
+  thread_local PoseBatchF poses;
   c.kin_->link_poses_batch(in, poses);
   const std::uint32_t all = (1u << count) - 1;
   std::uint32_t alive = all;
   thread_local std::vector<Xyz> world, centre;
-  thread_local std::vector<LinkPose> pose;
   thread_local std::vector<char> done;
   world.resize(c.spheres_.size());
   centre.resize(c.bodies_.size());
-  pose.resize(c.bodies_.size());
   done.assign(c.bodies_.size(), 0);
   const float margin = float(c.lane_margin_), limit = float(c.lane_limit_);
   auto spheres_of = [&](std::size_t bi) {
     if (done[bi]) return;
     const Body& b = c.bodies_[bi];
-    for (int i = b.begin; i < b.end; ++i) transform(pose[bi], c.spheres_[std::size_t(i)].center, world[std::size_t(i)]);
+    const LinkPose& pose = poses.pose[std::size_t(b.link)];
+    for (int i = b.begin; i < b.end; ++i) transform(pose, c.spheres_[std::size_t(i)].center, world[std::size_t(i)]);
     done[bi] = 1;
   };
   // A scene of primitives is tested exactly, in cache: a body's bounding sphere finds the
@@ -138,8 +131,7 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
   lanes::MF in_range = ~lanes::MF{};
   for (std::size_t bi = 0; bi < c.bodies_.size(); ++bi) {
     const Body& b = c.bodies_[bi];
-    to_float(poses.pose[std::size_t(b.link)], pose[bi]);
-    transform(pose[bi], b.center, centre[bi]);
+    transform(poses.pose[std::size_t(b.link)], b.center, centre[bi]);
     in_range &= within(centre[bi], limit);
     if (!b.moving && !b.attached) continue;
     if (prims) reach = prims->reaching_lanes(centre[bi].x, centre[bi].y, centre[bi].z, float(b.radius + c.padding_ + margin), alive, wide);

@@ -52,7 +52,7 @@ void SphereFieldChecker::build_bodies() {
     bodies_.push_back(b);
   }
   const auto& model = kin_->model();
-  reach_ = 0;
+  reach_ = link_reach_ = 0;
   std::vector<int> parent_joint(model.links.size(), -1);
   for (std::size_t j = 0; j < model.joints.size(); ++j) parent_joint[std::size_t(model.joints[j].child)] = int(j);
   certifiable_ = true;
@@ -69,6 +69,7 @@ void SphereFieldChecker::build_bodies() {
     // offset on the way up (a prismatic joint's offset grows by its largest travel).
     b.chain.clear();
     double reach = b.center.norm() + b.radius;
+    link_reach_ = std::max(link_reach_, reach);
     for (int l = b.link, guard = 0; parent_joint[std::size_t(l)] >= 0 && guard <= int(model.joints.size()); ++guard) {
       const int j = parent_joint[std::size_t(l)];
       const Joint& jt = model.joints[std::size_t(j)];

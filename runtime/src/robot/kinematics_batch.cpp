@@ -1,7 +1,9 @@
 // Forward kinematics of 8 configurations at once (Kinematics::link_poses_batch): every step runs
 // in SIMD lanes (lanes.hpp vectors, sincos as a loop the compiler vectorises); compiled twice, for
 // AVX2 + FMA and for the portable x86-64 baseline, and chosen at run time (system/simd_dispatch).
+#include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "dmgplace/runtime/geometry/fast_sincos.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
@@ -27,10 +29,21 @@ inline __attribute__((always_inline)) void sincos_lanes(const double* x, double*
   for (int k = 0; k < N; ++k) fast_sincos_core(x[k], s[k], c[k]);
 }
 
+// A joint constant in every lane of T's vector: doubles as an initialiser list, floats as
+// lanes::splatf's shuffle (lanes.hpp: each is the faster form for its kind).
+template <class T>
+DMGPLACE_LANES_INLINE lanes::VectorOf<T> splat_as(double v) {
+  if constexpr (std::is_same_v<T, double>) return lanes::splat(v);
+  else return lanes::splatf(float(v));
+}
+
+// T = double: two vectors of 4 lanes per step. T = float: one vector of all 8 (sin and cos, and
+// the joint values, still computed in doubles and rounded once).
+template <class T>
 inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>& plan, const std::vector<int>& roots, int base,
-                                                   bool base_is_root, const double* const* q, PoseBatch& out) {
-  using lanes::D;
-  constexpr int W = lanes::W;
+                                                   bool base_is_root, const double* const* q, PoseBatchOf<T>& out) {
+  using D = lanes::VectorOf<T>;
+  constexpr int W = int(sizeof(D) / sizeof(T));
   static_assert(N % W == 0);
   auto& P = out.pose;
   for (int r : roots)
@@ -38,13 +51,19 @@ inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>&
   // Every step below is written in lanes.hpp vectors, one half of the lanes at a time, with the
   // joint's constants splatted into registers: as plain loops over lanes GCC kept some scalar (it
   // cannot tell the child's stores from the plan's constants).
-  alignas(64) double v[N], s[N], c[N];
+  alignas(64) double vd[N], sd[N], cd[N];
+  alignas(64) T vf[N], sf[N], cf[N];  // floats: the doubles rounded once
+  const T *v = vf, *s = sf, *c = cf;
+  if constexpr (std::is_same_v<T, double>) v = vd, s = sd, c = cd;
+  auto splat = [](double x) __attribute__((always_inline)) { return splat_as<T>(x); };
   for (const JointPlan& j : plan) {
     const auto& A = P[std::size_t(j.parent)];
     auto& C = P[std::size_t(j.child)];
-    for (int k = 0; k < N; ++k) v[k] = j.slot >= 0 ? j.mult * q[k][j.slot] + j.offset : j.offset;
-    if (j.type == 1) sincos_lanes(v, s, c);
-    const D t0 = lanes::splat(j.t[0]), t1 = lanes::splat(j.t[1]), t2 = lanes::splat(j.t[2]);
+    for (int k = 0; k < N; ++k) vd[k] = j.slot >= 0 ? j.mult * q[k][j.slot] + j.offset : j.offset;
+    if (j.type == 1) sincos_lanes(vd, sd, cd);
+    if constexpr (!std::is_same_v<T, double>)
+      for (int k = 0; k < N; ++k) vf[k] = T(vd[k]), sf[k] = T(sd[k]), cf[k] = T(cd[k]);
+    const D t0 = splat(j.t[0]), t1 = splat(j.t[1]), t2 = splat(j.t[2]);
     for (int h = 0; h < N; h += W) {
       auto a = [&](int e) __attribute__((always_inline)) { return lanes::load(A[std::size_t(e)].data() + h); };
       auto put = [&](int e, D x) __attribute__((always_inline)) { lanes::store(C[std::size_t(e)].data() + h, x); };
@@ -52,18 +71,18 @@ inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>&
       D tx = t0, ty = t1, tz = t2;
       if (j.type == 2) {
         const D m = lanes::load(v + h);
-        tx += m * lanes::splat(j.a[0]), ty += m * lanes::splat(j.a[1]), tz += m * lanes::splat(j.a[2]);
+        tx += m * splat(j.a[0]), ty += m * splat(j.a[1]), tz += m * splat(j.a[2]);
       }
       for (int r = 0; r < 3; ++r) put(9 + r, a(3 * r) * tx + a(3 * r + 1) * ty + a(3 * r + 2) * tz + a(9 + r));
       if (j.quarter) {
         // The parent's columns permuted (a quarter-turn origin); a revolute joint then turns the
         // two columns across its axis: (u, w) -> (c u + s w, c w - s u). Kinematics::compose.
         const int ia = (j.axis + 1) % 3, ib = (j.axis + 2) % 3;
-        const D sg0 = lanes::splat(j.sign[0]), sg1 = lanes::splat(j.sign[1]), sg2 = lanes::splat(j.sign[2]);
+        const D sg0 = splat(j.sign[0]), sg1 = splat(j.sign[1]), sg2 = splat(j.sign[2]);
         for (int r = 0; r < 3; ++r) {
           D x[3] = {sg0 * a(3 * r + j.perm[0]), sg1 * a(3 * r + j.perm[1]), sg2 * a(3 * r + j.perm[2])};
           if (j.type == 1) {
-            const D ck = lanes::load(c + h), sk = lanes::splat(j.axis_sign) * lanes::load(s + h);
+            const D ck = lanes::load(c + h), sk = splat(j.axis_sign) * lanes::load(s + h);
             const D u = x[ia], w = x[ib];
             x[ia] = ck * u + sk * w;
             x[ib] = ck * w - sk * u;
@@ -75,10 +94,10 @@ inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>&
       // The joint's rotation (origin, then Rodrigues about the axis), then parent R x it.
       D R[9];
       if (j.type == 1) {
-        const D sk = lanes::load(s + h), ck = lanes::splat(1.0) - lanes::load(c + h);
-        for (int e = 0; e < 9; ++e) R[e] = lanes::splat(j.O[e]) + sk * lanes::splat(j.OK[e]) + ck * lanes::splat(j.OKK[e]);
+        const D sk = lanes::load(s + h), ck = splat(1.0) - lanes::load(c + h);
+        for (int e = 0; e < 9; ++e) R[e] = splat(j.O[e]) + sk * splat(j.OK[e]) + ck * splat(j.OKK[e]);
       } else {
-        for (int e = 0; e < 9; ++e) R[e] = lanes::splat(j.O[e]);
+        for (int e = 0; e < 9; ++e) R[e] = splat(j.O[e]);
       }
       for (int r = 0; r < 3; ++r) {
         const D p0 = a(3 * r), p1 = a(3 * r + 1), p2 = a(3 * r + 2);
@@ -88,7 +107,7 @@ inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>&
   }
   if (base_is_root) return;
   // Express every link in the base frame: pose = inverse(base) x pose, per lane.
-  alignas(64) double Bi[12][N];
+  alignas(64) T Bi[12][N];
   const auto& B = P[std::size_t(base)];
   for (int r = 0; r < 3; ++r)
     for (int col = 0; col < 3; ++col)
@@ -96,31 +115,41 @@ inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>&
   for (int r = 0; r < 3; ++r)
     for (int k = 0; k < N; ++k)
       Bi[9 + r][k] = -(Bi[3 * r][k] * B[9][std::size_t(k)] + Bi[3 * r + 1][k] * B[10][std::size_t(k)] + Bi[3 * r + 2][k] * B[11][std::size_t(k)]);
-  alignas(64) double T[12][N];
+  alignas(64) T X[12][N];
   for (auto& L : P) {
     for (int r = 0; r < 3; ++r)
       for (int col = 0; col < 4; ++col)
         for (int k = 0; k < N; ++k) {
           const int e = col < 3 ? 3 * r + col : 9 + r;
           const int x = col < 3 ? col : 9;  // column col of L's rotation, or its translation
-          const double dot = Bi[3 * r][k] * L[std::size_t(col < 3 ? x : 9)][std::size_t(k)] +
+          const T dot = Bi[3 * r][k] * L[std::size_t(col < 3 ? x : 9)][std::size_t(k)] +
                              Bi[3 * r + 1][k] * L[std::size_t(col < 3 ? 3 + x : 10)][std::size_t(k)] +
                              Bi[3 * r + 2][k] * L[std::size_t(col < 3 ? 6 + x : 11)][std::size_t(k)];
-          T[e][k] = dot + (col < 3 ? 0.0 : Bi[9 + r][k]);
+          X[e][k] = dot + (col < 3 ? T(0) : Bi[9 + r][k]);
         }
     for (int e = 0; e < 12; ++e)
-      for (int k = 0; k < N; ++k) L[std::size_t(e)][std::size_t(k)] = T[e][k];
+      for (int k = 0; k < N; ++k) L[std::size_t(e)][std::size_t(k)] = X[e][k];
   }
 }
 
+template <class T>
 __attribute__((target("avx2,fma"))) void fk_avx2(const std::vector<JointPlan>& plan, const std::vector<int>& roots, int base,
-                                                 bool base_is_root, const double* const* q, PoseBatch& out) {
+                                                 bool base_is_root, const double* const* q, PoseBatchOf<T>& out) {
   fk_body(plan, roots, base, base_is_root, q, out);
 }
 
+template <class T>
 void fk_portable(const std::vector<JointPlan>& plan, const std::vector<int>& roots, int base, bool base_is_root,
-                 const double* const* q, PoseBatch& out) {
+                 const double* const* q, PoseBatchOf<T>& out) {
   fk_body(plan, roots, base, base_is_root, q, out);
+}
+
+template <class T>
+void fk(const std::vector<JointPlan>& plan, const std::vector<int>& roots, int base, bool base_is_root,
+        const double* const* q, std::size_t links, PoseBatchOf<T>& out) {
+  out.pose.resize(links);
+  if (simd_path() == SimdPath::Avx2) fk_avx2(plan, roots, base, base_is_root, q, out);
+  else fk_portable(plan, roots, base, base_is_root, q, out);
 }
 
 }  // namespace
@@ -159,12 +188,55 @@ void Kinematics::build_batch_plan() {
     p.axis_sign = terms.axis_sign;
     for (int c = 0; c < 3; ++c) p.perm[c] = terms.perm[c], p.sign[c] = terms.sign[c];
   }
+  bound_float_error();
+}
+
+// Float forward kinematics' error, link by link down the plan (u = 2^-24, a float's unit roundoff;
+// |.| Frobenius norms of error matrices, so a rotation multiplies them by 1). A joint's rotation
+// O + s OK + (1 - c) OKK: constants (elements at most 1) and sin, cos rounded once each (1.5u and
+// u per element), two fused multiply-adds under 2 (2u): 4.5u per element, under 16u in all; a
+// fixed joint's rounded constants under 3u. The child's R = A Rj in floats: |E_child| <= |E_A| +
+// |E_Rj| + 9u (each element three roundings of partial sums under 2). Its translation A t' + t_A:
+// off by |E_A| |t'| from A's error, 5u |t'| from rounding t' and the dots, u |t_child| from the
+// sum. Composing with the base's inverse, when the base is not the root, adds as much again.
+void Kinematics::bound_float_error() {
+  const double u = 0x1p-24;
+  const auto& m = *model_;
+  std::vector<double> rot(m.links.size(), 0.0), trans(m.links.size(), 0.0), extent(m.links.size(), 0.0);
+  for (const BatchJoint& j : batch_plan_) {
+    double travel = std::abs(j.offset);
+    if (j.slot >= 0) travel += std::abs(j.mult) * std::max(std::abs(lower_[j.slot]), std::abs(upper_[j.slot]));
+    const double t = std::hypot(j.t[0], j.t[1], j.t[2]) + (j.type == 2 ? travel : 0.0);
+    const auto a = std::size_t(j.parent), c = std::size_t(j.child);
+    rot[c] = rot[a] + (j.type == 0 ? 3 * u : 16 * u) + 9 * u;
+    extent[c] = extent[a] + t;
+    trans[c] = trans[a] + rot[a] * t + 5 * u * t + u * extent[c];
+  }
+  const auto b = std::size_t(base_);
+  float_rotation_error_ = float_translation_error_ = 0;
+  for (std::size_t l = 0; l < m.links.size(); ++l) {
+    double r = rot[l], e = trans[l];
+    if (!base_is_root_) {
+      r += rot[b] + 9 * u;
+      e += trans[b] + (rot[b] + 5 * u) * (extent[l] + extent[b]) + u * (extent[l] + extent[b]);
+    }
+    float_rotation_error_ = std::max(float_rotation_error_, r);
+    float_translation_error_ = std::max(float_translation_error_, e);
+  }
+}
+
+double Kinematics::float_pose_error(double reach) const {
+  // R p + t in floats: |E_R| |p| from the rotation, 4u |p| from rounding p and the dots, and the
+  // translation's error; u of the result's magnitude is inside the callers' own margins.
+  return (float_rotation_error_ + 4 * 0x1p-24) * reach + float_translation_error_;
 }
 
 void Kinematics::link_poses_batch(const double* const* q, PoseBatch& out) const {
-  out.pose.resize(model_->links.size());
-  if (simd_path() == SimdPath::Avx2) fk_avx2(batch_plan_, roots_, base_, base_is_root_, q, out);
-  else fk_portable(batch_plan_, roots_, base_, base_is_root_, q, out);
+  fk(batch_plan_, roots_, base_, base_is_root_, q, model_->links.size(), out);
+}
+
+void Kinematics::link_poses_batch(const double* const* q, PoseBatchF& out) const {
+  fk(batch_plan_, roots_, base_, base_is_root_, q, model_->links.size(), out);
 }
 
 }  // namespace dmgplace::runtime

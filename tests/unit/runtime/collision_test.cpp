@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <iostream>
+#include <limits>
 #include <random>
 #include <thread>
 
@@ -142,6 +144,58 @@ TEST(Batch, ForwardKinematicsEqualsTheScalarOneOnEveryPath) {
       }
     }
     force_simd_path(SimdPath::Avx2);  // back to what the CPU has
+  }
+}
+
+// The float batch (what the batch sphere check runs on) stays within Kinematics::float_pose_error
+// of the double poses, for points within `reach` of their link: on every path, the base at the
+// root and not, prismatic mimic fingers set. And the bound is tight enough to be of use.
+TEST(Batch, FloatForwardKinematicsStaysWithinItsErrorBound) {
+  Arm arm = built_in_arm();
+  const double reach = 1.5;
+  for (const char* base : {"dmgarm_link0", "dmgarm_link2"}) {
+    Kinematics kin(arm.model, base, "dmgarm_tcp");
+    kin.set_joint_value("dmgarm_finger_joint1", 0.021);
+    const double bound = kin.float_pose_error(reach);
+    EXPECT_GT(bound, 0.0);
+    EXPECT_LT(bound, 1e-4) << "a bound this loose would cost the batch its proofs";
+    std::mt19937_64 rng(5);
+    double worst = 0;
+    for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
+      force_simd_path(path);
+      for (int round = 0; round < 200; ++round) {
+        std::vector<Eigen::VectorXd> qs;
+        const double* ptr[PoseBatch::kLanes];
+        for (int k = 0; k < PoseBatch::kLanes; ++k) {
+          Eigen::VectorXd q = random_q(kin, rng);
+          if (round % 4 == 0) q *= 40.0;  // wide angles: sin and cos far from the first turn
+          qs.push_back(q);
+        }
+        for (int k = 0; k < PoseBatch::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
+        PoseBatchF batch;
+        kin.link_poses_batch(ptr, batch);
+        std::vector<Eigen::Isometry3d> poses;
+        for (int k = 0; k < PoseBatch::kLanes; ++k) {
+          kin.link_poses(qs[std::size_t(k)], poses);
+          for (std::size_t l = 0; l < poses.size(); ++l)
+            for (int axis = 0; axis < 7; ++axis) {
+              Eigen::Vector3d p = Eigen::Vector3d::Zero();
+              if (axis < 6) p[axis % 3] = axis < 3 ? reach : -reach;
+              const auto& e = batch.pose[l];
+              auto at = [&](int i) { return e[std::size_t(i)][std::size_t(k)]; };
+              Eigen::Vector3d got;
+              for (int r = 0; r < 3; ++r)
+                got[r] = double(at(3 * r) * float(p.x()) + at(3 * r + 1) * float(p.y()) + at(3 * r + 2) * float(p.z()) + at(9 + r));
+              const double err = (got - poses[l] * p).norm();
+              worst = std::max(worst, err);
+              ASSERT_LE(err, bound) << base << " " << to_string(simd_path()) << " link " << l << " point " << axis;
+            }
+        }
+      }
+    }
+    force_simd_path(SimdPath::Avx2);
+    RecordProperty(std::string("worst_over_bound_") + base, std::to_string(worst / bound));
+    std::cout << base << ": worst float error " << worst << " m, bound " << bound << " m\n";
   }
 }
 
@@ -444,6 +498,44 @@ TEST(Certificate, KeepsEverySphereClearOfTheSceneAlongTheStretch) {
   EXPECT_GT(certified, 100);
   EXPECT_GT(longest, 0.02);
   RecordProperty("certified", certified);
+}
+
+// The same for the whole robot, self pairs included (FCL judges), and for the callers that need
+// only so much (`enough`): a pair's gap limits the certificate, and sphere pairs farther apart
+// than the gap or than `need` are skipped, so those skips must keep it valid.
+TEST(Certificate, KeepsTheRobotClearOfItselfAndTheSceneForEveryEnough) {
+  ShelfWorld w;
+  SphereFieldChecker fast(w.kin, w.arm.spheres, w.sdf, 0.3);
+  fast.set_exact_obstacles(PrimitiveObstacles::from_scene(w.scene));
+  fast.set_self_tables(test::self_distance_tables(w.kin, w.arm.spheres));
+  ExactChecker exact(w.kin, w.scene);
+  std::mt19937_64 rng(17);
+  int certified = 0;
+  for (int i = 0; i < 400; ++i) {
+    // Where it matters: a little joint motion (0.15 rad) short of a collision, heading for it.
+    const Eigen::VectorXd a = random_q(w.kin, rng), b = random_q(w.kin, rng);
+    if (!exact.is_free(a) || exact.is_free(b)) continue;
+    double lo = 0, hi = 1;
+    for (int k = 0; k < 30; ++k) (exact.is_free(a + (lo + hi) / 2 * (b - a)) ? lo : hi) = (lo + hi) / 2;
+    const Eigen::VectorXd dir = (b - a).normalized();
+    const Eigen::VectorXd q = a + lo * (b - a) - 0.15 * dir;
+    if (!w.kin.within_limits(q)) continue;
+    for (const double enough : {std::numeric_limits<double>::infinity(), 0.2, 0.05}) {
+      const SphereCheck c = fast.check_along(q, dir, enough);
+      if (!c.free() || c.free_distance <= 0) continue;
+      ++certified;
+      const double reach = std::min(c.free_distance, 1.0), step = std::min(reach / 40, 0.002);
+      for (const double sign : {1.0, -1.0})
+        for (double t = step; t <= reach; t += step) {
+          const Eigen::VectorXd x = q + sign * t * dir;
+          if (!w.kin.within_limits(x)) break;
+          ASSERT_TRUE(exact.is_free(x)) << "certified " << c.free_distance << " (enough " << enough << ") from q = "
+                                        << q.transpose() << " along " << (sign * dir).transpose() << " but t = " << t
+                                        << " collides";
+        }
+    }
+  }
+  EXPECT_GT(certified, 100);
 }
 
 // The field stops at its band: far from every obstacle a body's certificate comes from its

@@ -204,6 +204,7 @@ class SphereFieldChecker {
   double lane_limit_ = 0, lane_margin_ = 0;
   std::vector<Body> bodies_;
   double reach_ = 0;  // no sphere gets farther than this from the model root's origin
+  double link_reach_ = 0;  // nor from its own link's origin
   std::vector<Pair> pairs_;                   // body pairs checked for self-collision
   std::vector<PairMoves> pair_moves_;         // per pair
   int lever_count_ = 0;                       // chain joints summed over the bodies

@@ -17,11 +17,16 @@ using Jacobian = Eigen::Matrix<double, 6, Eigen::Dynamic>;  // rows: linear velo
 // Link poses of kLanes configurations at once, structure of arrays: element e of link l's pose in
 // lane k is pose[l][e][k], e = 0..8 the rotation row-major, 9..11 the translation. One lane per
 // configuration, so each arithmetic step runs over all lanes in SIMD registers.
-struct PoseBatch {
+template <class T>
+struct PoseBatchOf {
   static constexpr int kLanes = 8;
-  using Lanes = std::array<double, kLanes>;
+  using Lanes = std::array<T, kLanes>;
   std::vector<std::array<Lanes, 12>> pose;
 };
+using PoseBatch = PoseBatchOf<double>;
+// In single precision: all 8 lanes in one AVX register per step. Kinematics::float_pose_error
+// bounds how far its positions are from the double ones.
+using PoseBatchF = PoseBatchOf<float>;
 
 class Kinematics {
  public:
@@ -55,6 +60,12 @@ class Kinematics {
   // link_poses for PoseBatch::kLanes configurations q[0..kLanes) (each dof() values) in one pass:
   // AVX2 + FMA where the CPU has them (system/simd_dispatch.hpp).
   void link_poses_batch(const double* const* q, PoseBatch& out) const;
+  // The same in floats (joint values, sin and cos still in doubles, each rounded once).
+  void link_poses_batch(const double* const* q, PoseBatchF& out) const;
+  // A bound, in metres, on how far a point within `reach` of its link's origin, placed by a
+  // PoseBatchF pose in floats (rotation times point plus translation), can be from where the
+  // double poses put it (prismatic joints within their limits; any angle).
+  double float_pose_error(double reach) const;
   // Geometric Jacobian of the tip origin in the base frame.
   void jacobian(const Eigen::VectorXd& q, Jacobian& J) const;
   // Tip pose and Jacobian in one pass.
@@ -109,6 +120,9 @@ class Kinematics {
  private:
   std::vector<BatchJoint> batch_plan_;
   void build_batch_plan();
+  void bound_float_error();
+  // float_pose_error's terms, over all links: rotation error (Frobenius), translation error.
+  double float_rotation_error_ = 0, float_translation_error_ = 0;
 
   std::shared_ptr<const RobotModel> model_;  // shared by copies (e.g. one per finger opening)
   int base_ = -1, tip_ = -1;
