@@ -48,15 +48,20 @@ bool SphereFieldChecker::Pass::self_pairs() {
     centres(std::size_t(p.a));
     centres(std::size_t(p.b));
     bool hit = false;
+    // The pair's gap so far: a sphere pair past it cannot lower it, and all share the pair's speed
+    // bound, so such pairs need no root. Past `need`, unexamined, they only cap the certificate,
+    // and only when no gap is found at all (a finite gap limits it more).
     double gap = std::numeric_limits<double>::infinity();
+    bool beyond = false;
     const Eigen::Vector3d& cb = s.body_center[std::size_t(p.b)];
     for (int i = a.begin; i < a.end && !hit; ++i) {
       const Eigen::Vector3d& wa = s.world[std::size_t(i)];
       const double ra = c.spheres_[std::size_t(i)].radius + c.padding_;
-      // Past b's bounding sphere by `need`, this sphere is past each of b's spheres by as much.
-      const double rab = ra + b.radius + need;
+      const double look = std::min(gap, need);
+      // Past b's bounding sphere by `look`, this sphere is past each of b's spheres by as much.
+      const double rab = ra + b.radius + look;
       if ((wa - cb).squaredNorm() >= rab * rab) {
-        skipped |= certify_this;
+        beyond = true;
         continue;
       }
       for (int j = b.begin; j < b.end; ++j) {
@@ -74,12 +79,14 @@ bool SphereFieldChecker::Pass::self_pairs() {
           break;
         }
         if (!certify_this) continue;
-        if (s2 < (r + need) * (r + need)) gap = std::min(gap, std::sqrt(s2) - r);
-        else skipped = true;
+        const double reach = r + std::min(gap, need);
+        if (s2 < reach * reach) gap = std::min(gap, std::sqrt(s2) - r);
+        else beyond = true;
       }
     }
     if (!hit) {
       if (certify_this && std::isfinite(gap)) candidate(gap / v, gap, pi, true, true);
+      else skipped |= certify_this && beyond;
       continue;
     }
     out.self_free = false;
