@@ -103,6 +103,7 @@ void BM_FkPlusFastSphereCheckBatch8(benchmark::State& st) {
   }
   st.SetItemsProcessed(st.iterations() * runtime::PoseBatch::kLanes);
   st.counters["free_fraction"] = double(free) / double(st.iterations() * runtime::PoseBatch::kLanes);
+  st.counters["margin_um"] = 1e6 * w.fast->lane_margin();
   st.SetLabel(runtime::to_string(runtime::simd_path()));
   runtime::force_simd_path(runtime::SimdPath::Avx2);
 }

@@ -249,7 +249,7 @@ TEST(Batch, FreeLanesAreFreeForTheScalarLayerAndFclAndMostAreProven) {
   force_simd_path(SimdPath::Avx2);
 }
 
-// The batch works in floats after forward kinematics: its rounding margin must hold exactly where
+// The batch works in floats, forward kinematics included: its rounding margin must hold exactly where
 // it matters, at the edge of "free". With the scene's exact primitives the scalar layer's verdict
 // on the scene is continuous (every sphere's exact distance), so bisecting between a configuration
 // it proves free and one where only the scene stops it gives one within 1e-12 of that edge on the

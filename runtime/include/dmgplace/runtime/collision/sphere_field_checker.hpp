@@ -119,6 +119,8 @@ class SphereFieldChecker {
   // self-distance table's bound). An unset bit is undecided, never "in collision": check() that
   // configuration. Certificates stay with check_along().
   std::uint32_t free_lanes(const double* const* q, int count = PoseBatch::kLanes) const;
+  // How much free_lanes widens each "free" test (metres) to cover its float rounding.
+  double lane_margin() const { return lane_margin_; }
 
   std::size_t sphere_count() const { return spheres_.size(); }
   const Kinematics& kinematics() const { return *kin_; }

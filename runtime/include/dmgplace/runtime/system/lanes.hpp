@@ -1,8 +1,8 @@
 #pragma once
 // Four doubles (D) or eight floats (F) as one GCC/Clang vector (vector_size 32): a function
 // compiled for AVX2 (simd_dispatch.hpp) runs each operation as one instruction, the portable build
-// as two SSE2 ones. Batch forward kinematics takes its 8 configurations as two D halves, the
-// sphere passes after it one F. Written this way they
+// as two SSE2 ones. Batch forward kinematics in doubles takes its 8 configurations as two D
+// halves; in floats, as the batch sphere check runs it, one F. Written this way they
 // vectorise for certain, where plain loops depend on the auto-vectoriser's cost model; operands
 // are whole vectors (splat), since a scalar operand makes GCC compare lane by lane. Comparisons
 // give a mask: -1 in true lanes, 0 elsewhere. The files using sqrt() are built with
@@ -40,7 +40,7 @@ DMGPLACE_LANES_INLINE std::uint32_t bits(M m, bool wide = false) {
 }
 
 // Eight lanes of floats, one register under AVX (two SSE ones in the portable build): the batch
-// sphere check after forward kinematics, where single precision plus a rounding margin is enough
+// sphere check, forward kinematics included, where single precision plus a rounding margin is enough
 // and each operation then covers all 8 configurations.
 constexpr int WF = 8;
 typedef float F __attribute__((vector_size(WF * sizeof(float))));
@@ -85,12 +85,6 @@ DMGPLACE_LANES_INLINE V sqrt(V a) {
     else r[k] = __builtin_sqrt(a[k]);
   }
   return r;
-}
-// Two vectors of four doubles (lanes 0-3, 4-7) rounded to one of eight floats.
-DMGPLACE_LANES_INLINE F to_float(D lo, D hi) {
-  typedef float F4 __attribute__((vector_size(16)));
-  const F4 a = __builtin_convertvector(lo, F4), b = __builtin_convertvector(hi, F4);
-  return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
 }
 // As bits(M) for eight float lanes.
 inline __attribute__((target("avx"))) std::uint32_t movemask_avx(MF m) {
