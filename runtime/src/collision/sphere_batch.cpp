@@ -79,6 +79,34 @@ inline __attribute__((always_inline)) lanes::MF within(const Xyz& p, float limit
 
 }  // namespace
 
+// Table::lower_bound for 8 configurations, four at a time in double lanes: the same nearest
+// node (clamped), loss and value, so the same answers as the scalar lookup.
+inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::Table::apart_lanes(const double* const* q, double padding,
+                                                                                            bool wide) const {
+  using lanes::D;
+  typedef int I __attribute__((vector_size(4 * sizeof(int))));
+  std::uint32_t out = 0;
+  for (int h = 0; h < N; h += lanes::W) {
+    D loss{};
+    I index{};
+    for (std::size_t k = 0; k < 2; ++k) {
+      const int at = slot[k];
+      const D x = at >= 0 ? D{q[h][at], q[h + 1][at], q[h + 2][at], q[h + 3][at]} : D{};
+      const D lower = lanes::splat(data.lower[k]);
+      D u = (x - lower) * lanes::splat(inv_step[k]);
+      u = u > D{} ? u : D{};  // also maps NaN to 0
+      u = lanes::min(u, lanes::splat(double(data.count[k] - 1)));
+      const I i = __builtin_convertvector(u + lanes::splat(0.5), I);  // u >= 0: truncation rounds
+      loss += lanes::splat(data.slope[k]) * lanes::abs(x - (lower + __builtin_convertvector(i, D) * lanes::splat(data.step[k])));
+      index = index * data.count[k] + i;
+    }
+    const D value = D{double(tenths_mm[std::size_t(index[0])]), double(tenths_mm[std::size_t(index[1])]),
+                      double(tenths_mm[std::size_t(index[2])]), double(tenths_mm[std::size_t(index[3])])};
+    out |= lanes::bits((lanes::M)(lanes::splat(1e-4) * value - loss - lanes::splat(padding) > D{}), wide) << h;
+  }
+  return out;
+}
+
 void SphereFieldChecker::set_lane_bounds() {
   const double scene =
       std::max({2.0, lo_.cwiseAbs().maxCoeff(), hi_.cwiseAbs().maxCoeff(), obstacles_ ? obstacles_->extent() : 0.0});
@@ -151,9 +179,7 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
     const Xyz &ca = centre[std::size_t(p.a)], &cb = centre[std::size_t(p.b)];
     std::uint32_t near = lanes::bits(overlaps(ca, cb, float(p.reach) + margin), wide) & alive;
     if (!near) continue;
-    if (p.table >= 0)
-      for (int k = 0; k < count; ++k)
-        if ((near >> k & 1u) && (*c.tables_)[std::size_t(p.table)].lower_bound(in[k]) - c.padding_ > 0) near &= ~(1u << k);
+    if (p.table >= 0) near &= ~(*c.tables_)[std::size_t(p.table)].apart_lanes(in, c.padding_, wide);
     if (!near) continue;
     const Body &a = c.bodies_[std::size_t(p.a)], &b = c.bodies_[std::size_t(p.b)];
     spheres_of(std::size_t(p.a));

@@ -164,6 +164,9 @@ class SphereFieldChecker {
       return 1e-4 * double(tenths_mm[index]) - loss;
     }
     double lower_bound(const Eigen::VectorXd& q) const { return lower_bound(q.data()); }
+    // Bit k set where lower_bound(q[k]) > padding, for 8 configurations in SIMD lanes (defined
+    // in sphere_batch.cpp, its only user; `wide` as in free_lanes_body).
+    std::uint32_t apart_lanes(const double* const* q, double padding, bool wide) const;
     // Start loading q's node before FK needs the cache (the lookup comes after it).
     void prefetch(const double* q) const { __builtin_prefetch(tenths_mm.data() + node(q, nullptr)); }
     void prefetch(const Eigen::VectorXd& q) const { prefetch(q.data()); }
