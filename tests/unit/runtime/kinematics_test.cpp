@@ -150,7 +150,8 @@ TEST(Kinematics, MixedChainTipPoseMatchesLinkPosesAndJacobianMatchesFiniteDiffer
 
 // Quarter-turn joints (origins turned by multiples of pi/2, written as URDFs write them, to 11
 // digits; axes along +-x, +-y, +-z) take Kinematics' permuted-column form: link_poses, the tip
-// pose and the batch equal the plain product origin x AngleAxis(q, axis) of the model as read.
+// pose and the batch equal the plain product origin x AngleAxis(q, axis) of the model as read;
+// the float batch stays within Kinematics::float_pose_error of it (a prismatic joint among them).
 TEST(Kinematics, QuarterTurnJointsEqualTheirPlainProduct) {
   RobotModel m;
   m.name = "quarter";
@@ -190,6 +191,9 @@ TEST(Kinematics, QuarterTurnJointsEqualTheirPlainProduct) {
       for (int lane = 0; lane < PoseBatch::kLanes; ++lane) ptr[lane] = qs[std::size_t(lane)].data();
       PoseBatch batch;
       k.link_poses_batch(ptr, batch);
+      PoseBatchF floats;  // the batch sphere check's kinematics: within its error bound
+      k.link_poses_batch(ptr, floats);
+      const double reach = 1.0, bound = k.float_pose_error(reach);
       for (int lane = 0; lane < PoseBatch::kLanes; ++lane) {
         const Eigen::VectorXd& q = qs[std::size_t(lane)];
         k.link_poses(q, poses);
@@ -205,6 +209,14 @@ TEST(Kinematics, QuarterTurnJointsEqualTheirPlainProduct) {
           for (int e = 0; e < 12; ++e) {
             const double w = e < 9 ? want.linear()(e / 3, e % 3) : want.translation()[e - 9];
             ASSERT_NEAR(batch.pose[l][std::size_t(e)][std::size_t(lane)], w, 1e-8) << to_string(path) << " link " << l << " element " << e;
+          }
+          for (int axis = 0; axis < 3; ++axis) {
+            const auto& f = floats.pose[l];
+            auto at = [&](int e) { return f[std::size_t(e)][std::size_t(lane)]; };
+            const float p[3] = {axis == 0 ? float(reach) : 0.f, axis == 1 ? float(reach) : 0.f, axis == 2 ? float(reach) : 0.f};
+            Eigen::Vector3d got;
+            for (int r = 0; r < 3; ++r) got[r] = double(at(3 * r) * p[0] + at(3 * r + 1) * p[1] + at(3 * r + 2) * p[2] + at(9 + r));
+            ASSERT_LE((got - want * (reach * Eigen::Vector3d::Unit(axis))).norm(), bound) << to_string(path) << " link " << l;
           }
         }
         EXPECT_LT((k.tip_pose(q).matrix() - want.matrix()).cwiseAbs().maxCoeff(), 1e-8);
