@@ -27,9 +27,8 @@ struct alignas(32) Xyz {
 // A link's pose in every lane (PoseBatchF): rotation row-major, then the translation.
 using LinkPose = std::array<PoseBatchF::Lanes, 12>;
 
-// c = R p + t in every lane.
-inline __attribute__((always_inline)) void transform(const LinkPose& T, const Eigen::Vector3d& p, Xyz& c) {
-  const F px = splatf(float(p.x())), py = splatf(float(p.y())), pz = splatf(float(p.z()));
+// c = R p + t in every lane, p given in every lane.
+inline __attribute__((always_inline)) void transform(const LinkPose& T, F px, F py, F pz, Xyz& c) {
   auto t = [&](int e) __attribute__((always_inline)) { return lanes::load(T[std::size_t(e)].data()); };
   lanes::store(c.x, t(0) * px + t(1) * py + t(2) * pz + t(9));
   lanes::store(c.y, t(3) * px + t(4) * py + t(5) * pz + t(10));
@@ -66,9 +65,12 @@ inline __attribute__((always_inline)) std::uint32_t clear_of_field(const Xyz& p,
 // Lanes where spheres a and b (centres in lanes) are closer than `reach` (sum of radii + padding +
 // margin), as a mask: a caller testing many sphere pairs ORs them and takes the bits once (the
 // bits cost more than the test).
-inline __attribute__((always_inline)) lanes::MF overlaps(const Xyz& a, const Xyz& b, float reach) {
+inline __attribute__((always_inline)) lanes::MF overlaps(const Xyz& a, const Xyz& b, F reach2) {
   const F dx = lanes::load(a.x) - lanes::load(b.x), dy = lanes::load(a.y) - lanes::load(b.y), dz = lanes::load(a.z) - lanes::load(b.z);
-  return dx * dx + dy * dy + dz * dz < splatf(reach * reach);
+  return dx * dx + dy * dy + dz * dz < reach2;
+}
+inline __attribute__((always_inline)) lanes::MF overlaps(const Xyz& a, const Xyz& b, float reach) {
+  return overlaps(a, b, splatf(reach * reach));
 }
 
 // Lanes with every coordinate of p within `limit` (false for NaN): lane_margin_ holds there.
@@ -144,7 +146,10 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
     if (done[bi]) return;
     const Body& b = c.bodies_[bi];
     const LinkPose& pose = poses.pose[std::size_t(b.link)];
-    for (int i = b.begin; i < b.end; ++i) transform(pose, c.spheres_[std::size_t(i)].center, world[std::size_t(i)]);
+    for (int i = b.begin; i < b.end; ++i) {
+      const LaneSphere& l = c.lane_spheres_[std::size_t(i)];
+      transform(pose, lanes::load(l.x), lanes::load(l.y), lanes::load(l.z), world[std::size_t(i)]);
+    }
     done[bi] = 1;
   };
   // A scene of primitives is tested exactly, in cache: a body's bounding sphere finds the
@@ -159,7 +164,8 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
   lanes::MF in_range = ~lanes::MF{};
   for (std::size_t bi = 0; bi < c.bodies_.size(); ++bi) {
     const Body& b = c.bodies_[bi];
-    transform(poses.pose[std::size_t(b.link)], b.center, centre[bi]);
+    transform(poses.pose[std::size_t(b.link)], splatf(float(b.center.x())), splatf(float(b.center.y())),
+              splatf(float(b.center.z())), centre[bi]);
     in_range &= within(centre[bi], limit);
     if (!b.moving && !b.attached) continue;
     if (prims) reach = prims->reaching_lanes(centre[bi].x, centre[bi].y, centre[bi].z, float(b.radius + c.padding_ + margin), alive, wide);
@@ -191,12 +197,17 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
       const float ra = float(c.spheres_[std::size_t(i)].radius + c.padding_) + margin;
       // A sphere clear of b's bounding sphere in every lane still open cannot touch b's spheres.
       if (!(lanes::bits(overlaps(wa, cb, ra + float(b.radius)), wide) & near & ~hit)) continue;
+      // The same float sums and squares as ra + r_j in scalars, all lanes at once.
+      const F rav = splatf(ra);
+      auto touches = [&](int j) __attribute__((always_inline)) {
+        const F reach = rav + lanes::load(c.lane_spheres_[std::size_t(j)].r);
+        return overlaps(wa, world[std::size_t(j)], reach * reach);
+      };
       if (wide) {
-        for (int j = b.begin; j < b.end; ++j) acc |= overlaps(wa, world[std::size_t(j)], ra + float(c.spheres_[std::size_t(j)].radius));
+        for (int j = b.begin; j < b.end; ++j) acc |= touches(j);
         hit = lanes::bits(acc, wide);
       } else {
-        for (int j = b.begin; j < b.end; ++j)
-          hit |= lanes::bits(overlaps(wa, world[std::size_t(j)], ra + float(c.spheres_[std::size_t(j)].radius)), wide);
+        for (int j = b.begin; j < b.end; ++j) hit |= lanes::bits(touches(j), wide);
       }
       if ((hit & near) == near) break;
     }

@@ -81,6 +81,14 @@ void SphereFieldChecker::build_bodies() {
     reach_ = std::max(reach_, reach);
   }
   set_lane_bounds();
+  lane_spheres_.resize(spheres_.size());
+  for (std::size_t i = 0; i < spheres_.size(); ++i) {
+    LaneSphere& l = lane_spheres_[i];
+    std::fill_n(l.x, PoseBatch::kLanes, float(spheres_[i].center.x()));
+    std::fill_n(l.y, PoseBatch::kLanes, float(spheres_[i].center.y()));
+    std::fill_n(l.z, PoseBatch::kLanes, float(spheres_[i].center.z()));
+    std::fill_n(l.r, PoseBatch::kLanes, float(spheres_[i].radius));
+  }
   lever_count_ = 0;
   for (auto& b : bodies_) {
     b.lever_begin = lever_count_;

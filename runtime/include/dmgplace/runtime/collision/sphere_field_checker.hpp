@@ -196,6 +196,12 @@ class SphereFieldChecker {
   bool certifiable_ = true;  // false when a mimic joint follows a chain joint (speeds unknown)
   const Kinematics* kin_;
   std::vector<formats::LinkSphere> spheres_;  // robot + attached, link frames, grouped by body
+  // spheres_ as free_lanes reads them: centre and radius in floats, each already in all 8 lanes
+  // (an operand load costs less than converting and broadcasting per use). Built with the bodies.
+  struct alignas(32) LaneSphere {
+    float x[PoseBatch::kLanes], y[PoseBatch::kLanes], z[PoseBatch::kLanes], r[PoseBatch::kLanes];
+  };
+  std::vector<LaneSphere> lane_spheres_;
   // free_lanes' body, compiled for AVX2 + FMA and for the portable baseline (one per path).
   static std::uint32_t free_lanes_avx2(const SphereFieldChecker& c, const double* const* q, int count);
   static std::uint32_t free_lanes_portable(const SphereFieldChecker& c, const double* const* q, int count);
