@@ -60,7 +60,7 @@ ob::SpaceInformationPtr make_arm_space(const Kinematics& kin, ValidityFn valid, 
 }
 
 ob::SpaceInformationPtr make_arm_space(const Kinematics& kin, const TwoLayerChecker& checker, double resolution) {
-  // Batch proofs pay only with AVX2: on the portable path 8 lanes cost more than 8 plain checks
+  // Batch proofs pay only with AVX2: on the portable path the planners are slower with them
   // (docs/motion.md, "Batch checks").
   CertifiedMotionValidator::ProvenFreeFn batch;
   if (simd_path() == SimdPath::Avx2) batch = [&checker](const double* const* q, int count) { return checker.proven_free(q, count); };
