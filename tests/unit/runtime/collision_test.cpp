@@ -114,6 +114,28 @@ TEST_P(FastLayer, NeverSaysFreeWhereExactLayerCollides) {
   RecordProperty("exact_free", exact_free);
 }
 
+// `rounds` batches of 8 random configurations on each SIMD path (the portable one, then AVX2 where
+// the CPU has it): widen(round, q) may change each configuration, then check(qs, ptr) runs.
+template <class Widen, class Check>
+void batches_on_every_path(const Kinematics& kin, std::uint64_t seed, int rounds, Widen widen, Check check) {
+  std::mt19937_64 rng(seed);
+  for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
+    force_simd_path(path);
+    for (int round = 0; round < rounds; ++round) {
+      std::vector<Eigen::VectorXd> qs;
+      const double* ptr[PoseBatch::kLanes];
+      for (int k = 0; k < PoseBatch::kLanes; ++k) {
+        qs.push_back(random_q(kin, rng));
+        widen(round, qs.back());
+      }
+      for (int k = 0; k < PoseBatch::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
+      check(qs, ptr);
+      if (::testing::Test::HasFatalFailure()) break;  // an ASSERT in check returns from check only
+    }
+  }
+  force_simd_path(SimdPath::Avx2);  // back to what the CPU has
+}
+
 // Issue 20: 8 configurations per call. Batch forward kinematics equals the scalar one, on the
 // AVX2 path (where the CPU has it) and on the portable one, with the base at the root and not.
 TEST(Batch, ForwardKinematicsEqualsTheScalarOneOnEveryPath) {
@@ -121,29 +143,20 @@ TEST(Batch, ForwardKinematicsEqualsTheScalarOneOnEveryPath) {
   for (const char* base : {"dmgarm_link0", "dmgarm_link2"}) {
     Kinematics kin(arm.model, base, "dmgarm_tcp");
     kin.set_joint_value("dmgarm_finger_joint1", 0.021);  // a mimic follows it
-    std::mt19937_64 rng(3);
-    for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
-      force_simd_path(path);
-      for (int round = 0; round < 50; ++round) {
-        std::vector<Eigen::VectorXd> qs;
-        const double* ptr[PoseBatch::kLanes];
-        for (int k = 0; k < PoseBatch::kLanes; ++k) qs.push_back(random_q(kin, rng));
-        for (int k = 0; k < PoseBatch::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
-        PoseBatch batch;
-        kin.link_poses_batch(ptr, batch);
-        std::vector<Eigen::Isometry3d> poses;
-        for (int k = 0; k < PoseBatch::kLanes; ++k) {
-          kin.link_poses(qs[std::size_t(k)], poses);
-          for (std::size_t l = 0; l < poses.size(); ++l)
-            for (int e = 0; e < 12; ++e) {
-              const double want = e < 9 ? poses[l].linear()(e / 3, e % 3) : poses[l].translation()[e - 9];
-              ASSERT_NEAR(batch.pose[l][std::size_t(e)][std::size_t(k)], want, 1e-12)
-                  << base << " " << to_string(simd_path()) << " link " << l << " element " << e;
-            }
-        }
+    batches_on_every_path(kin, 3, 50, [](int, Eigen::VectorXd&) {}, [&](const std::vector<Eigen::VectorXd>& qs, const double* const* ptr) {
+      PoseBatch batch;
+      kin.link_poses_batch(ptr, batch);
+      std::vector<Eigen::Isometry3d> poses;
+      for (int k = 0; k < PoseBatch::kLanes; ++k) {
+        kin.link_poses(qs[std::size_t(k)], poses);
+        for (std::size_t l = 0; l < poses.size(); ++l)
+          for (int e = 0; e < 12; ++e) {
+            const double want = e < 9 ? poses[l].linear()(e / 3, e % 3) : poses[l].translation()[e - 9];
+            ASSERT_NEAR(batch.pose[l][std::size_t(e)][std::size_t(k)], want, 1e-12)
+                << base << " " << to_string(simd_path()) << " link " << l << " element " << e;
+          }
       }
-    }
-    force_simd_path(SimdPath::Avx2);  // back to what the CPU has
+    });
   }
 }
 
@@ -159,41 +172,31 @@ TEST(Batch, FloatForwardKinematicsStaysWithinItsErrorBound) {
     const double bound = kin.float_pose_error(reach);
     EXPECT_GT(bound, 0.0);
     EXPECT_LT(bound, 1e-4) << "a bound this loose would cost the batch its proofs";
-    std::mt19937_64 rng(5);
     double worst = 0;
-    for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
-      force_simd_path(path);
-      for (int round = 0; round < 200; ++round) {
-        std::vector<Eigen::VectorXd> qs;
-        const double* ptr[PoseBatch::kLanes];
-        for (int k = 0; k < PoseBatch::kLanes; ++k) {
-          Eigen::VectorXd q = random_q(kin, rng);
-          if (round % 4 == 0) q *= 40.0;  // wide angles: sin and cos far from the first turn
-          qs.push_back(q);
-        }
-        for (int k = 0; k < PoseBatch::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
-        PoseBatchF batch;
-        kin.link_poses_batch(ptr, batch);
-        std::vector<Eigen::Isometry3d> poses;
-        for (int k = 0; k < PoseBatch::kLanes; ++k) {
-          kin.link_poses(qs[std::size_t(k)], poses);
-          for (std::size_t l = 0; l < poses.size(); ++l)
-            for (int axis = 0; axis < 7; ++axis) {
-              Eigen::Vector3d p = Eigen::Vector3d::Zero();
-              if (axis < 6) p[axis % 3] = axis < 3 ? reach : -reach;
-              const auto& e = batch.pose[l];
-              auto at = [&](int i) { return e[std::size_t(i)][std::size_t(k)]; };
-              Eigen::Vector3d got;
-              for (int r = 0; r < 3; ++r)
-                got[r] = double(at(3 * r) * float(p.x()) + at(3 * r + 1) * float(p.y()) + at(3 * r + 2) * float(p.z()) + at(9 + r));
-              const double err = (got - poses[l] * p).norm();
-              worst = std::max(worst, err);
-              ASSERT_LE(err, bound) << base << " " << to_string(simd_path()) << " link " << l << " point " << axis;
-            }
-        }
+    auto wide_angles = [](int round, Eigen::VectorXd& q) {
+      if (round % 4 == 0) q *= 40.0;  // sin and cos far from the first turn
+    };
+    batches_on_every_path(kin, 5, 200, wide_angles, [&](const std::vector<Eigen::VectorXd>& qs, const double* const* ptr) {
+      PoseBatchF batch;
+      kin.link_poses_batch(ptr, batch);
+      std::vector<Eigen::Isometry3d> poses;
+      for (int k = 0; k < PoseBatch::kLanes; ++k) {
+        kin.link_poses(qs[std::size_t(k)], poses);
+        for (std::size_t l = 0; l < poses.size(); ++l)
+          for (int axis = 0; axis < 7; ++axis) {
+            Eigen::Vector3d p = Eigen::Vector3d::Zero();
+            if (axis < 6) p[axis % 3] = axis < 3 ? reach : -reach;
+            const auto& e = batch.pose[l];
+            auto at = [&](int i) { return e[std::size_t(i)][std::size_t(k)]; };
+            Eigen::Vector3d got;
+            for (int r = 0; r < 3; ++r)
+              got[r] = double(at(3 * r) * float(p.x()) + at(3 * r + 1) * float(p.y()) + at(3 * r + 2) * float(p.z()) + at(9 + r));
+            const double err = (got - poses[l] * p).norm();
+            worst = std::max(worst, err);
+            ASSERT_LE(err, bound) << base << " " << to_string(simd_path()) << " link " << l << " point " << axis;
+          }
       }
-    }
-    force_simd_path(SimdPath::Avx2);
+    });
     RecordProperty(std::string("worst_over_bound_") + base, std::to_string(worst / bound));
     std::cout << base << ": worst float error " << worst << " m, bound " << bound << " m\n";
   }
