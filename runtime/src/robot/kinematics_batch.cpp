@@ -48,9 +48,9 @@ inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>&
   auto& P = out.pose;
   for (int r : roots)
     for (int e = 0; e < 12; ++e) P[std::size_t(r)][std::size_t(e)].fill(e == 0 || e == 4 || e == 8 ? 1.0 : 0.0);
-  // Every step below is written in lanes.hpp vectors, one half of the lanes at a time, with the
-  // joint's constants splatted into registers: as plain loops over lanes GCC kept some scalar (it
-  // cannot tell the child's stores from the plan's constants).
+  // Every step below is written in lanes.hpp vectors (doubles: half the lanes at a time), with
+  // the joint's constants splatted into registers: as plain loops over lanes GCC kept some scalar
+  // (it cannot tell the child's stores from the plan's constants).
   alignas(64) double vd[N], sd[N], cd[N];
   alignas(64) T vf[N], sf[N], cf[N];  // floats: the doubles rounded once
   const T *v = vf, *s = sf, *c = cf;
