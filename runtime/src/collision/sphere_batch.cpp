@@ -129,7 +129,7 @@ void SphereFieldChecker::set_exact_obstacles(std::shared_ptr<const PrimitiveObst
 
 inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lanes_body(const SphereFieldChecker& c,
                                                                                         const double* const* q, int count,
-                                                                                        bool wide) {
+                                                                                        const float* widen, bool wide) {
   const double* in[N];
   for (int k = 0; k < N; ++k) in[k] = q[k < count ? k : 0];  // idle lanes repeat the first
   thread_local PoseBatchF poses;
@@ -156,8 +156,11 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
   // primitives it may reach, its spheres test only those. Otherwise the distance field.
   const PrimitiveObstacles* prims = c.obstacles_.get();
   std::uint64_t reach = ~std::uint64_t(0);
+  const std::size_t nb = c.bodies_.size();
+  auto widened = [&](std::size_t k) __attribute__((always_inline)) { return widen ? widen[k] : 0.0f; };
+  float body_widen = 0;  // the body in hand's
   auto clear_lanes = [&](const Xyz& p, double r, std::uint32_t lanes) __attribute__((always_inline)) {
-    const double need = r + c.padding_ + margin;
+    const double need = r + c.padding_ + margin + body_widen;
     if (prims) return prims->clear_lanes(p.x, p.y, p.z, float(need), lanes, reach, wide);
     return clear_of_field(p, float(need), margin, lanes, c.lo_, c.hi_, c.coarse_.get(), *c.fine_, wide);
   };
@@ -168,7 +171,10 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
               splatf(float(b.center.z())), centre[bi]);
     in_range &= within(centre[bi], limit);
     if (!b.moving && !b.attached) continue;
-    if (prims) reach = prims->reaching_lanes(centre[bi].x, centre[bi].y, centre[bi].z, float(b.radius + c.padding_ + margin), alive, wide);
+    body_widen = widened(bi);
+    if (prims)
+      reach = prims->reaching_lanes(centre[bi].x, centre[bi].y, centre[bi].z, float(b.radius + c.padding_ + margin + body_widen),
+                                    alive, wide);
     std::uint32_t open = alive & ~clear_lanes(centre[bi], b.radius, alive);
     if (!open) continue;
     spheres_of(bi);
@@ -180,12 +186,14 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
     if (!alive) return 0;
   }
   alive &= lanes::bits(in_range, wide);
-  for (const Pair& p : c.pairs_) {
+  for (std::size_t pi = 0; pi < c.pairs_.size(); ++pi) {
     if (!alive) return 0;
+    const Pair& p = c.pairs_[pi];
+    const float pair_widen = widened(nb + pi);
     const Xyz &ca = centre[std::size_t(p.a)], &cb = centre[std::size_t(p.b)];
-    std::uint32_t near = lanes::bits(overlaps(ca, cb, float(p.reach) + margin), wide) & alive;
+    std::uint32_t near = lanes::bits(overlaps(ca, cb, float(p.reach) + margin + pair_widen), wide) & alive;
     if (!near) continue;
-    if (p.table >= 0) near &= ~(*c.tables_)[std::size_t(p.table)].apart_lanes(in, c.padding_, wide);
+    if (p.table >= 0) near &= ~(*c.tables_)[std::size_t(p.table)].apart_lanes(in, c.padding_ + double(pair_widen), wide);
     if (!near) continue;
     const Body &a = c.bodies_[std::size_t(p.a)], &b = c.bodies_[std::size_t(p.b)];
     spheres_of(std::size_t(p.a));
@@ -194,7 +202,7 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
     lanes::MF acc{};
     for (int i = a.begin; i < a.end; ++i) {
       const Xyz& wa = world[std::size_t(i)];
-      const float ra = float(c.spheres_[std::size_t(i)].radius + c.padding_) + margin;
+      const float ra = float(c.spheres_[std::size_t(i)].radius + c.padding_) + margin + pair_widen;
       // A sphere clear of b's bounding sphere in every lane still open cannot touch b's spheres.
       if (!(lanes::bits(overlaps(wa, cb, ra + float(b.radius)), wide) & near & ~hit)) continue;
       // The same float sums and squares as ra + r_j in scalars, all lanes at once.
@@ -220,18 +228,47 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
 // inliner, this function is past its size limits and each mask became a call.
 __attribute__((target("avx2,fma"), flatten)) std::uint32_t SphereFieldChecker::free_lanes_avx2(const SphereFieldChecker& c,
                                                                                                const double* const* q,
-                                                                                               int count) {
-  return free_lanes_body(c, q, count, true);
+                                                                                               int count, const float* widen) {
+  return free_lanes_body(c, q, count, widen, true);
 }
 
-std::uint32_t SphereFieldChecker::free_lanes_portable(const SphereFieldChecker& c, const double* const* q, int count) {
-  return free_lanes_body(c, q, count, false);
+std::uint32_t SphereFieldChecker::free_lanes_portable(const SphereFieldChecker& c, const double* const* q, int count,
+                                                      const float* widen) {
+  return free_lanes_body(c, q, count, widen, false);
 }
 
 std::uint32_t SphereFieldChecker::free_lanes(const double* const* q, int count) const {
   if (count <= 0) return 0;
   count = std::min(count, N);
-  return simd_path() == SimdPath::Avx2 ? free_lanes_avx2(*this, q, count) : free_lanes_portable(*this, q, count);
+  return simd_path() == SimdPath::Avx2 ? free_lanes_avx2(*this, q, count, nullptr) : free_lanes_portable(*this, q, count, nullptr);
+}
+
+std::uint32_t SphereFieldChecker::free_lanes_along(const double* const* q, int count, const Eigen::VectorXd& direction,
+                                                   double reach) const {
+  if (!(reach > 0)) return free_lanes(q, count);
+  if (count <= 0 || !certifiable_ || direction.size() != kin_->dof() || !direction.allFinite()) return 0;
+  count = std::min(count, N);
+  // How far each body (then each pair, relative to each other) can move over `reach` along
+  // +-direction: the static bound of check_along's first cut, rounded up into floats.
+  auto speed = [&](const std::vector<ChainJoint>& joints) {
+    double v = 0;
+    for (const auto& j : joints) v += std::abs(direction[j.slot]) * j.reach;
+    return v;
+  };
+  thread_local std::vector<float> widen;
+  widen.clear();
+  auto add = [&](double v) {
+    const double w = reach * v * (1 + 0x1p-20);
+    if (!(w <= 1.0)) return false;  // past the magnitudes lane_margin_ covers; nothing that far is proven
+    widen.push_back(float(w));
+    return true;
+  };
+  for (const Body& b : bodies_)
+    if (!add(speed(b.chain))) return 0;
+  for (const PairMoves& m : pair_moves_)
+    if (!add(speed(m.a) + speed(m.b))) return 0;
+  return simd_path() == SimdPath::Avx2 ? free_lanes_avx2(*this, q, count, widen.data())
+                                       : free_lanes_portable(*this, q, count, widen.data());
 }
 
 }  // namespace dmgplace::runtime

@@ -63,7 +63,10 @@ ob::SpaceInformationPtr make_arm_space(const Kinematics& kin, const TwoLayerChec
   // Batch proofs pay only with AVX2: on the portable path the planners are slower with them
   // (docs/motion.md, "Batch checks").
   CertifiedMotionValidator::ProvenFreeFn batch;
-  if (simd_path() == SimdPath::Avx2) batch = [&checker](const double* const* q, int count) { return checker.proven_free(q, count); };
+  if (simd_path() == SimdPath::Avx2)
+    batch = [&checker](const double* const* q, int count, const Eigen::VectorXd& direction, double reach) {
+      return checker.proven_free_along(q, count, direction, reach);
+    };
   return make_space(
       kin, [&checker](const Eigen::VectorXd& q) { return checker.is_free(q); }, resolution,
       [&checker](const Eigen::VectorXd& q, const Eigen::VectorXd& dir, double enough) { return checker.free_distance(q, dir, enough); },

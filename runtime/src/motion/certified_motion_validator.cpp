@@ -11,6 +11,10 @@ namespace dmgplace::runtime {
 namespace {
 constexpr int kBatch = 8;  // SphereFieldChecker::free_lanes' lanes
 constexpr int kBatchRange = 2 * kBatch;  // wider uncertified ranges are bisected (fewer states, when certificates return)
+// A span batch's lanes reach T states each way, where T x kSpanShare is within the neighbouring
+// certificate: the batch widens by a static speed bound, which lasts about half as far as a
+// certificate's local one (bench-mbm: shares 1.5-2 best, 1 and 0.7 slower).
+constexpr int kSpanShare = 2;
 Eigen::VectorXd to_eigen(const ob::State* s, unsigned n) {
   const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
   return Eigen::Map<const Eigen::VectorXd>(v->values, n);
@@ -62,6 +66,7 @@ bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State*
   // (two checks) rather than split in the middle (which leaves a one-state range on each side).
   struct Range {
     int lo, hi, estimate;
+    bool certified_only = false;  // a span batch's lane left it: certified checks from here on
   };
   // A range the last certificate did not reach beyond its own state, at most two batches wide:
   // its states 8 at a time in SIMD lanes, the undecided ones one by one. Raked: batch b takes
@@ -79,7 +84,7 @@ bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State*
         q[count] = batch[std::size_t(count)].data();
         ++count;
       }
-      const std::uint32_t proven = proven_free_(q, count);
+      const std::uint32_t proven = proven_free_(q, count, seg.dir, 0.0);
       int unused = 0;
       for (int m = 0; m < count; ++m)
         if (!(proven >> m & 1u) && !check(idx[m], 0, unused)) return false;
@@ -87,9 +92,25 @@ bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State*
     return true;
   };
   thread_local std::vector<Range> queue;
+  // A span batch: 8 lanes 2T + 1 states apart, each proving the T states on either side of it
+  // (proven_free's reach), so one batch covers up to 8 (2T + 1) states. A stretch a lane leaves
+  // unproven is queued for certified checks, with the range's estimate.
+  auto check_span = [&](int lo, int hi, int e, int T) {
+    const double* q[kBatch];
+    int idx[kBatch], count = 0;
+    for (int i = lo + T; i - T <= hi && count < kBatch; i += 2 * T + 1) {
+      idx[count] = std::min(i, hi);
+      batch[std::size_t(count)].noalias() = seg.a + (idx[count] * seg.h) * seg.dir;
+      q[count] = batch[std::size_t(count)].data();
+      ++count;
+    }
+    const std::uint32_t proven = proven_free_(q, count, seg.dir, (T + 1e-6) * seg.h);
+    for (int m = 0; m < count; ++m)
+      if (!(proven >> m & 1u)) queue.push_back({std::max(lo, idx[m] - T), std::min(hi, idx[m] + T), e, true});
+  };
   queue.assign(1, {1, steps - 1 - k, k});
   for (std::size_t head = 0; head < queue.size(); ++head) {
-    const auto [lo, hi, e] = queue[head];
+    const auto [lo, hi, e, certified_only] = queue[head];
     if (lo > hi) continue;
     const int size = hi - lo + 1;
     if (proven_free_ && e == 0 && size >= 2 && size <= kBatchRange) {
@@ -99,13 +120,18 @@ bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State*
       }
       continue;
     }
+    const int span = (size + kBatch - 1) / (2 * kBatch);  // the least T with 8 (2T + 1) >= size, for size > 8
+    if (proven_free_ && !certified_only && size > kBatch && span * kSpanShare <= std::max(1, e)) {
+      check_span(lo, hi, e, span);
+      continue;
+    }
     const int at = size > 2 * e + 1 && size <= 4 * e + 2 ? lo + e : (lo + hi) / 2;
     if (!check(at, std::max(at - lo, hi - at), k)) {
       ++invalid_;
       return false;
     }
-    queue.push_back({lo, at - k - 1, k});
-    queue.push_back({at + k + 1, hi, k});
+    queue.push_back({lo, at - k - 1, k, certified_only});
+    queue.push_back({at + k + 1, hi, k, certified_only});
   }
   ++valid_;
   return true;

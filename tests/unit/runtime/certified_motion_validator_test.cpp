@@ -95,13 +95,14 @@ TEST(CertifiedMotionValidator, BatchProofsOfUncertifiedRangesKeepTheDiscreteAnsw
         const double c = clearance(q[0], q[1]);
         return c <= 0 ? -1.0 : c < 0.3 ? 0.0 : c;
       },
-      [&](const double* const* q, int count) {
+      [&](const double* const* q, int count, const Eigen::VectorXd&, double reach) {
         EXPECT_GE(count, 1);
         EXPECT_LE(count, 8);
         ++batches;
         std::uint32_t mask = 0;
         for (int k = 0; k < count; ++k) {
-          const bool sure = clearance(q[k][0], q[k][1]) > 0.01 && (k % 3 != 1);  // some clear lanes left undecided too
+          // Some clear lanes left undecided too; a span lane must be clear by its reach.
+          const bool sure = clearance(q[k][0], q[k][1]) > reach + 0.01 && (k % 3 != 1);
           mask |= std::uint32_t(sure) << k;
           (sure ? proven : undecided)++;
         }
@@ -126,4 +127,56 @@ TEST(CertifiedMotionValidator, BatchProofsOfUncertifiedRangesKeepTheDiscreteAnsw
   EXPECT_GT(batches, 1000) << "the batch path must be exercised";
   EXPECT_GT(proven, 0);
   EXPECT_GT(undecided, 0);
+}
+
+// Span batches: where certificates reach far, a range goes to one batch whose lanes each prove
+// the states within `reach` of them (the point robot's clearance must exceed it: it moves 1 m per
+// unit of motion), some clear lanes left undecided; what a lane leaves, certified checks settle.
+// The answers stay the discrete ones, and span batches do part of the work.
+TEST(CertifiedMotionValidator, SpanBatchesKeepTheDiscreteAnswers) {
+  std::atomic<long> discrete_checks{0};
+  auto si = make_space(&discrete_checks);
+  ob::DiscreteMotionValidator discrete(si);
+  long spans = 0, span_lanes = 0, span_proven = 0, certified_checks = 0;
+  CertifiedMotionValidator certified(
+      si,
+      [&](const Eigen::VectorXd& q, const Eigen::VectorXd&, double) {
+        ++certified_checks;
+        const double c = clearance(q[0], q[1]);
+        return c > 0 ? c : -1.0;
+      },
+      [&](const double* const* q, int count, const Eigen::VectorXd& direction, double reach) {
+        EXPECT_GE(count, 1);
+        EXPECT_LE(count, 8);
+        EXPECT_NEAR(direction.norm(), 1.0, 1e-9);
+        spans += reach > 0;
+        std::uint32_t mask = 0;
+        for (int k = 0; k < count; ++k) {
+          const bool sure = clearance(q[k][0], q[k][1]) > reach + 0.01 && (k % 3 != 1);
+          mask |= std::uint32_t(sure) << k;
+          if (reach > 0) span_lanes++, span_proven += sure;
+        }
+        return mask;
+      });
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0, 10);
+  ob::ScopedState<> a(si), b(si);
+  int invalid = 0;
+  for (int i = 0; i < 3000; ++i) {
+    do {
+      a[0] = u(rng);
+      a[1] = u(rng);
+    } while (clearance(a[0], a[1]) <= 0);
+    b[0] = u(rng);
+    b[1] = u(rng);
+    const bool d = discrete.checkMotion(a.get(), b.get());
+    ASSERT_EQ(certified.checkMotion(a.get(), b.get()), d) << "motion (" << a[0] << ", " << a[1] << ") -> (" << b[0] << ", " << b[1] << ")";
+    invalid += !d;
+  }
+  EXPECT_GT(invalid, 300);
+  EXPECT_GT(spans, 1000) << "span batches must be exercised";
+  EXPECT_GT(span_proven, 0);
+  EXPECT_LT(span_proven, span_lanes) << "some span lanes must be left to certified checks";
+  RecordProperty("span_batches", int(spans));
+  RecordProperty("certified_checks", int(certified_checks));
 }

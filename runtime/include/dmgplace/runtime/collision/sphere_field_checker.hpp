@@ -119,6 +119,13 @@ class SphereFieldChecker {
   // self-distance table's bound). An unset bit is undecided, never "in collision": check() that
   // configuration. Certificates stay with check_along().
   std::uint32_t free_lanes(const double* const* q, int count = PoseBatch::kLanes) const;
+  // As free_lanes, but bit k says more: every configuration within `reach` (joint-space length)
+  // of q[k] along +-direction is free. Each body's test is widened by how far it can move over
+  // that length (the certificates' static speed: sum over its chain joints of |direction_j| times
+  // the farthest it gets from joint j's axis), each pair's by their relative speed (the joints
+  // moving one and not the other), each table's bound likewise. Nothing is proven (0) where
+  // speeds are unknown (a mimic joint follows a chain joint) or a widening passes 1 m.
+  std::uint32_t free_lanes_along(const double* const* q, int count, const Eigen::VectorXd& direction, double reach) const;
   // How much free_lanes widens each "free" test (metres) to cover its float rounding.
   double lane_margin() const { return lane_margin_; }
 
@@ -203,11 +210,14 @@ class SphereFieldChecker {
   };
   std::vector<LaneSphere> lane_spheres_;
   // free_lanes' body, compiled for AVX2 + FMA and for the portable baseline (one per path).
-  static std::uint32_t free_lanes_avx2(const SphereFieldChecker& c, const double* const* q, int count);
-  static std::uint32_t free_lanes_portable(const SphereFieldChecker& c, const double* const* q, int count);
+  // `widen`: per body then per pair (bodies_.size() + pairs_.size() floats), metres added to
+  // what each test needs (free_lanes_along); null: none.
+  static std::uint32_t free_lanes_avx2(const SphereFieldChecker& c, const double* const* q, int count, const float* widen);
+  static std::uint32_t free_lanes_portable(const SphereFieldChecker& c, const double* const* q, int count, const float* widen);
   // `wide`: a vector of lanes is one register (AVX2), so masks are ORed and turned into bits once;
   // the portable build compares lane by lane, where bits per test cost less.
-  static std::uint32_t free_lanes_body(const SphereFieldChecker& c, const double* const* q, int count, bool wide);
+  static std::uint32_t free_lanes_body(const SphereFieldChecker& c, const double* const* q, int count, const float* widen,
+                                       bool wide);
   // free_lanes works in floats: lanes whose body centres stay within lane_limit_ metres of the
   // origin on every axis, every test that can say "free" widened by lane_margin_ metres, which
   // bounds the rounding there. Set with the robot's bodies and the scene (set_lane_bounds).

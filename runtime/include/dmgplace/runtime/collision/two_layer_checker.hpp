@@ -69,6 +69,12 @@ class TwoLayerChecker {
     counters_->fast += count;
     return fast_.free_lanes(q, count);
   }
+  // The same, each bit proving every configuration within `reach` of q[k] along +-direction
+  // (SphereFieldChecker::free_lanes_along).
+  std::uint32_t proven_free_along(const double* const* q, int count, const Eigen::VectorXd& direction, double reach) const {
+    counters_->fast += count;
+    return fast_.free_lanes_along(q, count, direction, reach);
+  }
   const SphereFieldChecker& fast() const { return fast_; }
   // Exact gaps on or off (on by default exactly when they are cheap): tests and benchmarks.
   void set_exact_gaps(bool on) { gaps_ = on; }

@@ -3,9 +3,12 @@
 // (every longest-valid-segment step) but skips those inside intervals the collision checker has
 // proved free: a state with clearance c whose bodies move at most v metres per unit of joint
 // motion certifies c / v of the segment on both sides of it. States are visited in bisection
-// order, so a blocked motion is still found after a few checks. Short stretches no certificate
-// reaches (near obstacles) are checked 8 states at a time when the checker can prove states free
-// in SIMD lanes (ProvenFreeFn); a state the batch does not prove takes the single check.
+// order, so a blocked motion is still found after a few checks. With a checker that proves
+// states free in SIMD lanes (ProvenFreeFn): short stretches no certificate reaches (near
+// obstacles) are checked 8 states at a time, a state the batch does not prove taking the single
+// check; and a range that lanes reaching half as far as the neighbouring certificate would cover
+// is proven by one "span" batch (each lane proving the states around it), whatever a lane leaves
+// going to certified checks.
 #include <ompl/base/MotionValidator.h>
 
 #include <Eigen/Core>
@@ -17,8 +20,10 @@ namespace dmgplace::runtime {
 class CertifiedMotionValidator : public ompl::base::MotionValidator {
  public:
   using FreeDistanceFn = std::function<double(const Eigen::VectorXd& q, const Eigen::VectorXd& direction, double enough)>;
-  // Bit k set: configuration q[k] (of `count` <= 8) is proven free; unset means undecided.
-  using ProvenFreeFn = std::function<std::uint32_t(const double* const* q, int count)>;
+  // Bit k set: every configuration within `reach` (joint-space length, 0: q[k] alone) of q[k]
+  // (of `count` <= 8) along +-direction is proven free; unset means undecided.
+  using ProvenFreeFn =
+      std::function<std::uint32_t(const double* const* q, int count, const Eigen::VectorXd& direction, double reach)>;
   CertifiedMotionValidator(const ompl::base::SpaceInformationPtr& si, FreeDistanceFn free_distance,
                            ProvenFreeFn proven_free = nullptr);
 
