@@ -21,7 +21,8 @@ using FreeDistanceFn = std::function<double(const Eigen::VectorXd& q, const Eige
 ompl::base::SpaceInformationPtr make_arm_space(const Kinematics& kin, ValidityFn valid, double resolution,
                                                FreeDistanceFn free_distance = nullptr);
 // The space over a two-layer checker: its validity, its certified motions, and its batch proofs
-// for short stretches near obstacles. `checker` must outlive the space.
+// (short stretches near obstacles state by state, wider ones by span batches; AVX2 only).
+// `checker` must outlive the space.
 ompl::base::SpaceInformationPtr make_arm_space(const Kinematics& kin, const TwoLayerChecker& checker, double resolution);
 
 }  // namespace dmgplace::runtime
