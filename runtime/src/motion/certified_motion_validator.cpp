@@ -55,7 +55,11 @@ bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State*
     return true;
   };
   int k = 0;
-  if (!check(steps, steps - 1, k)) {  // the far end first: a bad goal is found at once
+  // The far end first: a bad goal is found at once. With batch proofs its certificate need only
+  // reach a batch's width back, as the interior goes to span batches (which take it as their
+  // estimate); refining it to the whole segment had made it the costliest check (bench-mbm:
+  // needs of 4, 8, 16 and 32 states against the whole segment, 8 best).
+  if (!check(steps, proven_free_ ? std::min(steps - 1, kBatch) : steps - 1, k)) {
     ++invalid_;
     return false;
   }
