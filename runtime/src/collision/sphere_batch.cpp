@@ -158,7 +158,7 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
   std::uint64_t reach = ~std::uint64_t(0);
   const std::size_t nb = c.bodies_.size();
   auto widened = [&](std::size_t k) __attribute__((always_inline)) { return widen ? widen[k] : 0.0f; };
-  float body_widen = 0;  // the body in hand's
+  float body_widen = 0;  // the current body's
   auto clear_lanes = [&](const Xyz& p, double r, std::uint32_t lanes) __attribute__((always_inline)) {
     const double need = r + c.padding_ + margin + body_widen;
     if (prims) return prims->clear_lanes(p.x, p.y, p.z, float(need), lanes, reach, wide);
