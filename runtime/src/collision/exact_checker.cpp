@@ -341,8 +341,10 @@ constexpr double kGapTolerance = 1e-4;
 // A convex part at `pose` against the scene's primitives: its gap (GJK's rigorous lower bound, less
 // the tolerance), asked only as far as `enough` needs. Nearest bounding balls first: a solid whose
 // ball is farther than the gap so far cannot lower it.
+// `hints`: one per scene primitive, where this part's last query of each ended (convex_gap).
 double part_environment_gap(const ConvexSolid& part, const Eigen::Isometry3d& pose,
-                            const std::vector<std::pair<ConvexSolid, Eigen::Isometry3d>>& env, double enough, double gap) {
+                            const std::vector<std::pair<ConvexSolid, Eigen::Isometry3d>>& env, double enough, double gap,
+                            GapHint* hints) {
   thread_local std::vector<std::pair<double, std::size_t>> order;
   const Eigen::Vector3d c = pose * part.centre();
   order.clear();
@@ -352,9 +354,23 @@ double part_environment_gap(const ConvexSolid& part, const Eigen::Isometry3d& po
   for (const auto& [ball_gap, k] : order) {
     // Past `enough` by the margin a computed gap gives up, a ball proves enough on its own.
     if (ball_gap >= gap || ball_gap - kGapTolerance > enough || gap <= 0) break;
-    gap = std::min(gap, convex_gap(part, pose, env[k].first, env[k].second, 1e-5, enough + kGapTolerance) - kGapTolerance);
+    gap = std::min(gap, convex_gap(part, pose, env[k].first, env[k].second, 1e-5, enough + kGapTolerance, &hints[k]) -
+                            kGapTolerance);
   }
   return gap;
+}
+
+// This thread's gap hints for the checker geometry `owner` (n of them), kept from query to query:
+// the queries along a motion ask the same parts and primitives a little apart. Another owner
+// starts afresh (hints only speed GJK up; any hint gives the same rigorous bounds).
+GapHint* thread_gap_hints(const void* owner, std::size_t n) {
+  thread_local const void* last = nullptr;
+  thread_local std::vector<GapHint> hints;
+  if (last != owner || hints.size() != n) {
+    last = owner;
+    hints.assign(n, GapHint{});
+  }
+  return hints.data();
 }
 }  // namespace
 
@@ -489,11 +505,13 @@ double ExactChecker::link_environment_gap(const std::vector<Eigen::Isometry3d>& 
   const Impl& impl = *impl_;
   if (!impl.env_primitives) return 0.0;
   double gap = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < impl.parts.size() && gap > 0; ++i) {
+  const std::size_t np = impl.parts.size(), ne = impl.env_convex ? impl.env_convex->size() : 0;
+  GapHint* hints = thread_gap_hints(&impl, np * ne + np * np);
+  for (std::size_t i = 0; i < np && gap > 0; ++i) {
     const Part& p = impl.parts[i];
     if (impl.part_is_object[i] || p.link != link) continue;
     if (!p.convex) return 0.0;
-    gap = part_environment_gap(*p.convex, poses[std::size_t(p.link)] * p.local, *impl.env_convex, enough, gap);
+    gap = part_environment_gap(*p.convex, poses[std::size_t(p.link)] * p.local, *impl.env_convex, enough, gap, hints + i * ne);
   }
   return gap;
 }
@@ -510,16 +528,19 @@ bool ExactChecker::links_have_meshes() const { return impl_->link_meshes; }
 double ExactChecker::link_pair_gap(const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b, double enough) const {
   const Impl& impl = *impl_;
   double gap = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < impl.parts.size() && gap > 0; ++i) {
+  const std::size_t np = impl.parts.size(), ne = impl.env_convex ? impl.env_convex->size() : 0;
+  GapHint* hints = thread_gap_hints(&impl, np * ne + np * np) + np * ne;
+  for (std::size_t i = 0; i < np && gap > 0; ++i) {
     const Part& pa = impl.parts[i];
     if (impl.part_is_object[i] || pa.link != link_a) continue;
     if (!pa.convex) return 0.0;
-    for (std::size_t j = 0; j < impl.parts.size() && gap > 0; ++j) {
+    for (std::size_t j = 0; j < np && gap > 0; ++j) {
       const Part& pb = impl.parts[j];
       if (impl.part_is_object[j] || pb.link != link_b) continue;
       if (!pb.convex) return 0.0;
       gap = std::min(gap, convex_gap(*pa.convex, poses[std::size_t(link_a)] * pa.local, *pb.convex,
-                                     poses[std::size_t(link_b)] * pb.local, 1e-5, enough + kGapTolerance) - kGapTolerance);
+                                     poses[std::size_t(link_b)] * pb.local, 1e-5, enough + kGapTolerance, &hints[i * np + j]) -
+                              kGapTolerance);
     }
   }
   return gap;

@@ -290,16 +290,19 @@ bool closest_on_tetrahedron(Simplex& s, Eigen::Vector3d& out) {
 }  // namespace
 
 double convex_gap(const ConvexSolid& a, const Eigen::Isometry3d& ta, const ConvexSolid& b, const Eigen::Isometry3d& tb,
-                  double tolerance, double enough) {
+                  double tolerance, double enough, GapHint* hint) {
   // What the returned bound gives up: rounding in the support arithmetic, and what a climb may
   // miss on a hull that is convex only to the artifact check's tolerance (1e-9 of its extent).
   const double slack = 1e-12 * (1 + a.radius() + b.radius()) + a.climb_slack() + b.climb_slack();
   // Support of A - B against direction v, in the world frame.
-  int from_a = -1, from_b = -1;  // hull vertices of the last supports: the next climbs start there
+  int from_a = hint ? hint->from_a : -1, from_b = hint ? hint->from_b : -1;  // hull vertices of the last supports: the next climbs start there
   auto support = [&](const Eigen::Vector3d& v) -> Eigen::Vector3d {
     return ta * a.support(ta.linear().transpose() * -v, from_a) - tb * b.support(tb.linear().transpose() * v, from_b);
   };
-  Eigen::Vector3d v = ta * a.centre() - tb * b.centre();
+  // A hinted start is a direction only: until the first support, v is no point of A - B, so its
+  // length bounds nothing (the first tolerance test waits).
+  const bool hinted = hint && hint->v.squaredNorm() > 1e-24 && hint->v.allFinite();
+  Eigen::Vector3d v = hinted ? hint->v : Eigen::Vector3d(ta * a.centre() - tb * b.centre());
   if (!(v.squaredNorm() > 0)) v = Eigen::Vector3d::UnitX();
   double lower = -std::numeric_limits<double>::infinity();
   Simplex s;
@@ -308,7 +311,7 @@ double convex_gap(const ConvexSolid& a, const Eigen::Isometry3d& ta, const Conve
     if (!(vn > 1e-12)) break;  // the origin is (nearly) in A - B
     const Eigen::Vector3d w = support(v);
     lower = std::max(lower, v.dot(w) / vn);
-    if (vn - lower <= tolerance) break;  // the bound is within tolerance of the estimate
+    if ((iter > 0 || !hinted) && vn - lower <= tolerance) break;  // the bound is within tolerance of the estimate
     // Proven above `enough`. A sign query (enough <= 0) also stops once it never will be (past the
     // first v, between the centres, v is a point of A - B: the distance is at most vn); a
     // certificate asking for more goes on to the best bound it can get.
@@ -327,6 +330,11 @@ double convex_gap(const ConvexSolid& a, const Eigen::Isometry3d& ta, const Conve
     // Rounding: no descent left (the first v, between the centres, is not a point of A - B).
     if (iter > 0 && !(next.squaredNorm() < v.squaredNorm())) break;
     v = next;
+  }
+  if (hint) {
+    if (v.squaredNorm() > 1e-24 && v.allFinite()) hint->v = v;
+    hint->from_a = from_a;
+    hint->from_b = from_b;
   }
   return lower - slack;  // the dual bound alone
 }

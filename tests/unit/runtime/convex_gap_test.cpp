@@ -35,6 +35,38 @@ Solid random_solid(std::mt19937_64& rng, int kind) {
     default: return {runtime::ConvexSolid::sphere(a), std::make_shared<fcl::Sphered>(a)};
   }
 }
+// A box's closed surface with a grid of k x k squares on every face (inner face and edge vertices
+// are not extreme: a climb can stop on one when a face lies across the direction).
+struct GridBox {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3i> triangles;
+};
+GridBox grid_box(int k, const Eigen::Vector3d& half) {
+  GridBox out;
+  std::map<std::array<int, 3>, int> index;
+  auto vertex = [&](std::array<int, 3> g) {
+    auto [it, fresh] = index.emplace(g, int(out.points.size()));
+    if (fresh) out.points.emplace_back(half.x() * (2.0 * g[0] / k - 1), half.y() * (2.0 * g[1] / k - 1), half.z() * (2.0 * g[2] / k - 1));
+    return it->second;
+  };
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side : {0, k}) {
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      for (int i = 0; i < k; ++i)
+        for (int j = 0; j < k; ++j) {
+          auto at = [&](int a, int b) {
+            std::array<int, 3> g{};
+            g[std::size_t(axis)] = side;
+            g[std::size_t(u)] = a;
+            g[std::size_t(v)] = b;
+            return vertex(g);
+          };
+          out.triangles.emplace_back(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+          out.triangles.emplace_back(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+        }
+    }
+  return out;
+}
 }  // namespace
 
 TEST(ConvexGap, NeverAboveFclsDistanceAndCloseToItWhenApart) {
@@ -86,7 +118,9 @@ TEST(ConvexGap, AThresholdQueryAgreesWithTheFullGapOnItsSide) {
                                              << ", threshold " << enough;
     // Below a positive threshold the answer is refined as the full one is (certificates use it as
     // their clearance); a sign query (threshold <= 0) may stop with any bound on its side.
-    if (full < enough && enough > 0) ASSERT_NEAR(quick, full, 1e-5) << "case " << n << ", threshold " << enough;
+    if (full < enough && enough > 0) {
+      ASSERT_NEAR(quick, full, 1e-5) << "case " << n << ", threshold " << enough;
+    }
     ++(full > enough ? above : below);
   }
   EXPECT_GT(above, 1000);
@@ -119,31 +153,7 @@ TEST(ConvexGap, HullOfABoxsCornersMeasuresAsTheBox) {
 TEST(ConvexGap, ClimbedHullSupportsAreTheFarthestVertexFromAnyStart) {
   const int k = 4;  // grid steps per face side
   const Eigen::Vector3d half(0.1, 0.05, 0.2);
-  std::vector<Eigen::Vector3d> points;
-  std::map<std::array<int, 3>, int> index;
-  auto vertex = [&](std::array<int, 3> g) {
-    auto [it, fresh] = index.emplace(g, int(points.size()));
-    if (fresh) points.emplace_back(half.x() * (2.0 * g[0] / k - 1), half.y() * (2.0 * g[1] / k - 1), half.z() * (2.0 * g[2] / k - 1));
-    return it->second;
-  };
-  std::vector<Eigen::Vector3i> triangles;
-  for (int axis = 0; axis < 3; ++axis)
-    for (int side : {0, k}) {
-      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-      for (int i = 0; i < k; ++i)
-        for (int j = 0; j < k; ++j) {
-          auto at = [&](int a, int b) {
-            std::array<int, 3> g{};
-            g[std::size_t(axis)] = side;
-            g[std::size_t(u)] = a;
-            g[std::size_t(v)] = b;
-            return vertex(g);
-          };
-          triangles.emplace_back(at(i, j), at(i + 1, j), at(i + 1, j + 1));
-          triangles.emplace_back(at(i, j), at(i + 1, j + 1), at(i, j + 1));
-        }
-    }
-  ASSERT_EQ(points.size(), std::size_t(6 * (k - 1) * (k - 1) + 12 * (k - 1) + 8));
+  const auto [points, triangles] = grid_box(k, half);
   const auto climbed = runtime::ConvexSolid::hull(points, triangles);
   std::vector<Eigen::Vector3d> directions;
   for (int x = -1; x <= 1; ++x)
@@ -163,4 +173,59 @@ TEST(ConvexGap, ClimbedHullSupportsAreTheFarthestVertexFromAnyStart) {
       EXPECT_EQ(points[std::size_t(start)].dot(d), farthest) << "the start is left at the answer";
     }
   }
+}
+
+// Along a motion each query starts where the last one of the same two solids ended (GapHint). A
+// start is only a direction: hinted answers are the fresh ones' (a lower bound, on the same side of
+// a threshold, as tight), whether the hint is the last query's or garbage (any direction and
+// length, vertex indices out of range).
+TEST(ConvexGap, AHintedStartGivesTheFreshAnswers) {
+  std::mt19937_64 rng(13);
+  const auto [points, triangles] = grid_box(4, Eigen::Vector3d(0.1, 0.05, 0.2));
+  const auto climbed = runtime::ConvexSolid::hull(points, triangles);
+  std::normal_distribution<double> g(0, 1);
+  std::uniform_real_distribution<double> threshold(-0.01, 0.2), scale(-6, 1);
+  std::uniform_int_distribution<int> vertex(-3, int(points.size()) + 3);
+  int compared = 0, stale = 0, apart = 0;
+  for (int n = 0; n < 400; ++n) {
+    const Solid other = random_solid(rng, n % 3);
+    const bool hull = n % 2 == 0;
+    const runtime::ConvexSolid& a = hull ? climbed : other.convex;
+    const Solid b = random_solid(rng, (n / 2) % 3);
+    Eigen::Isometry3d ta = random_pose(rng, 0.4);
+    const Eigen::Isometry3d tb = random_pose(rng, 0.4);
+    runtime::GapHint hint;
+    for (int step = 0; step < 30; ++step) {
+      // A small move (5 mm, 0.05 rad), as between states along a motion.
+      ta.translation() += 0.005 * Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+      ta.linear() = (Eigen::AngleAxisd(0.05, Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized()) * ta.linear()).eval();
+      if (step % 7 == 6) {  // garbage: any direction, any length, any vertices
+        hint.v = std::pow(10.0, scale(rng)) * Eigen::Vector3d(g(rng), g(rng), g(rng));
+        hint.from_a = vertex(rng);
+        hint.from_b = vertex(rng);
+        ++stale;
+      }
+      const double enough = step % 3 == 0 ? std::numeric_limits<double>::infinity() : threshold(rng);
+      const double full = runtime::convex_gap(a, ta, b.convex, tb);
+      const double hinted = runtime::convex_gap(a, ta, b.convex, tb, 1e-5, enough, &hint);
+      // Overlapping solids (full <= 0) have no gap to prove: any bound <= 0 is an answer.
+      ASSERT_LE(hinted, std::max(full, 0.0) + 1e-5) << "case " << n << " step " << step << ": not a lower bound";
+      if (std::isinf(enough)) {
+        if (full > 1e-5) {
+          ASSERT_NEAR(hinted, full, 2e-5) << "case " << n << " step " << step << ": a loose bound";
+        }
+      } else if (std::abs(full - enough) > 2e-5) {
+        ASSERT_EQ(hinted > enough, full > enough) << "case " << n << " step " << step << ": full " << full << ", hinted "
+                                                  << hinted << ", threshold " << enough;
+        if (full < enough && full > 1e-5) {
+          ASSERT_NEAR(hinted, full, 2e-5) << "case " << n << " step " << step;
+        }
+      }
+      apart += full > 1e-5;
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 12000);
+  EXPECT_GT(apart, 4000);
+  EXPECT_GT(stale, 1500);
 }

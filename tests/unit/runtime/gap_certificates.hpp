@@ -33,11 +33,15 @@ inline int walk_gap_certificates(const runtime::TwoLayerChecker& both, const run
     EXPECT_EQ(t >= 0, free) << "q = " << q.transpose();
     if (both.counters().exact_gaps.load() == gaps_before || t <= 0) continue;
     // Asked for less, the gaps are proven only that far: at least what was asked (or all there
-    // is), never more than the full answer.
+    // is), never more than the full answer. Up to GJK's tolerance: each gap is a bound within
+    // 1e-5 m of the distance, from wherever the thread's last query of the same solids ended
+    // (GapHint), so two queries' gaps may differ by that, and their certificates by that over
+    // the links' speeds.
     const double all = both.free_distance(q, dir), enough = 0.05 * u(rng);
     const double limited = both.free_distance(q, dir, enough);
-    EXPECT_GE(limited, std::min(enough, all) - 1e-12) << "q = " << q.transpose();
-    EXPECT_LE(limited, all + 1e-12) << "q = " << q.transpose();
+    const double gjk = 2e-4;
+    EXPECT_GE(limited, std::min(enough, all) - gjk) << "q = " << q.transpose();
+    EXPECT_LE(limited, all + gjk) << "q = " << q.transpose();
     ++walked;
     *longest = std::max(*longest, t);
     const double step = std::min(0.001, t / 20);

@@ -58,13 +58,24 @@ class ConvexSolid {
   double radius_ = 0;
 };
 
+// Where the last query of the same two solids ended (world frame): GJK's last direction and the
+// hull vertices its supports climbed to. Successive queries along a motion move the solids a
+// little, so starting there usually proves what the caller needs with the first support. Only a
+// start: any direction gives a rigorous bound, so a stale hint costs iterations, never correctness.
+struct GapHint {
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();  // zero: no hint (start between the centres)
+  int from_a = -1, from_b = -1;
+};
+
 // A lower bound on the distance between a (placed by ta) and b (placed by tb): never above the
 // true distance; <= 0 when no gap is proven (touching, overlapping, or too close to tell).
 // Iterates until the bound is within `tolerance` of GJK's upper estimate, or is above `enough`
 // (a caller needing only that much stops there: a sign takes a few iterations where the distance
 // takes many). A sign query (enough <= 0) also stops once GJK's upper estimate shows the bound
 // cannot get there; with enough > 0 the bound is then refined as without it.
+// `hint` (optional): where to start, updated to where this query ended.
 double convex_gap(const ConvexSolid& a, const Eigen::Isometry3d& ta, const ConvexSolid& b, const Eigen::Isometry3d& tb,
-                  double tolerance = 1e-5, double enough = std::numeric_limits<double>::infinity());
+                  double tolerance = 1e-5, double enough = std::numeric_limits<double>::infinity(),
+                  GapHint* hint = nullptr);
 
 }  // namespace dmgplace::runtime
