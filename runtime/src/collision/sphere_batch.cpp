@@ -2,7 +2,7 @@
 // Every step runs in floats across all 8 lanes (lanes::F, one AVX register): forward kinematics
 // (Kinematics::link_poses_batch into a PoseBatchF), then one body or sphere at a time: centres,
 // bounds, exact primitive distances, pair distances. Every test that can say "free" adds a
-// rounding margin (lane_margin_: the kinematics' own error bound and the steps after it), so the
+// rounding margin (lane_margin(): the kinematics' own error bound and the steps after it), so the
 // floats stay conservative. Only the field loads are one
 // per lane. Compiled for AVX2 + FMA and for the portable baseline, chosen at run time
 // (system/simd_dispatch).
@@ -73,7 +73,7 @@ inline __attribute__((always_inline)) lanes::MF overlaps(const Xyz& a, const Xyz
   return overlaps(a, b, splatf(reach * reach));
 }
 
-// Lanes with every coordinate of p within `limit` (false for NaN): lane_margin_ holds there.
+// Lanes with every coordinate of p within `limit` (false for NaN): lane_margin() holds there.
 inline __attribute__((always_inline)) lanes::MF within(const Xyz& p, float limit) {
   const F l = splatf(limit);
   return (lanes::abs(lanes::load(p.x)) <= l) & (lanes::abs(lanes::load(p.y)) <= l) & (lanes::abs(lanes::load(p.z)) <= l);
@@ -119,7 +119,13 @@ void SphereFieldChecker::set_lane_bounds() {
   // squared distance each add a few such roundings; 64 of them bound the lot with room to spare.
   // Forward kinematics in floats adds its own bound, for points as far from their link's origin
   // as any sphere's far side.
-  lane_margin_ = 64.0 * 0x1p-24 * (lane_limit_ + 2.0 * reach_ + 1.0) + kin_->float_pose_error(link_reach_);
+  lane_rounding_ = 64.0 * 0x1p-24 * (lane_limit_ + 2.0 * reach_ + 1.0);
+}
+
+double SphereFieldChecker::lane_margin() const {
+  // The kinematics' float error bound as it is now: setting a joint outside the chain
+  // (Kinematics::set_joint_value) rebuilds it, so it is asked per batch, not kept.
+  return lane_rounding_ + kin_->float_pose_error(link_reach_);
 }
 
 void SphereFieldChecker::set_exact_obstacles(std::shared_ptr<const PrimitiveObstacles> obstacles) {
@@ -141,7 +147,7 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
   world.resize(c.spheres_.size());
   centre.resize(c.bodies_.size());
   done.assign(c.bodies_.size(), 0);
-  const float margin = float(c.lane_margin_), limit = float(c.lane_limit_);
+  const float margin = float(c.lane_margin()), limit = float(c.lane_limit_);
   auto spheres_of = [&](std::size_t bi) {
     if (done[bi]) return;
     const Body& b = c.bodies_[bi];
@@ -259,7 +265,7 @@ std::uint32_t SphereFieldChecker::free_lanes_along(const double* const* q, int c
   widen.clear();
   auto add = [&](double v) {
     const double w = reach * v * (1 + 0x1p-20);
-    if (!(w <= 1.0)) return false;  // past the magnitudes lane_margin_ covers; nothing that far is proven
+    if (!(w <= 1.0)) return false;  // past the magnitudes lane_margin() covers; nothing that far is proven
     widen.push_back(float(w));
     return true;
   };

@@ -287,6 +287,22 @@ TEST(Batch, FloatLanesStayConservativeAtTheEdgeOfTheScene) {
   force_simd_path(SimdPath::Avx2);
 }
 
+// The float margin is the kinematics' as they are when a batch runs: setting a joint outside the
+// chain moves the float poses' error bound (a prismatic joint's offset enters it; the fingers set
+// 2 m out, as a long lift outside the chain would be, make it the largest), and a checker built
+// before follows it as one built afresh has it.
+TEST(Batch, LaneMarginFollowsJointsSetOutsideTheChain) {
+  ShelfWorld w;
+  SphereFieldChecker before(w.kin, w.arm.spheres, w.sdf, 0.3);
+  before.set_exact_obstacles(PrimitiveObstacles::from_scene(w.scene));
+  const double was = before.lane_margin();
+  w.kin.set_joint_value("dmgarm_finger_joint1", 2.0);
+  SphereFieldChecker fresh(w.kin, w.arm.spheres, w.sdf, 0.3);
+  fresh.set_exact_obstacles(PrimitiveObstacles::from_scene(w.scene));
+  EXPECT_NE(fresh.lane_margin(), was) << "the fingers' value does not enter the bound: nothing to follow";
+  EXPECT_EQ(before.lane_margin(), fresh.lane_margin());
+}
+
 // A lane proven along a direction proves every state within its reach: each one sampled 2.5 mrad
 // apart is free for the scalar layer (FCL with the scene's exact primitives, which the batch
 // trusts outside the grid too). The test finds lanes whose centre alone is free but some state

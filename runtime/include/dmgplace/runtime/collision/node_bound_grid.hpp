@@ -35,7 +35,7 @@ class NodeBoundGrid {
   // lower_bound of lanes::WF points (structure of arrays) into out, in floats: the index and
   // distance arithmetic in SIMD lanes (lanes.hpp), the loads one per point. Any node gives a valid
   // bound, so the rounded index arithmetic is harmless; the rounded distance to the node and value
-  // are the caller's margin to cover (SphereFieldChecker::lane_margin_).
+  // are the caller's margin to cover (SphereFieldChecker::lane_margin).
   DMGPLACE_LANES_INLINE void lower_bound_lanes(const float* x, const float* y, const float* z, float* out) const {
     using lanes::F;
     using lanes::MF;

@@ -126,8 +126,9 @@ class SphereFieldChecker {
   // moving one and not the other), each table's bound likewise. Nothing is proven (0) where
   // speeds are unknown (a mimic joint follows a chain joint) or a widening passes 1 m.
   std::uint32_t free_lanes_along(const double* const* q, int count, const Eigen::VectorXd& direction, double reach) const;
-  // How much free_lanes widens each "free" test (metres) to cover its float rounding.
-  double lane_margin() const { return lane_margin_; }
+  // How much free_lanes widens each "free" test (metres) to cover its float rounding, for the
+  // kinematics' joint values as they are now.
+  double lane_margin() const;
 
   std::size_t sphere_count() const { return spheres_.size(); }
   const Kinematics& kinematics() const { return *kin_; }
@@ -219,10 +220,11 @@ class SphereFieldChecker {
   static std::uint32_t free_lanes_body(const SphereFieldChecker& c, const double* const* q, int count, const float* widen,
                                        bool wide);
   // free_lanes works in floats: lanes whose body centres stay within lane_limit_ metres of the
-  // origin on every axis, every test that can say "free" widened by lane_margin_ metres, which
-  // bounds the rounding there. Set with the robot's bodies and the scene (set_lane_bounds).
+  // origin on every axis, every test that can say "free" widened by lane_margin() metres, which
+  // bounds the rounding there: lane_rounding_ for the steps after the poses (set with the robot's
+  // bodies and the scene, set_lane_bounds) and the float poses' own error bound.
   void set_lane_bounds();
-  double lane_limit_ = 0, lane_margin_ = 0;
+  double lane_limit_ = 0, lane_rounding_ = 0;
   std::vector<Body> bodies_;
   double reach_ = 0;  // no sphere gets farther than this from the model root's origin
   double link_reach_ = 0;  // nor from its own link's origin
