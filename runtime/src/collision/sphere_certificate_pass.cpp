@@ -87,7 +87,10 @@ void SphereFieldChecker::Pass::certificate() {
         }
       }
       centres(it->index);
-      for (int i = b.begin; i < b.end; ++i) c.fine_->prefetch(s.world[std::size_t(i)]);
+      // What the environment pass read for these spheres is not read again (NaN: not read there).
+      const bool known = s.bounds_done[it->index];
+      for (int i = b.begin; i < b.end; ++i)
+        if (!known || std::isnan(s.sphere_fine[std::size_t(i)])) c.fine_->prefetch(s.world[std::size_t(i)]);
       // Field bounds first. Near a surface the node bound's loss is most of the clearance, so the
       // exact shapes are asked there; so they are where the band has clamped (the field then knows
       // only "at least the band"). An exact distance only raises a sphere's bound, so it is asked
@@ -96,7 +99,9 @@ void SphereFieldChecker::Pass::certificate() {
       for (int i = b.begin; i < b.end; ++i) {
         const auto& sp = c.spheres_[std::size_t(i)];
         const Eigen::Vector3d& w = s.world[std::size_t(i)];
-        const double sc = std::max(c.coarse_lower_bound(w), c.fine_lower_bound(w)) - sp.radius - c.padding_;
+        const double co = known && !std::isnan(s.sphere_coarse[std::size_t(i)]) ? s.sphere_coarse[std::size_t(i)] : c.coarse_lower_bound(w);
+        const double fi = known && !std::isnan(s.sphere_fine[std::size_t(i)]) ? s.sphere_fine[std::size_t(i)] : c.fine_lower_bound(w);
+        const double sc = std::max(co, fi) - sp.radius - c.padding_;
         if (c.obstacles_ && (sc < kExactBelow || sc + sp.radius + c.padding_ > kBandShare * c.band_)) s.exact_order.push_back({sc, i});
         else clearance = std::min(clearance, sc);
       }
@@ -114,7 +119,9 @@ void SphereFieldChecker::Pass::certificate() {
           need = std::numeric_limits<double>::infinity();  // fell short: the rest exactly
         }
         const auto& sp = c.spheres_[std::size_t(i)];
-        clearance = std::min(clearance, std::max(sc, c.obstacles_->distance(s.world[std::size_t(i)]) - sp.radius - c.padding_));
+        const double read = known ? s.sphere_exact[std::size_t(i)] : std::numeric_limits<double>::quiet_NaN();
+        const double distance = std::isnan(read) ? c.obstacles_->distance(s.world[std::size_t(i)]) : read;
+        clearance = std::min(clearance, std::max(sc, distance - sp.radius - c.padding_));
         ++k;
       }
     }

@@ -44,6 +44,11 @@ struct SphereFieldChecker::Pass {
     std::vector<Candidate> cands;
     std::vector<double> times;  // cands' t, packed: the certificate's smallest-first scan reads only these
     std::vector<std::pair<double, int>> exact_order;  // a body's spheres to ask the exact shapes: field bound, sphere
+    // Certified mode: what the environment pass read for a body's spheres (bounds_done[body]), so
+    // the certificate's sphere-by-sphere refinement does not read it again. Per sphere: the
+    // coarse and fine node bounds and the exact primitives' distance, NaN where not read.
+    std::vector<char> bounds_done;
+    std::vector<double> sphere_coarse, sphere_fine, sphere_exact;
     // Certified mode, filled on demand: chain joints' world axes and origins (by slot), and each
     // body's lever arms about its chain joints (Body::lever_begin), shared by the body's bound
     // and its pairs'.

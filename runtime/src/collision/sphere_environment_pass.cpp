@@ -39,6 +39,12 @@ bool SphereFieldChecker::Pass::environment() {
     const bool masks = c.obstacles_ && c.obstacles_->all_have_bits() && !b.attached;
     std::uint64_t mask = 0;
     bool flagged = false;
+    // Certified mode keeps what it reads for the certificate's refinement (sphere_coarse ...).
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    if (certify) {
+      s.bounds_done[bi] = 1;
+      for (int i = b.begin; i < b.end; ++i) s.sphere_coarse[std::size_t(i)] = s.sphere_fine[std::size_t(i)] = s.sphere_exact[std::size_t(i)] = nan;
+    }
     for (int i = b.begin; i < b.end; ++i) {
       const auto& sp = c.spheres_[std::size_t(i)];
       const Eigen::Vector3d& w = s.world[std::size_t(i)];
@@ -46,19 +52,24 @@ bool SphereFieldChecker::Pass::environment() {
       // (Band-clamped far cells are fine: clamping only lowers values, which stays conservative.)
       const bool out_of_grid = outside(w);
       if (!out_of_grid) {
-        const double coarse = c.coarse_lower_bound(w) - sp.radius - c.padding_;
+        const double bound = c.coarse_lower_bound(w);
+        if (certify) s.sphere_coarse[std::size_t(i)] = bound;
+        const double coarse = bound - sp.radius - c.padding_;
         if (coarse >= 0) {
           cleared(bi, coarse);
           continue;
         }
       }
-      const double clearance = out_of_grid ? -1.0 : c.fine_lower_bound(w) - sp.radius - c.padding_;
+      const double fine = out_of_grid ? nan : c.fine_lower_bound(w);
+      if (certify) s.sphere_fine[std::size_t(i)] = fine;
+      const double clearance = out_of_grid ? -1.0 : fine - sp.radius - c.padding_;
       if (clearance >= 0) {
         cleared(bi, clearance);
         continue;
       }
       if (c.obstacles_) {  // exact, inside the grid or not
         const double distance = c.obstacles_->distance(w);
+        if (certify) s.sphere_exact[std::size_t(i)] = distance;
         const double exact = distance - sp.radius - c.padding_;
         if (exact >= 0) {
           cleared(bi, exact);

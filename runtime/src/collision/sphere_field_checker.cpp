@@ -233,6 +233,10 @@ SphereFieldChecker::Pass::Pass(const SphereFieldChecker& checker, const Eigen::V
   if (certify) {
     s.body_clear.assign(c.bodies_.size(), std::numeric_limits<double>::infinity());
     s.body_flagged.assign(c.bodies_.size(), 0);
+    s.bounds_done.assign(c.bodies_.size(), 0);
+    s.sphere_coarse.resize(c.spheres_.size());
+    s.sphere_fine.resize(c.spheres_.size());
+    s.sphere_exact.resize(c.spheres_.size());
   }
   s.cands.clear();
   s.times.clear();
