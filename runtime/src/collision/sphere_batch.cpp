@@ -12,6 +12,7 @@
 
 #include "dmgplace/runtime/collision/sphere_field_checker.hpp"
 #include "dmgplace/runtime/system/lanes.hpp"
+#include "sphere_lane_motion.hpp"
 #include "dmgplace/runtime/system/simd_dispatch.hpp"
 
 namespace dmgplace::runtime {
@@ -21,9 +22,7 @@ constexpr int N = PoseBatch::kLanes;
 static_assert(N == lanes::WF, "one float vector per coordinate");
 using lanes::F;
 using lanes::splatf;
-struct alignas(32) Xyz {
-  float x[N], y[N], z[N];
-};
+using Xyz = LaneXyz;
 // A link's pose in every lane (PoseBatchF): rotation row-major, then the translation.
 using LinkPose = std::array<PoseBatchF::Lanes, 12>;
 
@@ -135,7 +134,8 @@ void SphereFieldChecker::set_exact_obstacles(std::shared_ptr<const PrimitiveObst
 
 inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lanes_body(const SphereFieldChecker& c,
                                                                                         const double* const* q, int count,
-                                                                                        const float* widen, bool wide) {
+                                                                                        const float* widen,
+                                                                                        const LaneMotion* motion, bool wide) {
   const double* in[N];
   for (int k = 0; k < N; ++k) in[k] = q[k < count ? k : 0];  // idle lanes repeat the first
   thread_local PoseBatchF poses;
@@ -182,6 +182,17 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
       reach = prims->reaching_lanes(centre[bi].x, centre[bi].y, centre[bi].z, float(b.radius + c.padding_ + margin + body_widen),
                                     alive, wide);
     std::uint32_t open = alive & ~clear_lanes(centre[bi], b.radius, alive);
+    // Undecided under the static bound: the lanes' own (sphere_lane_motion.hpp), where smaller.
+    if (open && motion && body_widen > 0) {
+      const float local = motion->body(c, bi, poses, centre.data(), open);
+      if (local < body_widen) {
+        body_widen = local;
+        if (prims)
+          reach = prims->reaching_lanes(centre[bi].x, centre[bi].y, centre[bi].z,
+                                        float(b.radius + c.padding_ + margin + body_widen), open, wide);
+        open &= ~clear_lanes(centre[bi], b.radius, open);
+      }
+    }
     if (!open) continue;
     spheres_of(bi);
     for (int i = b.begin; i < b.end && open; ++i) {
@@ -195,9 +206,17 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
   for (std::size_t pi = 0; pi < c.pairs_.size(); ++pi) {
     if (!alive) return 0;
     const Pair& p = c.pairs_[pi];
-    const float pair_widen = widened(nb + pi);
+    float pair_widen = widened(nb + pi);
     const Xyz &ca = centre[std::size_t(p.a)], &cb = centre[std::size_t(p.b)];
     std::uint32_t near = lanes::bits(overlaps(ca, cb, float(p.reach) + margin + pair_widen), wide) & alive;
+    // Near under the static bound: the lanes' own, where smaller (as for bodies).
+    if (near && motion && pair_widen > 0) {
+      const float local = motion->pair(c, pi, poses, centre.data(), near);
+      if (local < pair_widen) {
+        pair_widen = local;
+        near &= lanes::bits(overlaps(ca, cb, float(p.reach) + margin + pair_widen), wide);
+      }
+    }
     if (!near) continue;
     if (p.table >= 0) near &= ~(*c.tables_)[std::size_t(p.table)].apart_lanes(in, c.padding_ + double(pair_widen), wide);
     if (!near) continue;
@@ -234,47 +253,21 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
 // inliner, this function is past its size limits and each mask became a call.
 __attribute__((target("avx2,fma"), flatten)) std::uint32_t SphereFieldChecker::free_lanes_avx2(const SphereFieldChecker& c,
                                                                                                const double* const* q,
-                                                                                               int count, const float* widen) {
-  return free_lanes_body(c, q, count, widen, true);
+                                                                                               int count, const float* widen,
+                                                                                               const LaneMotion* motion) {
+  return free_lanes_body(c, q, count, widen, motion, true);
 }
 
 std::uint32_t SphereFieldChecker::free_lanes_portable(const SphereFieldChecker& c, const double* const* q, int count,
-                                                      const float* widen) {
-  return free_lanes_body(c, q, count, widen, false);
+                                                      const float* widen, const LaneMotion* motion) {
+  return free_lanes_body(c, q, count, widen, motion, false);
 }
 
 std::uint32_t SphereFieldChecker::free_lanes(const double* const* q, int count) const {
   if (count <= 0) return 0;
   count = std::min(count, N);
-  return simd_path() == SimdPath::Avx2 ? free_lanes_avx2(*this, q, count, nullptr) : free_lanes_portable(*this, q, count, nullptr);
-}
-
-std::uint32_t SphereFieldChecker::free_lanes_along(const double* const* q, int count, const Eigen::VectorXd& direction,
-                                                   double reach) const {
-  if (!(reach > 0)) return free_lanes(q, count);
-  if (count <= 0 || !certifiable_ || direction.size() != kin_->dof() || !direction.allFinite()) return 0;
-  count = std::min(count, N);
-  // How far each body (then each pair, relative to each other) can move over `reach` along
-  // +-direction: the static bound of check_along's first cut, rounded up into floats.
-  auto speed = [&](const std::vector<ChainJoint>& joints) {
-    double v = 0;
-    for (const auto& j : joints) v += std::abs(direction[j.slot]) * j.reach;
-    return v;
-  };
-  thread_local std::vector<float> widen;
-  widen.clear();
-  auto add = [&](double v) {
-    const double w = reach * v * (1 + 0x1p-20);
-    if (!(w <= 1.0)) return false;  // past the magnitudes lane_margin() covers; nothing that far is proven
-    widen.push_back(float(w));
-    return true;
-  };
-  for (const Body& b : bodies_)
-    if (!add(speed(b.chain))) return 0;
-  for (const PairMoves& m : pair_moves_)
-    if (!add(speed(m.a) + speed(m.b))) return 0;
-  return simd_path() == SimdPath::Avx2 ? free_lanes_avx2(*this, q, count, widen.data())
-                                       : free_lanes_portable(*this, q, count, widen.data());
+  return simd_path() == SimdPath::Avx2 ? free_lanes_avx2(*this, q, count, nullptr, nullptr)
+                                       : free_lanes_portable(*this, q, count, nullptr, nullptr);
 }
 
 }  // namespace dmgplace::runtime

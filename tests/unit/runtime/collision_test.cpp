@@ -307,24 +307,66 @@ TEST(Batch, LaneMarginFollowsJointsSetOutsideTheChain) {
 // apart is free for the scalar layer (FCL with the scene's exact primitives, which the batch
 // trusts outside the grid too). The test finds lanes whose centre alone is free but some state
 // within reach is not, so a batch that widened nothing would fail it; reach 0 is free_lanes.
-TEST(Batch, LanesAlongADirectionProveEveryStateWithinTheirReach) {
+namespace {
+// The fast layer three ways for free_lanes_along's tests: the field, the same holding an object
+// (two spheres), and with the scene's exact primitives; with or without self tables. Two judges
+// that know the true geometry (a proof holds for true distances, not for the scalar field check,
+// whose node bounds lose up to a cell's slope):
+// - `judge`, FCL for the robot (the self tables bound the meshes' distance, so only the meshes can
+//   judge their proofs), and for the held object its spheres' exact distances to the scene's
+//   primitives and to the robot spheres it may not touch;
+// - `sphere_judge`: for the scene, the scalar check with the exact primitives, which is the sphere
+//   model's truth (every undecided sphere asks the exact distance), so the slack between spheres
+//   and meshes does not hide a bound too small; for the rest, `judge`.
+struct AlongCheckers {
   ShelfWorld w;
-  SphereFieldChecker fast(w.kin, w.arm.spheres, w.sdf, 0.3);
-  fast.set_self_tables(test::self_distance_tables(w.kin, w.arm.spheres));
+  SphereFieldChecker fast{w.kin, w.arm.spheres, w.sdf, 0.3};
+  SphereFieldChecker held, primitives, held_primitives;
+  ExactChecker exact{w.kin, w.scene};
   AttachedSpheres object;
-  object.link = w.arm.model.link_index("dmgarm_tcp");
-  object.centers = {Eigen::Vector3d(0, 0, 0.02), Eigen::Vector3d(0, 0, 0.06)};
-  object.radii = {0.025, 0.025};
-  object.touching_links = {w.arm.model.link_index("dmgarm_leftfinger"), w.arm.model.link_index("dmgarm_rightfinger")};
-  const SphereFieldChecker held = fast.with_attached(object);
-  SphereFieldChecker primitives = fast;
-  primitives.set_exact_obstacles(PrimitiveObstacles::from_scene(w.scene));
-  ExactChecker exact(w.kin, w.scene);
+  std::shared_ptr<const PrimitiveObstacles> scene = PrimitiveObstacles::from_scene(w.scene);
+  explicit AlongCheckers(bool tables) : held(fast), primitives(fast), held_primitives(fast) {
+    if (tables) fast.set_self_tables(test::self_distance_tables(w.kin, w.arm.spheres));
+    object.link = w.arm.model.link_index("dmgarm_tcp");
+    object.centers = {Eigen::Vector3d(0, 0, 0.02), Eigen::Vector3d(0, 0, 0.06)};
+    object.radii = {0.025, 0.025};
+    object.touching_links = {w.arm.model.link_index("dmgarm_leftfinger"), w.arm.model.link_index("dmgarm_rightfinger")};
+    held = fast.with_attached(object);
+    primitives = fast;
+    primitives.set_exact_obstacles(scene);
+    held_primitives = primitives.with_attached(object);
+  }
+  std::array<const SphereFieldChecker*, 3> all() const { return {&fast, &held, &primitives}; }
+  bool judge(const SphereFieldChecker* checker, const Eigen::VectorXd& q) const {
+    if (!exact.is_free(q)) return false;
+    if (checker != &held) return true;
+    std::vector<Eigen::Isometry3d> poses;
+    w.kin.link_poses(q, poses);
+    for (std::size_t i = 0; i < object.centers.size(); ++i) {
+      const Eigen::Vector3d p = poses[std::size_t(object.link)] * object.centers[i];
+      if (scene->distance(p) < object.radii[i]) return false;
+      for (const auto& s : w.arm.spheres) {
+        const auto& t = object.touching_links;
+        if (s.link == object.link || std::find(t.begin(), t.end(), s.link) != t.end()) continue;
+        if ((poses[std::size_t(s.link)] * s.center - p).norm() < s.radius + object.radii[i]) return false;
+      }
+    }
+    return true;
+  }
+  bool sphere_judge(const SphereFieldChecker* checker, const Eigen::VectorXd& q) const {
+    return (checker == &held ? held_primitives : primitives).check(q).environment_free && judge(checker, q);
+  }
+};
+}  // namespace
+
+TEST(Batch, LanesAlongADirectionProveEveryStateWithinTheirReach) {
+  const AlongCheckers c(true);
+  const ShelfWorld& w = c.w;
   int near_misses = 0;
-  for (const SphereFieldChecker* checker : std::initializer_list<const SphereFieldChecker*>{&fast, &held, &primitives})
+  for (const SphereFieldChecker* checker : c.all())
     for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
       force_simd_path(path);
-      auto judge = [&](const Eigen::VectorXd& q) { return checker == &primitives ? exact.is_free(q) : checker->is_free(q); };
+      auto judge = [&](const Eigen::VectorXd& q) { return c.judge(checker, q); };
       std::mt19937_64 rng(17);
       std::normal_distribution<double> n(0, 1);
       int proven = 0;
@@ -356,6 +398,131 @@ TEST(Batch, LanesAlongADirectionProveEveryStateWithinTheirReach) {
   force_simd_path(SimdPath::Avx2);
   EXPECT_GT(near_misses, 10) << "no lane was free alone and blocked within reach: the test cannot tell";
   RecordProperty("near_misses", near_misses);
+}
+
+// free_lanes_along's widening bounds every motion it covers: over +-reach along the direction,
+// no point of a body's spheres (the held object's too) moves farther than its bound, and no two
+// points of a checked pair change their distance by more than the pair's, lane by lane. The
+// bounds are tight where the lanes' own lever arms are used: the largest ratio of motion to bound
+// comes near 1 (so a bound a fifth too small fails here), where the static bound alone stays far
+// below.
+TEST(Batch, MotionBoundsCoverEveryPointOfEachBodyAndPair) {
+  const AlongCheckers c(true);
+  const ShelfWorld& w = c.w;
+  std::mt19937_64 rng(29);
+  std::normal_distribution<double> n(0, 1);
+  // Points of a link's spheres (held object's, for the attached body): centres and six extremes.
+  auto points = [&](int link, bool attached) {
+    std::vector<Eigen::Vector3d> out;
+    auto add = [&](const Eigen::Vector3d& centre, double r) {
+      out.push_back(centre);
+      for (int i = 0; i < 3; ++i)
+        for (const double sign : {-1.0, 1.0}) out.push_back(centre + sign * r * Eigen::Vector3d::Unit(i));
+    };
+    if (attached)
+      for (std::size_t i = 0; i < c.object.centers.size(); ++i) add(c.object.centers[i], c.object.radii[i]);
+    else
+      for (const auto& s : w.arm.spheres)
+        if (s.link == link) add(s.center, s.radius);
+    return out;
+  };
+  double worst = 0;
+  int bodies = 0, pairs = 0, batches = 0;
+  std::vector<Eigen::Isometry3d> p0, pt;
+  for (int round = 0; round < 40; ++round) {
+    std::vector<Eigen::VectorXd> qs;
+    const double* ptr[PoseBatch::kLanes];
+    for (int k = 0; k < PoseBatch::kLanes; ++k) qs.push_back(random_q(w.kin, rng));
+    for (int k = 0; k < PoseBatch::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
+    Eigen::VectorXd u(w.kin.dof());
+    for (int i = 0; i < u.size(); ++i) u[i] = n(rng);
+    u.normalize();
+    const double reach = std::array{0.01, 0.04, 0.12}[std::size_t(round % 3)];
+    const auto bounds = c.held.motion_bounds(ptr, PoseBatch::kLanes, u, reach);
+    if (bounds.empty()) continue;
+    ++batches;
+    for (int k = 0; k < PoseBatch::kLanes; ++k) {
+      w.kin.link_poses(qs[std::size_t(k)], p0);
+      for (int step = -10; step <= 10; ++step) {
+        if (step == 0) continue;
+        w.kin.link_poses(qs[std::size_t(k)] + (reach * step / 10.0) * u, pt);
+        for (const auto& b : bounds) {
+          const double bound = b.metres[std::size_t(k)];
+          const bool held_a = b.attached && (b.link_b < 0 || b.link_a == c.object.link);
+          const auto pa = points(b.link_a, held_a);
+          double moved = 0;
+          if (b.link_b < 0) {
+            for (const auto& x : pa)
+              moved = std::max(moved, (pt[std::size_t(b.link_a)] * x - p0[std::size_t(b.link_a)] * x).norm());
+            bodies += step == 10;
+          } else {
+            const auto pb = points(b.link_b, b.attached && !held_a);
+            for (const auto& x : pa)
+              for (const auto& y : pb) {
+                const double d0 = (p0[std::size_t(b.link_a)] * x - p0[std::size_t(b.link_b)] * y).norm();
+                const double d1 = (pt[std::size_t(b.link_a)] * x - pt[std::size_t(b.link_b)] * y).norm();
+                moved = std::max(moved, std::abs(d1 - d0));
+              }
+            pairs += step == 10;
+          }
+          ASSERT_LE(moved, bound + 1e-9) << "link " << b.link_a << (b.link_b >= 0 ? " with " + std::to_string(b.link_b) : "")
+                                         << ", lane " << k << ", reach " << reach << ", step " << step;
+          if (bound > 0) worst = std::max(worst, moved / bound);
+        }
+      }
+    }
+  }
+  EXPECT_GT(batches, 30);
+  EXPECT_GT(bodies, 1000);
+  EXPECT_GT(pairs, 1000);
+  EXPECT_GT(worst, 0.85) << "the bounds are loose everywhere: a bound too small would pass";
+  RecordProperty("largest_motion_over_bound", std::to_string(worst));
+}
+
+// Lanes lined up short of a collision, heading for it, most within one reach of it: a lane whose
+// reach takes in the collision must not be proven, however clear the lane's own state. Many such
+// lanes are proven free alone (free_lanes), so only the widening stands between them and a wrong
+// proof (with no widening this fails at once).
+TEST(Batch, LanesHeadingForACollisionAreNotProvenPastIt) {
+  const AlongCheckers c(true);
+  const ShelfWorld& w = c.w;
+  for (const SphereFieldChecker* checker : c.all())
+    for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
+      force_simd_path(path);
+      auto judge = [&](const Eigen::VectorXd& q) { return c.sphere_judge(checker, q); };
+      std::mt19937_64 rng(23);
+      std::normal_distribution<double> n(0, 1);
+      int cases = 0, free_alone = 0;
+      for (int attempt = 0; attempt < 4000 && cases < 20; ++attempt) {
+        const Eigen::VectorXd q = random_q(w.kin, rng);
+        Eigen::VectorXd u(w.kin.dof());
+        for (int i = 0; i < u.size(); ++i) u[i] = n(rng);
+        u.normalize();
+        if (!judge(q)) continue;
+        double hit = -1;  // the first blocked state along u, 2.5 mrad apart
+        for (double t = 0.0025; t <= 0.4 && hit < 0; t += 0.0025)
+          if (!judge(q + t * u)) hit = t;
+        if (hit < 0.05) continue;
+        ++cases;
+        const double reach = std::min(0.04, hit / 2);
+        auto short_of = [&](int k) { return reach * (0.15 + 0.125 * k); };  // 0.15 .. 1.025 reaches short of it
+        std::vector<Eigen::VectorXd> qs;
+        const double* ptr[PoseBatch::kLanes];
+        for (int k = 0; k < PoseBatch::kLanes; ++k) qs.push_back(q + (hit - short_of(k)) * u);
+        for (int k = 0; k < PoseBatch::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
+        const std::uint32_t along = checker->free_lanes_along(ptr, PoseBatch::kLanes, u, reach);
+        const std::uint32_t alone = checker->free_lanes(ptr);
+        for (int k = 0; k < PoseBatch::kLanes; ++k) {
+          if (!(short_of(k) < reach)) continue;
+          free_alone += alone >> k & 1u;
+          ASSERT_FALSE(along >> k & 1u) << to_string(path) << ": lane " << k << " proven " << short_of(k) / reach
+                                        << " reaches short of a collision";
+        }
+      }
+      EXPECT_GE(cases, 20) << to_string(path);
+      EXPECT_GT(free_alone, 3) << to_string(path) << ": the lanes are not free alone, the test cannot tell";
+    }
+  force_simd_path(SimdPath::Avx2);
 }
 
 TEST(Collision, HomePoseIsFreeAndObstaclesAtTheHandAreCaught) {

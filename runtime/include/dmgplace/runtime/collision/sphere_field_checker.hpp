@@ -121,11 +121,27 @@ class SphereFieldChecker {
   std::uint32_t free_lanes(const double* const* q, int count = PoseBatch::kLanes) const;
   // As free_lanes, but bit k says more: every configuration within `reach` (joint-space length)
   // of q[k] along +-direction is free. Each body's test is widened by how far it can move over
-  // that length (the certificates' static speed: sum over its chain joints of |direction_j| times
-  // the farthest it gets from joint j's axis), each pair's by their relative speed (the joints
-  // moving one and not the other), each table's bound likewise. Nothing is proven (0) where
-  // speeds are unknown (a mimic joint follows a chain joint) or a widening passes 1 m.
+  // that length, each pair's (and its table's) by how far they can move relative to each other
+  // (the joints moving one and not the other): first by the certificates' static speed (sum over
+  // the joints of |direction_j| times the farthest the body gets from joint j's axis); where that
+  // leaves a test undecided, by the lanes' own bound (motion_bounds) where smaller. Nothing is
+  // proven (0) where speeds are unknown (a mimic joint follows a chain joint) or a static
+  // widening passes 1 m.
   std::uint32_t free_lanes_along(const double* const* q, int count, const Eigen::VectorXd& direction, double reach) const;
+  // free_lanes_along's widening, lane by lane, for tests and diagnostics: for every body
+  // (link_b = -1) and then every checked pair, how far it can move (a pair: relative to each
+  // other) within `reach` along +-direction from q[k], in metres: the smaller of the static bound
+  // and the displacement bounds of displacement_bound.hpp (static, Gronwall, Taylor) from the
+  // lane's own lever arms, in floats rounded up. The batch computes the latter only where the
+  // static one leaves a test undecided, and takes the largest over the lanes still open. Empty
+  // where free_lanes_along proves nothing.
+  struct MotionBound {
+    int link_a = -1, link_b = -1;
+    bool attached = false;  // the held object's body, or a pair with it
+    std::array<double, PoseBatch::kLanes> metres{};
+  };
+  std::vector<MotionBound> motion_bounds(const double* const* q, int count, const Eigen::VectorXd& direction,
+                                         double reach) const;
   // How much free_lanes widens each "free" test (metres) to cover its float rounding, for the
   // kinematics' joint values as they are now.
   double lane_margin() const;
@@ -210,15 +226,24 @@ class SphereFieldChecker {
     float x[PoseBatch::kLanes], y[PoseBatch::kLanes], z[PoseBatch::kLanes], r[PoseBatch::kLanes];
   };
   std::vector<LaneSphere> lane_spheres_;
+  // A body's displacement over free_lanes_along's reach from each lane's own lever arms
+  // (src/collision/sphere_lane_motion.hpp).
+  struct LaneMotion;
+  // free_lanes_along's static widening: per body, then per pair (false: past 1 m somewhere).
+  bool static_widening(const Eigen::VectorXd& direction, double reach, std::vector<float>& widen) const;
   // free_lanes' body, compiled for AVX2 + FMA and for the portable baseline (one per path).
   // `widen`: per body then per pair (bodies_.size() + pairs_.size() floats), metres added to
-  // what each test needs (free_lanes_along); null: none.
-  static std::uint32_t free_lanes_avx2(const SphereFieldChecker& c, const double* const* q, int count, const float* widen);
-  static std::uint32_t free_lanes_portable(const SphereFieldChecker& c, const double* const* q, int count, const float* widen);
+  // what each test needs (free_lanes_along's static bounds); null: none. `motion` (with widen):
+  // a body whose bounding sphere the static widening leaves undecided is widened by its lanes'
+  // own bound instead, where smaller.
+  static std::uint32_t free_lanes_avx2(const SphereFieldChecker& c, const double* const* q, int count, const float* widen,
+                                       const LaneMotion* motion);
+  static std::uint32_t free_lanes_portable(const SphereFieldChecker& c, const double* const* q, int count,
+                                           const float* widen, const LaneMotion* motion);
   // `wide`: a vector of lanes is one register (AVX2), so masks are ORed and turned into bits once;
   // the portable build compares lane by lane, where bits per test cost less.
   static std::uint32_t free_lanes_body(const SphereFieldChecker& c, const double* const* q, int count, const float* widen,
-                                       bool wide);
+                                       const LaneMotion* motion, bool wide);
   // free_lanes works in floats: lanes whose body centres stay within lane_limit_ metres of the
   // origin on every axis, every test that can say "free" widened by lane_margin() metres, which
   // bounds the rounding there: lane_rounding_ for the steps after the poses (set with the robot's

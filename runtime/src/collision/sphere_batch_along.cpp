@@ -1,0 +1,93 @@
+// SphereFieldChecker::free_lanes_along: span batches, each lane proving every configuration within
+// a reach of it along a direction. Each body's (each pair's) tests are widened by how far it can
+// move over the reach: first by the static bound (the chain reaches), then, where that leaves a
+// test undecided, by the lanes' own (sphere_lane_motion.hpp) inside the kernel (sphere_batch.cpp).
+#include <algorithm>
+#include <cmath>
+
+#include "dmgplace/runtime/collision/sphere_field_checker.hpp"
+#include "dmgplace/runtime/system/simd_dispatch.hpp"
+#include "sphere_lane_motion.hpp"
+
+namespace dmgplace::runtime {
+
+bool SphereFieldChecker::static_widening(const Eigen::VectorXd& direction, double reach, std::vector<float>& widen) const {
+  // How far each body (then each pair, relative to each other) can move over `reach` along
+  // +-direction: the static bound of check_along's first cut, rounded up into floats.
+  auto speed = [&](const std::vector<ChainJoint>& joints) {
+    double v = 0;
+    for (const auto& j : joints) v += std::abs(direction[j.slot]) * j.reach;
+    return v;
+  };
+  widen.clear();
+  auto add = [&](double v) {
+    const double w = reach * v * (1 + 0x1p-20);
+    if (!(w <= 1.0)) return false;  // past the magnitudes lane_margin() covers; nothing that far is proven
+    widen.push_back(float(w));
+    return true;
+  };
+  for (const Body& b : bodies_)
+    if (!add(speed(b.chain))) return false;
+  for (const PairMoves& m : pair_moves_)
+    if (!add(speed(m.a) + speed(m.b))) return false;
+  return true;
+}
+
+std::uint32_t SphereFieldChecker::free_lanes_along(const double* const* q, int count, const Eigen::VectorXd& direction,
+                                                   double reach) const {
+  if (!(reach > 0)) return free_lanes(q, count);
+  if (count <= 0 || !certifiable_ || direction.size() != kin_->dof() || !direction.allFinite()) return 0;
+  count = std::min(count, PoseBatch::kLanes);
+  thread_local std::vector<float> widen;
+  if (!static_widening(direction, reach, widen)) return 0;
+  const LaneMotion motion = LaneMotion::start(*this, direction, reach);
+  return simd_path() == SimdPath::Avx2 ? free_lanes_avx2(*this, q, count, widen.data(), &motion)
+                                       : free_lanes_portable(*this, q, count, widen.data(), &motion);
+}
+
+std::vector<SphereFieldChecker::MotionBound> SphereFieldChecker::motion_bounds(const double* const* q, int count,
+                                                                               const Eigen::VectorXd& direction,
+                                                                               double reach) const {
+  std::vector<MotionBound> out;
+  if (count <= 0 || !(reach > 0) || !certifiable_ || direction.size() != kin_->dof() || !direction.allFinite()) return out;
+  count = std::min(count, PoseBatch::kLanes);
+  std::vector<float> widen;
+  if (!static_widening(direction, reach, widen)) return out;
+  const double* in[PoseBatch::kLanes];
+  for (int k = 0; k < PoseBatch::kLanes; ++k) in[k] = q[k < count ? k : 0];
+  PoseBatchF poses;
+  kin_->link_poses_batch(in, poses);
+  std::vector<LaneXyz> centre(bodies_.size());
+  for (std::size_t bi = 0; bi < bodies_.size(); ++bi) {
+    const auto& T = poses.pose[std::size_t(bodies_[bi].link)];
+    const Eigen::Vector3f c = bodies_[bi].center.cast<float>();
+    for (int k = 0; k < PoseBatch::kLanes; ++k) {
+      centre[bi].x[k] = T[0][k] * c.x() + T[1][k] * c.y() + T[2][k] * c.z() + T[9][k];
+      centre[bi].y[k] = T[3][k] * c.x() + T[4][k] * c.y() + T[5][k] * c.z() + T[10][k];
+      centre[bi].z[k] = T[6][k] * c.x() + T[7][k] * c.y() + T[8][k] * c.z() + T[11][k];
+    }
+  }
+  const LaneMotion motion = LaneMotion::start(*this, direction, reach);
+  auto fill = [&](MotionBound& m, float static_bound, auto&& local) {
+    for (int k = 0; k < count; ++k) m.metres[std::size_t(k)] = std::min(double(static_bound), double(local(1u << k)));
+  };
+  for (std::size_t bi = 0; bi < bodies_.size(); ++bi) {
+    MotionBound m;
+    m.link_a = bodies_[bi].link;
+    m.attached = bodies_[bi].attached;
+    fill(m, widen[bi], [&](std::uint32_t lane) { return motion.body(*this, bi, poses, centre.data(), lane); });
+    out.push_back(m);
+  }
+  for (std::size_t pi = 0; pi < pairs_.size(); ++pi) {
+    MotionBound m;
+    const Body &a = bodies_[std::size_t(pairs_[pi].a)], &b = bodies_[std::size_t(pairs_[pi].b)];
+    m.link_a = a.link;
+    m.link_b = b.link;
+    m.attached = a.attached || b.attached;
+    fill(m, widen[bodies_.size() + pi], [&](std::uint32_t lane) { return motion.pair(*this, pi, poses, centre.data(), lane); });
+    out.push_back(m);
+  }
+  return out;
+}
+
+}  // namespace dmgplace::runtime
