@@ -38,21 +38,26 @@ ob::SpaceInformationPtr make_space(std::atomic<long>* checks) {
   return si;
 }
 
+// A random motion a -> b from a valid start.
+void random_motion(std::mt19937_64& rng, ob::ScopedState<>& a, ob::ScopedState<>& b) {
+  std::uniform_real_distribution<double> u(0, 10);
+  do {
+    a[0] = u(rng);
+    a[1] = u(rng);
+  } while (clearance(a[0], a[1]) <= 0);
+  b[0] = u(rng);
+  b[1] = u(rng);
+}
+
 // 3000 random motions from valid starts: the certified validator gives the discrete one's answer
 // to each (a failed expectation names the motion). Returns how many were invalid.
 int discrete_answers(const ob::SpaceInformationPtr& si, ob::DiscreteMotionValidator& discrete,
                      CertifiedMotionValidator& certified, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0, 10);
   ob::ScopedState<> a(si), b(si);
   int invalid = 0;
   for (int i = 0; i < 3000; ++i) {
-    do {
-      a[0] = u(rng);
-      a[1] = u(rng);
-    } while (clearance(a[0], a[1]) <= 0);
-    b[0] = u(rng);
-    b[1] = u(rng);
+    random_motion(rng, a, b);
     const bool d = discrete.checkMotion(a.get(), b.get()), c = certified.checkMotion(a.get(), b.get());
     EXPECT_EQ(c, d) << "motion (" << a[0] << ", " << a[1] << ") -> (" << b[0] << ", " << b[1] << ")";
     if (c != d) break;  // one named motion is enough
@@ -209,17 +214,11 @@ TEST(CertifiedMotionValidator, EveryStateOfAValidMotionIsProvenBySomeCheck) {
         return mask;
       });
   std::mt19937_64 rng(11);
-  std::uniform_real_distribution<double> u(0, 10);
   ob::ScopedState<> a(si), b(si);
   int valid = 0;
   const double step = si->getStateSpace()->getLongestValidSegmentLength();
   for (int i = 0; i < 3000; ++i) {
-    do {
-      a[0] = u(rng);
-      a[1] = u(rng);
-    } while (clearance(a[0], a[1]) <= 0);
-    b[0] = u(rng);
-    b[1] = u(rng);
+    random_motion(rng, a, b);
     start = Eigen::Vector2d(a[0], a[1]);
     const Eigen::Vector2d d = Eigen::Vector2d(b[0], b[1]) - start;
     const double length = d.norm();

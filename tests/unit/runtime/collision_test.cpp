@@ -308,6 +308,22 @@ TEST(Batch, LaneMarginFollowsJointsSetOutsideTheChain) {
 // trusts outside the grid too). The test finds lanes whose centre alone is free but some state
 // within reach is not, so a batch that widened nothing would fail it; reach 0 is free_lanes.
 namespace {
+// 8 random configurations (and their pointers, as free_lanes takes them) and a random unit
+// direction (from n, which keeps its spare draw between batches), drawn in that order.
+struct RandomBatch {
+  std::vector<Eigen::VectorXd> qs;
+  const double* ptr[PoseBatch::kLanes];
+  Eigen::VectorXd u;
+  RandomBatch(const Kinematics& kin, std::mt19937_64& rng, std::normal_distribution<double>& n) {
+    for (int k = 0; k < PoseBatch::kLanes; ++k) qs.push_back(random_q(kin, rng));
+    for (int k = 0; k < PoseBatch::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
+    u.resize(kin.dof());
+    for (int i = 0; i < u.size(); ++i) u[i] = n(rng);
+    u.normalize();
+  }
+  RandomBatch(const RandomBatch&) = delete;  // ptr points into qs
+};
+
 // The fast layer three ways for free_lanes_along's tests: the field, the same holding an object
 // (two spheres), and with the scene's exact primitives; with or without self tables. Two judges
 // that know the true geometry (a proof holds for true distances, not for the scalar field check,
@@ -371,13 +387,10 @@ TEST(Batch, LanesAlongADirectionProveEveryStateWithinTheirReach) {
       std::normal_distribution<double> n(0, 1);
       int proven = 0;
       for (int round = 0; round < 160; ++round) {
-        std::vector<Eigen::VectorXd> qs;
-        const double* ptr[PoseBatch::kLanes];
-        for (int k = 0; k < PoseBatch::kLanes; ++k) qs.push_back(random_q(w.kin, rng));
-        for (int k = 0; k < PoseBatch::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
-        Eigen::VectorXd u(w.kin.dof());
-        for (int i = 0; i < u.size(); ++i) u[i] = n(rng);
-        u.normalize();
+        const RandomBatch batch(w.kin, rng, n);
+        const auto& qs = batch.qs;
+        const auto& ptr = batch.ptr;
+        const auto& u = batch.u;
         const double reach = round % 2 ? 0.08 : 0.03;
         const std::uint32_t alone = checker->free_lanes(ptr), along = checker->free_lanes_along(ptr, PoseBatch::kLanes, u, reach);
         ASSERT_EQ(checker->free_lanes_along(ptr, PoseBatch::kLanes, u, 0.0), alone);
@@ -430,13 +443,10 @@ TEST(Batch, MotionBoundsCoverEveryPointOfEachBodyAndPair) {
   int bodies = 0, pairs = 0, batches = 0;
   std::vector<Eigen::Isometry3d> p0, pt;
   for (int round = 0; round < 40; ++round) {
-    std::vector<Eigen::VectorXd> qs;
-    const double* ptr[PoseBatch::kLanes];
-    for (int k = 0; k < PoseBatch::kLanes; ++k) qs.push_back(random_q(w.kin, rng));
-    for (int k = 0; k < PoseBatch::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
-    Eigen::VectorXd u(w.kin.dof());
-    for (int i = 0; i < u.size(); ++i) u[i] = n(rng);
-    u.normalize();
+    const RandomBatch batch(w.kin, rng, n);
+    const auto& qs = batch.qs;
+    const auto& ptr = batch.ptr;
+    const auto& u = batch.u;
     const double reach = std::array{0.01, 0.04, 0.12}[std::size_t(round % 3)];
     const auto bounds = c.held.motion_bounds(ptr, PoseBatch::kLanes, u, reach);
     if (bounds.empty()) continue;
