@@ -33,7 +33,8 @@ struct SphereFieldChecker::LaneMotion {
   // world; per body (lever_begin), each chain joint's lever arm about the body centre, its norm
   // plus rounding, and that rounding.
   LaneXyz *axis = nullptr, *origin = nullptr, *arm = nullptr;
-  std::array<float, PoseBatch::kLanes>*arm_norm = nullptr, *arm_error = nullptr;
+  std::array<float, PoseBatch::kLanes>* arm_norm = nullptr;
+  std::array<float, PoseBatch::kLanes>* arm_error = nullptr;
   char *slot_done = nullptr, *body_done = nullptr;
 
   // A LaneMotion for one batch of `c` along `direction` over `reach`, on this thread's scratch.
