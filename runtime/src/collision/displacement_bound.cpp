@@ -50,6 +50,7 @@ void DisplacementBound::add(const DisplacementBound& o) {
 }
 
 double DisplacementBound::time_to_move(double clearance, double enough) const {
+  if (!(clearance > 0)) return 0.0;  // (the Gronwall form's Pade factor is meaningless below -1)
   const double inf = std::numeric_limits<double>::infinity();
   const double t_static = reach_speed > 0 ? clearance / reach_speed : inf;
   double t_local = inf;

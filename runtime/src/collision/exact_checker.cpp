@@ -338,6 +338,19 @@ namespace {
 // certifies stays clear of the exact layer's own contact tolerance too.
 constexpr double kGapTolerance = 1e-4;
 
+// The scene's primitives by the gap between their bounding balls and the part's, nearest first
+// (this thread's list, valid until the next call).
+const std::vector<std::pair<double, std::size_t>>& by_ball_gap(const ConvexSolid& part, const Eigen::Isometry3d& pose,
+                                                                const std::vector<std::pair<ConvexSolid, Eigen::Isometry3d>>& env) {
+  thread_local std::vector<std::pair<double, std::size_t>> order;
+  const Eigen::Vector3d c = pose * part.centre();
+  order.clear();
+  for (std::size_t k = 0; k < env.size(); ++k)
+    order.emplace_back((c - env[k].second * env[k].first.centre()).norm() - part.radius() - env[k].first.radius(), k);
+  std::sort(order.begin(), order.end());
+  return order;
+}
+
 // A convex part at `pose` against the scene's primitives: its gap (GJK's rigorous lower bound, less
 // the tolerance), asked only as far as `enough` needs. Nearest bounding balls first: a solid whose
 // ball is farther than the gap so far cannot lower it.
@@ -345,12 +358,7 @@ constexpr double kGapTolerance = 1e-4;
 double part_environment_gap(const ConvexSolid& part, const Eigen::Isometry3d& pose,
                             const std::vector<std::pair<ConvexSolid, Eigen::Isometry3d>>& env, double enough, double gap,
                             GapHint* hints) {
-  thread_local std::vector<std::pair<double, std::size_t>> order;
-  const Eigen::Vector3d c = pose * part.centre();
-  order.clear();
-  for (std::size_t k = 0; k < env.size(); ++k)
-    order.emplace_back((c - env[k].second * env[k].first.centre()).norm() - part.radius() - env[k].first.radius(), k);
-  std::sort(order.begin(), order.end());
+  const auto& order = by_ball_gap(part, pose, env);
   for (const auto& [ball_gap, k] : order) {
     // Past `enough` by the margin a computed gap gives up, a ball proves enough on its own.
     if (ball_gap >= gap || ball_gap - kGapTolerance > enough || gap <= 0) break;
@@ -358,6 +366,33 @@ double part_environment_gap(const ConvexSolid& part, const Eigen::Isometry3d& po
                             kGapTolerance);
   }
   return gap;
+}
+
+// part_environment_gap for a time instead of a gap (ExactChecker::link_environment_time): each
+// primitive's gap and separating direction go to `time`; the smallest time so far is `t`, and a
+// primitive whose ball is farther than `reach` of it cannot end it sooner.
+double part_environment_time(const ConvexSolid& part, const Eigen::Isometry3d& pose,
+                             const std::vector<std::pair<ConvexSolid, Eigen::Isometry3d>>& env, double enough_gap,
+                             double enough_time, const std::function<double(double, const Eigen::Vector3d&)>& time,
+                             const std::function<double(double)>& reach, double t, GapHint* hints) {
+  const auto& order = by_ball_gap(part, pose, env);
+  double bound = reach(std::min(t, enough_time));
+  for (const auto& [ball_gap, k] : order) {
+    if (t <= 0 || ball_gap - kGapTolerance >= bound) break;  // this ball, and every farther one, lasts longer
+    Eigen::Vector3d n;
+    double gap = convex_gap(part, pose, env[k].first, env[k].second, 1e-5, enough_gap + kGapTolerance, &hints[k], &n) - kGapTolerance;
+    double tk = gap > 0 ? time(gap, n) : 0.0;
+    if (gap > enough_gap && tk < enough_time) {  // stopped early, yet short: the whole gap
+      gap = convex_gap(part, pose, env[k].first, env[k].second, 1e-5, std::numeric_limits<double>::infinity(), &hints[k], &n) -
+            kGapTolerance;
+      tk = gap > 0 ? time(gap, n) : 0.0;
+    }
+    if (tk < t) {
+      t = tk;
+      bound = reach(std::min(t, enough_time));
+    }
+  }
+  return t;
 }
 
 // This thread's gap hints for the checker geometry `owner` (n of them), kept from query to query:
@@ -501,19 +536,42 @@ double ExactChecker::link_distance(const Eigen::VectorXd& q, int link_a, int lin
   return best;
 }
 
-double ExactChecker::link_environment_gap(const std::vector<Eigen::Isometry3d>& poses, int link, double enough) const {
-  const Impl& impl = *impl_;
+namespace {
+// `link`'s convex parts against the scene in turn: each(part, pose, value, hints) lowers `value`
+// (a gap or a time, from infinity) while it stays positive. 0 when the scene is not all primitives
+// or a part has no hull.
+template <class Each>
+double over_link_parts(const ExactChecker::Impl& impl, const std::vector<Eigen::Isometry3d>& poses, int link, Each&& each) {
   if (!impl.env_primitives) return 0.0;
-  double gap = std::numeric_limits<double>::infinity();
+  double value = std::numeric_limits<double>::infinity();
   const std::size_t np = impl.parts.size(), ne = impl.env_convex ? impl.env_convex->size() : 0;
   GapHint* hints = thread_gap_hints(&impl, np * ne + np * np);
-  for (std::size_t i = 0; i < np && gap > 0; ++i) {
+  for (std::size_t i = 0; i < np && value > 0; ++i) {
     const Part& p = impl.parts[i];
     if (impl.part_is_object[i] || p.link != link) continue;
     if (!p.convex) return 0.0;
-    gap = part_environment_gap(*p.convex, poses[std::size_t(p.link)] * p.local, *impl.env_convex, enough, gap, hints + i * ne);
+    value = each(*p.convex, poses[std::size_t(p.link)] * p.local, value, hints + i * ne);
   }
-  return gap;
+  return value;
+}
+}  // namespace
+
+double ExactChecker::link_environment_gap(const std::vector<Eigen::Isometry3d>& poses, int link, double enough) const {
+  return over_link_parts(*impl_, poses, link, [&](const ConvexSolid& part, const Eigen::Isometry3d& pose, double gap, GapHint* hints) {
+    return part_environment_gap(part, pose, *impl_->env_convex, enough, gap, hints);
+  });
+}
+
+double ExactChecker::link_environment_time(const std::vector<Eigen::Isometry3d>& poses, int link, double enough_gap,
+                                           double enough_time,
+                                           const std::function<double(double, const Eigen::Vector3d&)>& time,
+                                           const std::function<double(double)>& reach) const {
+  const double t =
+      over_link_parts(*impl_, poses, link, [&](const ConvexSolid& part, const Eigen::Isometry3d& pose, double sofar, GapHint* hints) {
+        return part_environment_time(part, pose, *impl_->env_convex, enough_gap, enough_time, time, reach, sofar, hints);
+      });
+  // Shapes were skipped as lasting `enough_time`, not as lasting t.
+  return std::min(t, enough_time);
 }
 
 bool ExactChecker::gaps_are_cheap() const {

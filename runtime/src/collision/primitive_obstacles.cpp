@@ -127,6 +127,48 @@ double PrimitiveObstacles::distance(const Eigen::Vector3d& p) const {
   return best;
 }
 
+void PrimitiveObstacles::reaching(const Eigen::Vector3d& p, double within, std::vector<int>& out) const {
+  out.clear();
+  for (std::size_t k = 0; k < prims_.size(); ++k) {
+    const double reach = within + prims_[k].bound_radius;
+    if (reach > 0 && (p - prims_[k].origin).squaredNorm() < reach * reach) out.push_back(int(k));
+  }
+}
+
+bool PrimitiveObstacles::separations(const Eigen::Vector3d& p, double within, const std::vector<int>& candidates,
+                                     std::vector<Separation>& out) const {
+  out.clear();
+  for (const int k : candidates) {
+    const Primitive& s = prims_[std::size_t(k)];
+    const double reach = within + s.bound_radius;
+    if (reach <= 0 || (p - s.origin).squaredNorm() >= reach * reach) continue;
+    const Eigen::Vector3d local = s.to_local * (p - s.origin);
+    Eigen::Vector3d nearest;  // the primitive's point nearest p, local
+    switch (s.type) {
+      case ShapeType::Box:
+        nearest = local.cwiseMax(-s.half).cwiseMin(s.half);
+        break;
+      case ShapeType::Cylinder: {
+        const double r = std::hypot(local.x(), local.y());
+        const double scale = r > s.half.x() ? s.half.x() / r : 1.0;
+        nearest = Eigen::Vector3d(local.x() * scale, local.y() * scale, std::clamp(local.z(), -s.half.z(), s.half.z()));
+        break;
+      }
+      default: {  // a sphere (from_scene stores nothing else)
+        const double r = local.norm();
+        nearest = r > s.half.x() ? Eigen::Vector3d(local * (s.half.x() / r)) : local;
+        break;
+      }
+    }
+    const Eigen::Vector3d away = local - nearest;
+    const double d = away.norm();
+    if (!(d > 1e-12)) return false;  // inside or on it
+    if (d >= within) continue;
+    out.push_back({d, s.to_local.transpose() * (away / d)});
+  }
+  return true;
+}
+
 std::uint64_t PrimitiveObstacles::touching(const Eigen::Vector3d& p, double radius) const {
   std::uint64_t mask = 0;
   const std::size_t n = std::min<std::size_t>(prims_.size(), 64);

@@ -28,6 +28,7 @@ void SphereFieldChecker::Pass::certificate() {
   // A candidate lasting `limit` needs no more work: it is set aside and only the smallest such
   // time kept, so the smallest-first scan reads only the candidates still short of it.
   double beyond = std::numeric_limits<double>::infinity();
+  double isotropic = std::numeric_limits<double>::infinity();  // the smallest time a directional bound raised
   auto keep = [&](std::size_t at) {  // after s.times[at] changed
     if (s.times[at] < limit) return;
     beyond = std::min(beyond, s.times[at]);
@@ -127,6 +128,11 @@ void SphereFieldChecker::Pass::certificate() {
     }
     it->clearance = std::max(clearance, it->clearance);
     it->t = it->speed.time_to_move(it->clearance, limit);
+    // Short of the limit near the exact primitives: the body's spheres may be sliding along them.
+    if (!it->pair && c.obstacles_ && it->t < limit) {
+      isotropic = std::min(isotropic, it->t);
+      it->t = std::max(it->t, directional_time(*it, limit));
+    }
     it->level = 2;
     s.times[at] = it->t;
     keep(at);
@@ -135,6 +141,40 @@ void SphereFieldChecker::Pass::certificate() {
   for (const double t : s.times) fd = std::min(fd, t);
   if (skipped) fd = std::min(fd, enough);
   out.free_distance = std::isfinite(fd) ? fd : 1e9;
+  out.isotropic_distance = std::min(out.free_distance, isotropic);
+}
+
+// How long a body's spheres keep clear of the scene's primitives, each sphere and primitive
+// closing their gap only as fast as the sphere moves along their separating direction
+// (displacement_bound.hpp, directional): a body sliding along a shelf lasts longer than its
+// clearance over its speed. Spheres the field puts past `need` last `limit` in any direction.
+double SphereFieldChecker::Pass::directional_time(const Candidate& cand, double limit) {
+  const Body& b = c.bodies_[cand.index];
+  BallVelocity velocity;
+  body_speed(cand.index, &velocity);
+  // A gap wider than the body's displacement bound over t (in any direction) cannot end before t:
+  // only gaps narrower than `reach` are worth a directional time.
+  double t = limit, reach = cand.speed.displacement(limit);
+  thread_local std::vector<int> prims;
+  thread_local std::vector<PrimitiveObstacles::Separation> near;
+  c.obstacles_->reaching(s.body_center[cand.index], reach + b.radius + c.padding_, prims);
+  for (int i = b.begin; i < b.end && t > 0 && !prims.empty(); ++i) {
+    const Eigen::Vector3d& w = s.world[std::size_t(i)];
+    const double r = c.spheres_[std::size_t(i)].radius + c.padding_;
+    if (!c.obstacles_->separations(w, reach + r, prims, near)) return 0.0;
+    for (const auto& sep : near) {
+      const double gap = sep.distance - r;
+      if (!(gap > 0)) return 0.0;
+      if (gap >= reach) continue;
+      // Only the smallest time counts: past t, time_to_move may stop at its cheap bounds.
+      const double tk = cand.speed.along(velocity.along(sep.normal, w, r)).time_to_move(gap, t);
+      if (tk < t) {
+        t = tk;
+        reach = cand.speed.displacement(t);
+      }
+    }
+  }
+  return t;
 }
 
 void SphereFieldChecker::Pass::levers(std::size_t bi) {
@@ -157,7 +197,8 @@ void SphereFieldChecker::Pass::levers(std::size_t bi) {
   }
 }
 
-DisplacementBound SphereFieldChecker::Pass::ball_speed(std::size_t bi, const std::vector<ChainJoint>& joints, const int* at) {
+DisplacementBound SphereFieldChecker::Pass::ball_speed(std::size_t bi, const std::vector<ChainJoint>& joints, const int* at,
+                                                      BallVelocity* velocity) {
   levers(bi);
   const Body& b = c.bodies_[bi];
   BallMotion m(s.body_center[bi], b.radius);
@@ -171,6 +212,7 @@ DisplacementBound SphereFieldChecker::Pass::ball_speed(std::size_t bi, const std
     const auto e = std::size_t(b.lever_begin + (at ? at[k] : k));
     m.add_revolute_arm(s.slot_axis[std::size_t(j.slot)], s.lever[e], s.lever_norm[e], rate, j.reach);
   }
+  if (velocity) *velocity = m.velocity();
   return m.bound();
 }
 

@@ -68,7 +68,9 @@ struct SphereFieldChecker::Pass {
 
   // How far a body's bounding sphere, or a pair's two, can move along dir (displacement_bound.hpp),
   // from lever arms cached per body. body_center of the bodies asked about must be set.
-  DisplacementBound body_speed(std::size_t bi) { return ball_speed(bi, c.bodies_[bi].chain, nullptr); }
+  DisplacementBound body_speed(std::size_t bi, BallVelocity* velocity = nullptr) {
+    return ball_speed(bi, c.bodies_[bi].chain, nullptr, velocity);
+  }
   DisplacementBound pair_speed(std::size_t pi) {
     const Pair& p = c.pairs_[pi];
     const PairMoves& m = c.pair_moves_[pi];
@@ -77,9 +79,12 @@ struct SphereFieldChecker::Pass {
     return v;
   }
   // A body's bounding ball moved by `joints` (a subset of its chain, in chain order; `at`: their
-  // places in it, null for the whole chain).
-  DisplacementBound ball_speed(std::size_t bi, const std::vector<ChainJoint>& joints, const int* at);
+  // places in it, null for the whole chain). `velocity` (optional): its first-order velocity field.
+  DisplacementBound ball_speed(std::size_t bi, const std::vector<ChainJoint>& joints, const int* at,
+                               BallVelocity* velocity = nullptr);
   void levers(std::size_t bi);
+  // A body's time from its spheres' directional bounds against the primitives (exact scenes only).
+  double directional_time(const Candidate& cand, double limit);
 
   // World sphere centres of a body, computed at most once per query.
   void centres(std::size_t bi) {

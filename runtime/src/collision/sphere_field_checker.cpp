@@ -272,14 +272,14 @@ double SphereFieldChecker::pair_time(const std::vector<Eigen::Isometry3d>& poses
 }
 
 bool SphereFieldChecker::link_speed(const std::vector<Eigen::Isometry3d>& poses, int link, const Eigen::VectorXd& direction,
-                                    DisplacementBound& bound) const {
+                                    DisplacementBound& bound, BallVelocity* velocity) const {
   if (!certifiable_) return false;
   for (std::size_t bi = 0; bi < bodies_.size(); ++bi) {
     const Body& b = bodies_[bi];
     if (b.link != link || b.attached) continue;
     Pass pass(*this, nullptr, poses, &direction, std::numeric_limits<double>::infinity());
     pass.s.body_center[bi] = poses[std::size_t(link)] * b.center;
-    bound = pass.body_speed(bi);
+    bound = pass.body_speed(bi, velocity);
     return true;
   }
   return false;

@@ -290,7 +290,7 @@ bool closest_on_tetrahedron(Simplex& s, Eigen::Vector3d& out) {
 }  // namespace
 
 double convex_gap(const ConvexSolid& a, const Eigen::Isometry3d& ta, const ConvexSolid& b, const Eigen::Isometry3d& tb,
-                  double tolerance, double enough, GapHint* hint) {
+                  double tolerance, double enough, GapHint* hint, Eigen::Vector3d* separation) {
   // What the returned bound gives up: rounding in the support arithmetic, and what a climb may
   // miss on a hull that is convex only to the artifact check's tolerance (1e-9 of its extent).
   const double slack = 1e-12 * (1 + a.radius() + b.radius()) + a.climb_slack() + b.climb_slack();
@@ -305,12 +305,16 @@ double convex_gap(const ConvexSolid& a, const Eigen::Isometry3d& ta, const Conve
   Eigen::Vector3d v = hinted ? hint->v : Eigen::Vector3d(ta * a.centre() - tb * b.centre());
   if (!(v.squaredNorm() > 0)) v = Eigen::Vector3d::UnitX();
   double lower = -std::numeric_limits<double>::infinity();
+  Eigen::Vector3d best = Eigen::Vector3d::Zero();  // the direction of `lower`, unit
   Simplex s;
   for (int iter = 0; iter < 64; ++iter) {
     const double vn = v.norm();
     if (!(vn > 1e-12)) break;  // the origin is (nearly) in A - B
     const Eigen::Vector3d w = support(v);
-    lower = std::max(lower, v.dot(w) / vn);
+    if (const double along = v.dot(w) / vn; along > lower) {
+      lower = along;
+      best = v / vn;
+    }
     if ((iter > 0 || !hinted) && vn - lower <= tolerance) break;  // the bound is within tolerance of the estimate
     // Proven above `enough`. A sign query (enough <= 0) also stops once it never will be (past the
     // first v, between the centres, v is a point of A - B: the distance is at most vn); a
@@ -336,6 +340,7 @@ double convex_gap(const ConvexSolid& a, const Eigen::Isometry3d& ta, const Conve
     hint->from_a = from_a;
     hint->from_b = from_b;
   }
+  if (separation) *separation = best;
   return lower - slack;  // the dual bound alone
 }
 

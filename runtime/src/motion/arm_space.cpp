@@ -28,7 +28,8 @@ class ArmStateSpace : public ob::RealVectorStateSpace {
   }
 };
 
-ob::SpaceInformationPtr make_space(const Kinematics& kin, ValidityFn valid, double resolution, FreeDistanceFn free_distance,
+ob::SpaceInformationPtr make_space(const Kinematics& kin, ValidityFn valid, double resolution,
+                                   CertifiedMotionValidator::CertificateFn certificate,
                                    CertifiedMotionValidator::ProvenFreeFn proven_free) {
   const int n = kin.dof();
   auto space = std::make_shared<ArmStateSpace>(unsigned(n));
@@ -47,8 +48,8 @@ ob::SpaceInformationPtr make_space(const Kinematics& kin, ValidityFn valid, doub
     return valid(q);
   });
   si->setStateValidityCheckingResolution(resolution / space->getMaximumExtent());
-  if (free_distance)
-    si->setMotionValidator(std::make_shared<CertifiedMotionValidator>(si, std::move(free_distance), std::move(proven_free)));
+  if (certificate)
+    si->setMotionValidator(std::make_shared<CertifiedMotionValidator>(si, std::move(certificate), std::move(proven_free)));
   si->setup();
   return si;
 }
@@ -56,7 +57,7 @@ ob::SpaceInformationPtr make_space(const Kinematics& kin, ValidityFn valid, doub
 
 ob::SpaceInformationPtr make_arm_space(const Kinematics& kin, ValidityFn valid, double resolution,
                                        FreeDistanceFn free_distance) {
-  return make_space(kin, std::move(valid), resolution, std::move(free_distance), nullptr);
+  return make_space(kin, std::move(valid), resolution, CertifiedMotionValidator::certificate_of(std::move(free_distance)), nullptr);
 }
 
 ob::SpaceInformationPtr make_arm_space(const Kinematics& kin, const TwoLayerChecker& checker, double resolution) {
@@ -69,7 +70,11 @@ ob::SpaceInformationPtr make_arm_space(const Kinematics& kin, const TwoLayerChec
     };
   return make_space(
       kin, [&checker](const Eigen::VectorXd& q) { return checker.is_free(q); }, resolution,
-      [&checker](const Eigen::VectorXd& q, const Eigen::VectorXd& dir, double enough) { return checker.free_distance(q, dir, enough); },
+      [&checker](const Eigen::VectorXd& q, const Eigen::VectorXd& dir, double enough) {
+        CertifiedMotionValidator::Certificate c{};
+        c.reach = checker.free_distance(q, dir, enough, &c.estimate);
+        return c;
+      },
       std::move(batch));
 }
 

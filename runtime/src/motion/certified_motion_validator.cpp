@@ -38,20 +38,35 @@ struct Segment {
 };
 }  // namespace
 
+CertifiedMotionValidator::CertifiedMotionValidator(const ob::SpaceInformationPtr& si, CertificateFn certificate,
+                                                   ProvenFreeFn proven_free)
+    : ob::MotionValidator(si), certificate_(std::move(certificate)), proven_free_(std::move(proven_free)) {}
+
 CertifiedMotionValidator::CertifiedMotionValidator(const ob::SpaceInformationPtr& si, FreeDistanceFn free_distance,
                                                    ProvenFreeFn proven_free)
-    : ob::MotionValidator(si), free_distance_(std::move(free_distance)), proven_free_(std::move(proven_free)) {}
+    : CertifiedMotionValidator(si, certificate_of(std::move(free_distance)), std::move(proven_free)) {}
+
+CertifiedMotionValidator::CertificateFn CertifiedMotionValidator::certificate_of(FreeDistanceFn free_distance) {
+  if (!free_distance) return nullptr;
+  return [fd = std::move(free_distance)](const Eigen::VectorXd& q, const Eigen::VectorXd& dir, double enough) {
+    const double t = fd(q, dir, enough);
+    return Certificate{t, t};
+  };
+}
 
 bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State* s2) const {
   const Segment seg(*si_, s1, s2);
   const int steps = seg.steps;
   // A certificate is symmetric (speeds bound |direction|): state i proves states i-k .. i+k.
   // `need` steps on either side is all that is left to prove around i.
-  auto check = [&](int i, int need, int& k) {
+  // k: the states the certificate covers each way; `span_k` (optional): its isotropic estimate's.
+  auto check = [&](int i, int need, int& k, int* span_k = nullptr) {
     // Nothing left to prove around i (a bisection leaf): a plain check, no certificate work.
-    const double fd = free_distance_(seg.at(i), seg.dir, need > 0 ? (need + 1e-6) * seg.h : 0.0);
-    if (fd < 0) return false;
-    k = seg.h > 0 ? int(std::min(fd / seg.h, double(steps))) : steps;
+    const Certificate c = certificate_(seg.at(i), seg.dir, need > 0 ? (need + 1e-6) * seg.h : 0.0);
+    if (c.reach < 0) return false;
+    auto states = [&](double t) { return seg.h > 0 ? int(std::min(t / seg.h, double(steps))) : steps; };
+    k = states(c.reach);
+    if (span_k) *span_k = std::min(k, states(c.estimate));
     return true;
   };
   // With batch proofs a certificate need only reach a batch's width: what lies beyond goes to span
@@ -59,9 +74,9 @@ bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State*
   // check (bench-mbm: needs of 4, 8, 16 and 32 states against the whole segment, 8 best), and
   // bisection midpoints likewise (1, 2, 4, 8, 16, 32 states and the whole range: 8 best).
   auto need_of = [&](int states) { return proven_free_ ? std::min(states, kBatch) : states; };
-  int k = 0;
+  int k = 0, span_k = 0;
   // The far end first: a bad goal is found at once.
-  if (!check(steps, need_of(steps - 1), k)) {
+  if (!check(steps, need_of(steps - 1), k, &span_k)) {
     ++invalid_;
     return false;
   }
@@ -70,8 +85,9 @@ bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State*
   // range keeps the certificate of the check that made it, an estimate e of the next one's: a range
   // a little wider than one certificate (2e + 1 < size <= 4e + 2) is tiled from its left end
   // (two checks) rather than split in the middle (which leaves a one-state range on each side).
+  // The span estimate is the same certificate's under isotropic bounds (Certificate::estimate).
   struct Range {
-    int lo, hi, estimate;
+    int lo, hi, estimate, span_estimate;
     bool certified_only = false;  // a span batch's lane left it: certified checks from here on
   };
   // A range the last certificate did not reach beyond its own state, at most two batches wide:
@@ -103,7 +119,7 @@ bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State*
   // is queued for certified checks, with the range's estimate: neighbouring lanes' stretches as
   // one range, since one certificate often covers both (median problems: 6-12% fewer certified
   // checks than a range per lane).
-  auto check_span = [&](int lo, int hi, int e, int T) {
+  auto check_span = [&](int lo, int hi, int e, int se, int T) {
     const double* q[kBatch];
     int idx[kBatch], count = 0;
     for (int i = lo + T; i - T <= hi && count < kBatch; i += 2 * T + 1) {
@@ -117,13 +133,13 @@ bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State*
       if (proven >> m & 1u) continue;
       int last = m;
       while (last + 1 < count && !(proven >> (last + 1) & 1u)) ++last;
-      queue.push_back({std::max(lo, idx[m] - T), std::min(hi, idx[last] + T), e, true});
+      queue.push_back({std::max(lo, idx[m] - T), std::min(hi, idx[last] + T), e, se, true});
       m = last;
     }
   };
-  queue.assign(1, {1, steps - 1 - k, k});
+  queue.assign(1, {1, steps - 1 - k, k, span_k});
   for (std::size_t head = 0; head < queue.size(); ++head) {
-    const auto [lo, hi, e, certified_only] = queue[head];
+    const auto [lo, hi, e, se, certified_only] = queue[head];
     if (lo > hi) continue;
     const int size = hi - lo + 1;
     if (proven_free_ && e == 0 && size >= 2 && size <= kBatchRange) {
@@ -134,17 +150,17 @@ bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State*
       continue;
     }
     const int span = (size + kBatch - 1) / (2 * kBatch);  // the least T with 8 (2T + 1) >= size, for size > 8
-    if (proven_free_ && !certified_only && size > kBatch && span * kSpanShare <= std::max(1, e)) {
-      check_span(lo, hi, e, span);
+    if (proven_free_ && !certified_only && size > kBatch && span * kSpanShare <= std::max(1, se)) {
+      check_span(lo, hi, e, se, span);
       continue;
     }
     const int at = size > 2 * e + 1 && size <= 4 * e + 2 ? lo + e : (lo + hi) / 2;
-    if (!check(at, need_of(std::max(at - lo, hi - at)), k)) {
+    if (!check(at, need_of(std::max(at - lo, hi - at)), k, &span_k)) {
       ++invalid_;
       return false;
     }
-    queue.push_back({lo, at - k - 1, k, certified_only});
-    queue.push_back({at + k + 1, hi, k, certified_only});
+    queue.push_back({lo, at - k - 1, k, span_k, certified_only});
+    queue.push_back({at + k + 1, hi, k, span_k, certified_only});
   }
   ++valid_;
   return true;
@@ -159,7 +175,7 @@ bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State*
   for (int i = 1; i <= steps; ++i) {
     const double t = i * seg.h;
     if (t <= covered && i < steps) continue;
-    const double ahead = free_distance_(seg.at(i), seg.dir, (steps - i + 1e-6) * seg.h);
+    const double ahead = certificate_(seg.at(i), seg.dir, (steps - i + 1e-6) * seg.h).reach;
     if (ahead < 0) {
       last_valid.second = double(i - 1) / steps;
       if (last_valid.first) si_->getStateSpace()->interpolate(s1, s2, last_valid.second, last_valid.first);

@@ -240,3 +240,34 @@ TEST(CertifiedMotionValidator, EveryStateOfAValidMotionIsProvenBySomeCheck) {
   EXPECT_GT(merged_lanes, 1000) << "neighbouring span lanes must fail together";
   RecordProperty("valid_motions", valid);
 }
+
+// A certificate's estimate (how far a span batch's static widening would reach there), not its
+// reach, decides whether a span batch is tried next to it: an estimate of 0 never brings one, a
+// quarter of the reach fewer than the whole reach; the answers stay the discrete ones throughout.
+TEST(CertifiedMotionValidator, SpanBatchesFollowTheCertificatesEstimate) {
+  std::atomic<long> discrete_checks{0};
+  auto si = make_space(&discrete_checks);
+  ob::DiscreteMotionValidator discrete(si);
+  auto spans_with = [&](double share) {
+    long spans = 0;
+    CertifiedMotionValidator certified(
+        si,
+        CertifiedMotionValidator::CertificateFn([&](const Eigen::VectorXd& q, const Eigen::VectorXd&, double) {
+          const double c = clearance(q[0], q[1]);
+          return c > 0 ? CertifiedMotionValidator::Certificate{c, share * c} : CertifiedMotionValidator::Certificate{-1.0, -1.0};
+        }),
+        [&](const double* const* q, int count, const Eigen::VectorXd&, double reach) {
+          spans += reach > 0;
+          std::uint32_t mask = 0;
+          for (int k = 0; k < count; ++k) mask |= std::uint32_t(clearance(q[k][0], q[k][1]) > reach + 0.01) << k;
+          return mask;
+        });
+    EXPECT_GT(discrete_answers(si, discrete, certified, 13), 300) << "estimate share " << share;
+    return spans;
+  };
+  const long none = spans_with(0.0), quarter = spans_with(0.25), whole = spans_with(1.0);
+  EXPECT_EQ(none, 0);
+  EXPECT_GT(quarter, 0);
+  EXPECT_LT(quarter, whole);
+  RecordProperty("span_batches", std::to_string(quarter) + " of " + std::to_string(whole));
+}

@@ -653,6 +653,59 @@ TEST(Collision, HeldObjectIsCheckedAndMayTouchTheFingers) {
   (void)cube;
 }
 
+// PrimitiveObstacles::separations lists every primitive nearer a point than asked, with its exact
+// distance and a direction along which every point of the primitive lies at least that distance
+// short of the point (sampled points of the solid, rotated boxes, cylinders and spheres); a
+// point inside one is reported.
+TEST(PrimitiveObstacles, SeparationsListEveryNearPrimitiveWithASeparatingDirection) {
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::normal_distribution<double> g(0, 1);
+  Scene scene;
+  for (int k = 0; k < 9; ++k) {
+    Shape s = box(Eigen::Vector3d(0.1 + 0.2 * std::abs(u(rng)), 0.1 + 0.2 * std::abs(u(rng)), 0.05 + 0.2 * std::abs(u(rng))),
+                  Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    s.type = k % 3 == 0 ? ShapeType::Box : k % 3 == 1 ? ShapeType::Cylinder : ShapeType::Sphere;
+    if (s.type != ShapeType::Box) s.size.z() = 0;
+    s.origin.linear() = Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized().toRotationMatrix();
+    scene.objects.push_back({"o" + std::to_string(k), {s}});
+  }
+  const auto prims = PrimitiveObstacles::from_scene(scene);
+  ASSERT_TRUE(prims);
+  std::vector<int> candidates;
+  std::vector<PrimitiveObstacles::Separation> out;
+  int listed = 0, inside = 0;
+  for (int i = 0; i < 6000; ++i) {
+    const Eigen::Vector3d p(1.3 * u(rng), 1.3 * u(rng), 1.3 * u(rng));
+    const double within = 0.3 * std::abs(u(rng));
+    prims->reaching(p, within, candidates);
+    std::vector<double> distance;
+    for (const auto& o : scene.objects) distance.push_back(shape_signed_distance(o.shapes[0], p));
+    if (!prims->separations(p, within, candidates, out)) {
+      EXPECT_LE(*std::min_element(distance.begin(), distance.end()), 1e-9) << "p = " << p.transpose();
+      ++inside;
+      continue;
+    }
+    for (std::size_t k = 0; k < distance.size(); ++k) {
+      if (!(distance[k] < within)) continue;
+      ASSERT_GT(distance[k], 0.0) << "p = " << p.transpose() << " is inside primitive " << k << " but nothing said so";
+      const auto hit = std::find_if(out.begin(), out.end(), [&](const auto& s) { return std::abs(s.distance - distance[k]) < 1e-9; });
+      ASSERT_NE(hit, out.end()) << "primitive " << k << " at " << distance[k] << " is not listed";
+      ++listed;
+      // Points of the solid: random in its bounding box, kept where the shape's distance says inside.
+      const Shape& s = scene.objects[k].shapes[0];
+      for (int m = 0; m < 200; ++m) {
+        const Eigen::Vector3d y = s.origin * Eigen::Vector3d(u(rng) * s.size.x(), u(rng) * s.size.x(), u(rng) * std::max(s.size.x(), s.size.y()));
+        if (shape_signed_distance(s, y) > 0) continue;
+        ASSERT_GE(hit->normal.dot(p - y), hit->distance - 1e-9) << "primitive " << k << ", p = " << p.transpose();
+      }
+    }
+    EXPECT_LE(out.size(), std::size_t(std::count_if(distance.begin(), distance.end(), [&](double d) { return d < within; })));
+  }
+  EXPECT_GT(listed, 300);
+  EXPECT_GT(inside, 10);
+}
+
 // The certified free distance is a proof: every configuration within it along the direction is
 // free for FCL (random directions and random points of the certified stretch), self-distance
 // tables included.
@@ -713,7 +766,9 @@ TEST(TwoLayer, RefusesLayersOnDifferentKinematics) {
 // Sharper than FCL for the scene: with exact primitives the fast layer's environment answer is
 // exact for its spheres, so along a certificate every sphere must stay clear of the scene (what
 // the speed bounds, static, Gronwall and Taylor, promise, with no slack from the spheres' excess
-// over the meshes). Self-collision, partly settled by tables, is checked by FCL.
+// over the meshes), directional ones included (spheres sliding along the board and the wall: a
+// share of the certificates must be a quarter past their isotropic estimate or more). Self-collision, partly
+// settled by tables, is checked by FCL.
 TEST(Certificate, KeepsEverySphereClearOfTheSceneAlongTheStretch) {
   ShelfWorld w;
   SphereFieldChecker fast(w.kin, w.arm.spheres, w.sdf, 0.3);
@@ -722,7 +777,7 @@ TEST(Certificate, KeepsEverySphereClearOfTheSceneAlongTheStretch) {
   ExactChecker exact(w.kin, w.scene);
   std::mt19937_64 rng(11);
   std::normal_distribution<double> g(0, 1);
-  int certified = 0;
+  int certified = 0, directional = 0;
   double longest = 0;
   auto clear = [&](const Eigen::VectorXd& x) { return fast.check(x).environment_free && exact.is_free(x); };
   for (int i = 0; i < 3000; ++i) {
@@ -734,6 +789,8 @@ TEST(Certificate, KeepsEverySphereClearOfTheSceneAlongTheStretch) {
     // Near the scene, where certificates are short and every bound counts.
     if (!c.free() || c.free_distance <= 0 || c.min_clearance > 0.03) continue;
     ++certified;
+    EXPECT_LE(c.isotropic_distance, c.free_distance);
+    if (c.free_distance > 1.25 * c.isotropic_distance) ++directional;
     const double step = std::min(0.001, c.free_distance / 20);
     for (const double sign : {1.0, -1.0}) {
       double t = step;
@@ -748,7 +805,9 @@ TEST(Certificate, KeepsEverySphereClearOfTheSceneAlongTheStretch) {
   }
   EXPECT_GT(certified, 100);
   EXPECT_GT(longest, 0.02);
+  EXPECT_GT(directional, 20) << "of " << certified;
   RecordProperty("certified", certified);
+  RecordProperty("directional", directional);
 }
 
 // The same for the whole robot, self pairs included (FCL judges), and for the callers that need

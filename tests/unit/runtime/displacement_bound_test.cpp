@@ -37,16 +37,23 @@ struct Arm {
     std::reverse(out.begin(), out.end());
     return out;
   }
+  std::vector<int> moving_links() const {
+    const auto moving = kin.moving_links();
+    std::vector<int> out;
+    for (std::size_t l = 0; l < moving.size(); ++l)
+      if (moving[l]) out.push_back(int(l));
+    return out;
+  }
   std::vector<int> ancestors(int link) const {  // nearest first, up to the root
     std::vector<int> out;
     for (int j = parent_joint(link); j >= 0; j = parent_joint(model.joints[std::size_t(j)].parent))
       out.push_back(model.joints[std::size_t(j)].parent);
     return out;
   }
-  // The bound for a ball on `link` as the checker builds it: axes and origins at q, in world
+  // The motion of a ball on `link` as the checker builds it: axes and origins at q, in world
   // coordinates (any frame the joints do not move measures the same distances).
-  DisplacementBound bound(const std::vector<Eigen::Isometry3d>& poses, int frame, int link, const Eigen::Vector3d& centre,
-                          double radius, const Eigen::VectorXd& u) const {
+  BallMotion motion(const std::vector<Eigen::Isometry3d>& poses, int frame, int link, const Eigen::Vector3d& centre,
+                    double radius, const Eigen::VectorXd& u) const {
     BallMotion m(poses[std::size_t(link)] * centre, radius);
     for (int j : joints_between(frame, link)) {
       const Joint& jt = model.joints[std::size_t(j)];
@@ -54,7 +61,11 @@ struct Arm {
       if (jt.type == JointType::Prismatic) m.add_prismatic(T.linear() * jt.axis.normalized(), u[kin.chain_slot(j)], 1e6);
       else m.add_revolute(T.linear() * jt.axis.normalized(), T.translation(), u[kin.chain_slot(j)], 1e6);
     }
-    return m.bound();
+    return m;
+  }
+  DisplacementBound bound(const std::vector<Eigen::Isometry3d>& poses, int frame, int link, const Eigen::Vector3d& centre,
+                          double radius, const Eigen::VectorXd& u) const {
+    return motion(poses, frame, link, centre, radius, u).bound();
   }
 };
 
@@ -81,10 +92,7 @@ TEST(DisplacementBound, BoundsEveryPointOfTheBallAlongTheMotion) {
   Arm arm;
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> unit(0, 1);
-  const auto moving = arm.kin.moving_links();
-  std::vector<int> links;
-  for (std::size_t l = 0; l < moving.size(); ++l)
-    if (moving[l]) links.push_back(int(l));
+  const std::vector<int> links = arm.moving_links();
   ASSERT_GE(links.size(), 6u);
   std::vector<double> tightness;
   int checked = 0;
@@ -139,6 +147,50 @@ TEST(DisplacementBound, BoundsEveryPointOfTheBallAlongTheMotion) {
   const double median = tightness[tightness.size() / 2];
   RecordProperty("median_tightness", std::to_string(median));
   EXPECT_GT(median, 0.6) << "the bound is far above the true motion at small t";
+}
+
+// Along a direction n: no point of the ball advances along n (either sense) farther than the
+// bound with the first-order term along n (BallVelocity::along), at every t up to a radian; n
+// mostly near-perpendicular to the centre's velocity, where that term is small and the drift terms
+// carry the bound.
+TEST(DisplacementBound, BoundsEveryPointOfTheBallAlongADirection) {
+  Arm arm;
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> unit(0, 1);
+  const std::vector<int> links = arm.moving_links();
+  const int base = arm.kin.base_link();
+  std::vector<double> tightness;
+  double worst = 0;
+  for (int trial = 0; trial < 600; ++trial) {
+    Eigen::VectorXd q(arm.kin.dof());
+    for (int i = 0; i < arm.kin.dof(); ++i) q[i] = arm.kin.lower()[i] + unit(rng) * (arm.kin.upper()[i] - arm.kin.lower()[i]);
+    const Eigen::VectorXd u = random_unit(arm.kin.dof(), rng);
+    const int link = links[std::size_t(rng() % links.size())];
+    const Eigen::Vector3d centre = 0.1 * random_unit(3, rng) * unit(rng);
+    const double radius = trial % 3 == 0 ? 0.0 : 0.05 * unit(rng);
+    std::vector<Eigen::Isometry3d> poses;
+    arm.kin.link_poses(q, poses);
+    const BallMotion m = arm.motion(poses, base, link, centre, radius, u);
+    const DisplacementBound b = m.bound();
+    const BallVelocity v = m.velocity();
+    // Perpendicular to the centre's velocity, tilted a little at random.
+    Eigen::Vector3d n = random_unit(3, rng);
+    if (v.linear.norm() > 1e-9 && trial % 4 != 0) n = (n - n.dot(v.linear.normalized()) * v.linear.normalized() + 0.05 * unit(rng) * random_unit(3, rng)).normalized();
+    const DisplacementBound along = b.along(v.along(n));
+    std::vector<Eigen::Vector3d> points{centre};
+    for (int k = 0; k < 24 && radius > 0; ++k) points.push_back(centre + radius * random_unit(3, rng));
+    std::vector<Eigen::Vector3d> start;
+    for (const auto& p : points) start.push_back(in_frame(arm, q, base, link, p));
+    for (double t = 1e-3; t <= 1.0; t *= 1.25)
+      for (const double sense : {1.0, -1.0}) {
+        double d = 0;
+        for (std::size_t k = 0; k < points.size(); ++k) d = std::max(d, n.dot(in_frame(arm, q + sense * t * u, base, link, points[k]) - start[k]));
+        ASSERT_LE(d, along.displacement(t) + 1e-12) << "t = " << t << " link " << link << " trial " << trial;
+        if (d > 1e-6) worst = std::max(worst, d / along.displacement(t));
+      }
+  }
+  RecordProperty("largest_ratio", std::to_string(worst));
+  EXPECT_GT(worst, 0.5) << "the directional bound is far above every motion";
 }
 
 // Two balls: the sum of their displacements stays under the summed bound (a link pair's).

@@ -15,7 +15,15 @@
 //   obstacles, where certificates are short, this one lasts longest.
 // Distances are measured in a frame the listed joints do not move (the base, or for a link pair
 // the last joint both links share); a pair's bound is the sum of its two balls' (`add`).
-#include <Eigen/Core>
+//
+// Directional: a gap g to a convex obstacle proven along a separating direction n (convex_gap:
+// the ball's solid lies at least g beyond the obstacle along n) closes only as fast as the solid's
+// farthest point along -n advances, n . (x(t) - x(0)) for the x that maximises it; so the Taylor
+// bound holds with a replaced by the first-order speed along n, |n . v(c)| + R |n x omega|
+// (BallVelocity::along), the drift terms unchanged (they bound the whole velocity's change). A
+// motion sliding along the obstacle then keeps a gap of a few millimetres for several steps.
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -28,10 +36,17 @@ struct DisplacementBound {
   void add(const DisplacementBound& other);
   // The longest t with D(t) < clearance guaranteed (infinite when nothing moves). Given `enough`,
   // any guaranteed t >= enough may be returned instead: the cheap bounds first, the Taylor root
-  // (and the logarithm) only when they fall short.
+  // (and the logarithm) only when they fall short. 0 for a clearance that is not positive.
   double time_to_move(double clearance, double enough = std::numeric_limits<double>::infinity()) const;
   // The smallest of the three bounds on D(t) (for tests and plots).
   double displacement(double t) const;
+  // The same bound for displacements along one direction: first order `along` (BallVelocity::along)
+  // where that is less.
+  DisplacementBound along(double first_order_along) const {
+    DisplacementBound b = *this;
+    b.first_order = std::min(first_order, first_order_along);
+    return b;
+  }
   // A clearance that should last t: displacement(t), 1% over (time_to_move's bound is a little
   // looser). A caller that stops refining a clearance there checks time_to_move and refines on
   // should it still fall short. Infinite for an infinite t.
@@ -50,6 +65,20 @@ inline double log1p_ratio_lower(double x) { return (6.0 + 3.0 * x) / (6.0 + x * 
 
 // Builds a ball's bound from the joints that move it, given top of the chain first, each as seen
 // at q in the measuring frame: its unit axis, a point on it, its rate u_j and the ball's reach.
+// A ball's first-order velocity field at q, per unit of joint motion: the centre's velocity and
+// the angular velocity, in the measuring frame.
+struct BallVelocity {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero(), linear = Eigen::Vector3d::Zero(), angular = Eigen::Vector3d::Zero();
+  double radius = 0;
+  // The most any point of the ball moves along the unit n, per unit of time, at first order (the
+  // motion's either sense): |n . linear| + radius |n x angular|.
+  double along(const Eigen::Vector3d& n) const { return std::abs(n.dot(linear)) + radius * n.cross(angular).norm(); }
+  // The same for a smaller ball inside this one, rigidly attached (one of a body's spheres).
+  double along(const Eigen::Vector3d& n, const Eigen::Vector3d& at, double r) const {
+    return std::abs(n.dot(linear + angular.cross(at - centre))) + r * n.cross(angular).norm();
+  }
+};
+
 class BallMotion {
  public:
   BallMotion(const Eigen::Vector3d& center, double radius) : center_(center), radius_(radius) {}
@@ -59,6 +88,7 @@ class BallMotion {
   void add_revolute_arm(const Eigen::Vector3d& axis, const Eigen::Vector3d& arm, double arm_norm, double rate, double reach);
   void add_prismatic(const Eigen::Vector3d& axis, double rate, double reach);
   DisplacementBound bound() const;
+  BallVelocity velocity() const { return {center_, linear_, angular_, radius_}; }
 
  private:
   Eigen::Vector3d center_;

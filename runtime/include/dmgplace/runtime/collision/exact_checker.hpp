@@ -3,6 +3,7 @@
 // mesh attached at its grasp, and the environment's exact geometry (primitives, triangle BVHs, an
 // octree for scan points). Used where the fast layer cannot decide and to validate every path.
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -83,6 +84,17 @@ class ExactChecker {
                               double enough = std::numeric_limits<double>::infinity()) const;
   double link_pair_gap(const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b,
                        double enough = std::numeric_limits<double>::infinity()) const;
+  // How long `link` keeps clear of the scene along a motion, shape by shape, up to `enough_time`:
+  // each scene shape's gap g and the unit direction n it was proven along (convex_gap's
+  // `separation`) go to time(g, n), and the smallest answer is returned (0 when a gap is not
+  // positive; the scene and link shapes as link_environment_gap needs). reach(t): how far any
+  // point of the link may move within t, in any direction: shapes are visited nearest bounding
+  // ball first, and one farther than that from the smallest time so far cannot end it sooner. A
+  // gap is proven only up to `enough_gap` (GJK stops there) unless its time then falls short of
+  // `enough_time`.
+  double link_environment_time(const std::vector<Eigen::Isometry3d>& poses, int link, double enough_gap, double enough_time,
+                               const std::function<double(double gap, const Eigen::Vector3d& n)>& time,
+                               const std::function<double(double t)>& reach) const;
   // Whether those gaps can be had: the scene all primitives, every link shape a primitive or a mesh
   // with its hull.
   bool gaps_are_cheap() const;

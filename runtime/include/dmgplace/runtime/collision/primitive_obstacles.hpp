@@ -29,6 +29,21 @@ class PrimitiveObstacles {
 
   // Signed distance from p to the nearest primitive (negative inside one); +inf when there are none.
   double distance(const Eigen::Vector3d& p) const;
+  // A primitive's separation from a point outside it: the distance, and the unit direction from
+  // the primitive's nearest point to p, along which every point of the primitive lies at least
+  // that distance short of p (the primitive is convex). Directional certificates use it
+  // (displacement_bound.hpp).
+  struct Separation {
+    double distance;
+    Eigen::Vector3d normal;
+  };
+  // Primitives whose bounding sphere comes within `within` of p, into `out` (cleared first): the
+  // candidates for separations() of every point within a ball around p.
+  void reaching(const Eigen::Vector3d& p, double within, std::vector<int>& out) const;
+  // Every primitive of `candidates` closer to p than `within`, into `out` (cleared first). False
+  // when p is inside (or on) one of them: then `out` is incomplete.
+  bool separations(const Eigen::Vector3d& p, double within, const std::vector<int>& candidates,
+                   std::vector<Separation>& out) const;
   // Bit k set: primitive k (scene order: objects, then their shapes) comes within `radius` of p.
   // Only the first 64 primitives have bits; `all_have_bits()` says whether that is every one.
   std::uint64_t touching(const Eigen::Vector3d& p, double radius) const;

@@ -59,6 +59,10 @@ struct SphereCheck {
   // links or pairs are flagged (and nothing overflowed or was proven): the same for everything
   // else, the flagged links and pairs left out, for the exact layer to certify (link_time, pair_time).
   double free_distance = 0;
+  // The same certificate with every bound isotropic (no directional one, displacement_bound.hpp):
+  // a guide to how far a batch's static widening reaches here (CertifiedMotionValidator's span
+  // estimate). At most free_distance.
+  double isotropic_distance = 0;
   bool free() const { return environment_free && self_free; }
 };
 
@@ -107,8 +111,10 @@ class SphereFieldChecker {
                    const Eigen::VectorXd& direction) const;
   // The speed bounds behind link_time and pair_time (time = bound.time_to_move(gap)), for a caller
   // that asks the gap only as far as it needs (bound.displacement(t)); false where those give 0.
+  // `velocity` (optional): the link's body's first-order velocity field, for directional bounds
+  // (bound.along(velocity.along(n)) for a gap proven along n).
   bool link_speed(const std::vector<Eigen::Isometry3d>& poses, int link, const Eigen::VectorXd& direction,
-                  DisplacementBound& bound) const;
+                  DisplacementBound& bound, BallVelocity* velocity = nullptr) const;
   bool pair_speed(const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b, const Eigen::VectorXd& direction,
                   DisplacementBound& bound) const;
 

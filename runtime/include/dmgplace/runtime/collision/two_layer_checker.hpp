@@ -45,23 +45,29 @@ class TwoLayerChecker {
   // exact clearances certify them (exact_gaps): the certificate is the smallest of theirs and the
   // spheres' for the rest. Otherwise (link meshes, touching, a held object, a mesh scene) the
   // exact layer's yes/no decides and certifies nothing beyond q (0).
+  // `isotropic` (optional): the same certificate without directional bounds (SphereCheck::
+  // isotropic_distance), a guide to how far batches reach here.
   double free_distance(const Eigen::VectorXd& q, const Eigen::VectorXd& direction,
-                       double enough = std::numeric_limits<double>::infinity()) const {
+                       double enough = std::numeric_limits<double>::infinity(), double* isotropic = nullptr) const {
     const auto& poses = poses_at(q);
     const SphereCheck f = fast_.check_along(q, poses, direction, enough);
+    double iso = 0;
+    double fd = 0;
     if (f.free()) {
       ++counters_->fast;
-      return f.free_distance;
+      fd = f.free_distance;
+      iso = f.isotropic_distance;
+    } else if (const double t = gaps_ && enough > 0 && !f.proven_collision ? exact_gaps(poses, f, direction, enough, iso) : 0.0;
+               t > 0) {
+      ++counters_->fast;
+      ++counters_->exact_gaps;
+      fd = std::min(t, f.free_distance);
+      iso = std::min(iso, f.isotropic_distance);
+    } else {
+      fd = iso = settle(q, poses, f) ? 0.0 : -1.0;
     }
-    if (gaps_ && enough > 0 && !f.proven_collision) {
-      const double t = exact_gaps(poses, f, direction, enough);
-      if (t > 0) {
-        ++counters_->fast;
-        ++counters_->exact_gaps;
-        return std::min(t, f.free_distance);
-      }
-    }
-    return settle(q, poses, f) ? 0.0 : -1.0;
+    if (isotropic) *isotropic = std::min(iso, fd);
+    return fd;
   }
   // Which of q[0..count) (count <= 8) the fast layer alone proves free, in one SIMD pass
   // (SphereFieldChecker::free_lanes); unset bits are undecided, for is_free or free_distance.
@@ -92,7 +98,8 @@ class TwoLayerChecker {
   // only as far as lasting `enough` needs (clearance_for: GJK stops there); should the time still
   // fall short of `enough`, the full gap.
   double exact_gaps(const std::vector<Eigen::Isometry3d>& poses, const SphereCheck& f, const Eigen::VectorXd& direction,
-                    double enough) const {
+                    double enough, double& isotropic) const {
+    isotropic = 0;
     if (f.env_overflow || f.pairs_overflow || f.attached_involved || f.attached_near_env || f.outside_grid) return 0.0;
     auto lasts = [&](const DisplacementBound& v, auto gap_up_to) {
       const double need = v.clearance_for(enough);
@@ -101,19 +108,32 @@ class TwoLayerChecker {
       const double t = v.time_to_move(gap, enough);
       return t < enough && gap >= need ? v.time_to_move(gap_up_to(std::numeric_limits<double>::infinity())) : t;
     };
-    double t = std::numeric_limits<double>::infinity();
+    double t = std::numeric_limits<double>::infinity(), iso = t;
     DisplacementBound v;
+    BallVelocity velocity;
     for (int k = 0; k < f.env_link_count && t > 0; ++k) {
       const int link = f.env_links[std::size_t(k)];
-      if (!fast_.link_speed(poses, link, direction, v)) return 0.0;
-      t = std::min(t, lasts(v, [&](double need) { return exact_.link_environment_gap(poses, link, need); }));
+      if (!fast_.link_speed(poses, link, direction, v, &velocity)) return 0.0;
+      // Each scene shape's gap closes only as fast as the link moves along their separating
+      // direction (displacement_bound.hpp, directional): sliding past a shape lasts longer.
+      double nearest = std::numeric_limits<double>::infinity();
+      t = std::min(t, exact_.link_environment_time(
+                          poses, link, v.clearance_for(enough), enough,
+                          [&](double gap, const Eigen::Vector3d& n) {
+                            nearest = std::min(nearest, gap);
+                            return (n.squaredNorm() < 0.5 ? v : v.along(velocity.along(n))).time_to_move(gap, enough);
+                          },
+                          [&](double time) { return v.displacement(time); }));
+      iso = std::min(iso, v.time_to_move(nearest, enough));
     }
     for (int k = 0; k < f.pair_count && t > 0; ++k) {
       const auto [a, b] = f.pairs[std::size_t(k)];
       if (!fast_.pair_speed(poses, a, b, direction, v)) return 0.0;
       t = std::min(t, lasts(v, [&](double need) { return exact_.link_pair_gap(poses, a, b, need); }));
     }
-    return std::isfinite(t) ? t : 0.0;
+    if (!std::isfinite(t)) return 0.0;
+    isotropic = std::min(iso, t);
+    return t;
   }
   bool settle(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses, const SphereCheck& f) const {
     ++counters_->fast;

@@ -74,8 +74,11 @@ struct GapHint {
 // takes many). A sign query (enough <= 0) also stops once GJK's upper estimate shows the bound
 // cannot get there; with enough > 0 the bound is then refined as without it.
 // `hint` (optional): where to start, updated to where this query ended.
+// `separation` (optional): the unit direction n the bound was proven along: every point of a lies
+// at least the returned bound farther along n than every point of b (a separating plane's normal,
+// for bounds on how fast the gap can close: directional certificates). Zero when none was proven.
 double convex_gap(const ConvexSolid& a, const Eigen::Isometry3d& ta, const ConvexSolid& b, const Eigen::Isometry3d& tb,
                   double tolerance = 1e-5, double enough = std::numeric_limits<double>::infinity(),
-                  GapHint* hint = nullptr);
+                  GapHint* hint = nullptr, Eigen::Vector3d* separation = nullptr);
 
 }  // namespace dmgplace::runtime

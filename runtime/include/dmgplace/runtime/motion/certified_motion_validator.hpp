@@ -19,11 +19,23 @@ namespace dmgplace::runtime {
 
 class CertifiedMotionValidator : public ompl::base::MotionValidator {
  public:
+  // q + t * direction is free for |t| <= reach (< 0: q collides); `estimate` (<= reach): how far
+  // the same clearances last under the span batches' isotropic widening, which decides whether a
+  // span batch is worth trying next to q (directional bounds can make `reach` much longer near a
+  // surface the motion slides along, where a batch would fail).
+  struct Certificate {
+    double reach, estimate;
+  };
+  using CertificateFn = std::function<Certificate(const Eigen::VectorXd& q, const Eigen::VectorXd& direction, double enough)>;
+  // The same with the estimate the reach itself.
   using FreeDistanceFn = std::function<double(const Eigen::VectorXd& q, const Eigen::VectorXd& direction, double enough)>;
+  static CertificateFn certificate_of(FreeDistanceFn free_distance);
   // Bit k set: every configuration within `reach` (joint-space length, 0: q[k] alone) of q[k]
   // (of `count` <= 8) along +-direction is proven free; unset means undecided.
   using ProvenFreeFn =
       std::function<std::uint32_t(const double* const* q, int count, const Eigen::VectorXd& direction, double reach)>;
+  CertifiedMotionValidator(const ompl::base::SpaceInformationPtr& si, CertificateFn certificate,
+                           ProvenFreeFn proven_free = nullptr);
   CertifiedMotionValidator(const ompl::base::SpaceInformationPtr& si, FreeDistanceFn free_distance,
                            ProvenFreeFn proven_free = nullptr);
 
@@ -32,7 +44,7 @@ class CertifiedMotionValidator : public ompl::base::MotionValidator {
                    std::pair<ompl::base::State*, double>& last_valid) const override;
 
  private:
-  FreeDistanceFn free_distance_;
+  CertificateFn certificate_;
   ProvenFreeFn proven_free_;
 };
 
