@@ -147,7 +147,7 @@ void SphereFieldChecker::Pass::certificate() {
 // How long a body's spheres keep clear of the scene's primitives, each sphere and primitive
 // closing their gap only as fast as the sphere moves along their separating direction
 // (displacement_bound.hpp, directional): a body sliding along a shelf lasts longer than its
-// clearance over its speed. Spheres the field puts past `need` last `limit` in any direction.
+// clearance over its speed. Only primitives nearer than the body's displacement bound are asked.
 double SphereFieldChecker::Pass::directional_time(const Candidate& cand, double limit) {
   const Body& b = c.bodies_[cand.index];
   BallVelocity velocity;

@@ -63,22 +63,22 @@ struct DisplacementBound {
 // 1e-16 as x -> 0). Within 5e-7 of it up to x = 0.1, 0.12% at x = 1 (a unit test checks it stays below).
 inline double log1p_ratio_lower(double x) { return (6.0 + 3.0 * x) / (6.0 + x * (6.0 + x)) * (1 - 1e-12); }
 
-// Builds a ball's bound from the joints that move it, given top of the chain first, each as seen
-// at q in the measuring frame: its unit axis, a point on it, its rate u_j and the ball's reach.
 // A ball's first-order velocity field at q, per unit of joint motion: the centre's velocity and
 // the angular velocity, in the measuring frame.
 struct BallVelocity {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero(), linear = Eigen::Vector3d::Zero(), angular = Eigen::Vector3d::Zero();
   double radius = 0;
-  // The most any point of the ball moves along the unit n, per unit of time, at first order (the
-  // motion's either sense): |n . linear| + radius |n x angular|.
-  double along(const Eigen::Vector3d& n) const { return std::abs(n.dot(linear)) + radius * n.cross(angular).norm(); }
-  // The same for a smaller ball inside this one, rigidly attached (one of a body's spheres).
+  // The most any point of the ball around `at` of radius r, rigidly attached (the ball itself, or
+  // one of a body's spheres), moves along the unit n per unit of time at first order (the motion's
+  // either sense): |n . v(at)| + r |n x angular|.
   double along(const Eigen::Vector3d& n, const Eigen::Vector3d& at, double r) const {
     return std::abs(n.dot(linear + angular.cross(at - centre))) + r * n.cross(angular).norm();
   }
+  double along(const Eigen::Vector3d& n) const { return along(n, centre, radius); }
 };
 
+// Builds a ball's bound from the joints that move it, given top of the chain first, each as seen
+// at q in the measuring frame: its unit axis, a point on it, its rate u_j and the ball's reach.
 class BallMotion {
  public:
   BallMotion(const Eigen::Vector3d& center, double radius) : center_(center), radius_(radius) {}
