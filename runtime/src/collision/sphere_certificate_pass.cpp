@@ -41,7 +41,16 @@ void SphereFieldChecker::Pass::certificate() {
   while (!s.cands.empty()) {
     const auto at = std::size_t(std::min_element(s.times.begin(), s.times.end()) - s.times.begin());
     Candidate* it = &s.cands[at];
-    if (it->level == 2) break;
+    if (it->level == 2) {
+      if (!it->directional) break;
+      // Asked only of the smallest candidate: a body another candidate undercuts needs none.
+      it->directional = false;
+      isotropic = std::min(isotropic, it->t);
+      it->t = std::max(it->t, directional_time(*it, limit));
+      s.times[at] = it->t;
+      keep(at);
+      continue;
+    }
     if (it->level == 0) {
       it->speed = it->pair ? pair_speed(it->index) : body_speed(it->index);
       it->t = it->speed.time_to_move(it->clearance, limit);
@@ -103,6 +112,7 @@ void SphereFieldChecker::Pass::certificate() {
         const double co = known && !std::isnan(s.sphere_coarse[std::size_t(i)]) ? s.sphere_coarse[std::size_t(i)] : c.coarse_lower_bound(w);
         const double fi = known && !std::isnan(s.sphere_fine[std::size_t(i)]) ? s.sphere_fine[std::size_t(i)] : c.fine_lower_bound(w);
         const double sc = std::max(co, fi) - sp.radius - c.padding_;
+        s.sphere_gap[std::size_t(i)] = sc;
         if (c.obstacles_ && (sc < kExactBelow || sc + sp.radius + c.padding_ > kBandShare * c.band_)) s.exact_order.push_back({sc, i});
         else clearance = std::min(clearance, sc);
       }
@@ -122,17 +132,16 @@ void SphereFieldChecker::Pass::certificate() {
         const auto& sp = c.spheres_[std::size_t(i)];
         const double read = known ? s.sphere_exact[std::size_t(i)] : std::numeric_limits<double>::quiet_NaN();
         const double distance = std::isnan(read) ? c.obstacles_->distance(s.world[std::size_t(i)]) : read;
-        clearance = std::min(clearance, std::max(sc, distance - sp.radius - c.padding_));
+        s.sphere_gap[std::size_t(i)] = std::max(sc, distance - sp.radius - c.padding_);
+        clearance = std::min(clearance, s.sphere_gap[std::size_t(i)]);
         ++k;
       }
     }
     it->clearance = std::max(clearance, it->clearance);
     it->t = it->speed.time_to_move(it->clearance, limit);
-    // Short of the limit near the exact primitives: the body's spheres may be sliding along them.
-    if (!it->pair && c.obstacles_ && it->t < limit) {
-      isotropic = std::min(isotropic, it->t);
-      it->t = std::max(it->t, directional_time(*it, limit));
-    }
+    // Short of the limit near the exact primitives: the body's spheres may be sliding along them
+    // (directional_time, once this is the smallest candidate).
+    if (!it->pair && c.obstacles_ && it->t < limit) it->directional = true;
     it->level = 2;
     s.times[at] = it->t;
     keep(at);
@@ -159,6 +168,7 @@ double SphereFieldChecker::Pass::directional_time(const Candidate& cand, double 
   thread_local std::vector<PrimitiveObstacles::Separation> near;
   c.obstacles_->reaching(s.body_center[cand.index], reach + b.radius + c.padding_, prims);
   for (int i = b.begin; i < b.end && t > 0 && !prims.empty(); ++i) {
+    if (s.sphere_gap[std::size_t(i)] >= reach) continue;  // every gap of this sphere is at least that
     const Eigen::Vector3d& w = s.world[std::size_t(i)];
     const double r = c.spheres_[std::size_t(i)].radius + c.padding_;
     if (!c.obstacles_->separations(w, reach + r, prims, near)) return 0.0;

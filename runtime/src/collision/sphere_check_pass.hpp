@@ -31,9 +31,11 @@ struct SphereFieldChecker::Pass {
     std::size_t index; // body, or pair
     bool pair;
     bool fine;         // the clearance is already sphere by sphere
-    int level;         // 0 static speed, 1 local speed, 2 local speed and sphere clearances (final)
+    int level;         // 0 static speed, 1 local speed, 2 local speed and sphere clearances (final
+                       // unless `directional`)
     DisplacementBound speed;
     bool exact_centre = false;  // a body's bounding sphere was measured against the exact primitives
+    bool directional = false;   // level 2 but short of the limit: a directional time may raise it
   };
   // Reused by every query of a thread (sized per query): no allocation once warm.
   struct Scratch {
@@ -49,6 +51,9 @@ struct SphereFieldChecker::Pass {
     // coarse and fine node bounds and the exact primitives' distance, NaN where not read.
     std::vector<char> bounds_done;
     std::vector<double> sphere_coarse, sphere_fine, sphere_exact;
+    // Certified mode: each sphere's gap to the scene as far as the certificate's sphere-by-sphere
+    // refinement read it (a lower bound), for the body's directional time.
+    std::vector<double> sphere_gap;
     // Certified mode, filled on demand: chain joints' world axes and origins (by slot), and each
     // body's lever arms about its chain joints (Body::lever_begin), shared by the body's bound
     // and its pairs'.

@@ -237,6 +237,7 @@ SphereFieldChecker::Pass::Pass(const SphereFieldChecker& checker, const Eigen::V
     s.sphere_coarse.resize(c.spheres_.size());
     s.sphere_fine.resize(c.spheres_.size());
     s.sphere_exact.resize(c.spheres_.size());
+    s.sphere_gap.resize(c.spheres_.size());
   }
   s.cands.clear();
   s.times.clear();
