@@ -83,7 +83,8 @@ void SphereFieldChecker::Pass::certificate() {
       const Body& b = c.bodies_[it->index];
       // The field stops at its band: where it has clamped, the body's whole bounding sphere against
       // the exact primitives (one distance) can prove much more than its spheres against the field.
-      if (c.obstacles_ && !it->exact_centre && it->clearance + b.radius + c.padding_ > kBandShare * c.band_) {
+      const bool exact = c.exact_scene();
+      if (c.obstacles_ && !exact && !it->exact_centre && it->clearance + b.radius + c.padding_ > kBandShare * c.band_) {
         it->exact_centre = true;
         const double e = c.obstacles_->distance(s.body_center[it->index]) - b.radius - c.padding_;
         if (e > it->clearance) {
@@ -97,45 +98,7 @@ void SphereFieldChecker::Pass::certificate() {
         }
       }
       centres(it->index);
-      // What the environment pass read for these spheres is not read again (NaN: not read there).
-      const bool known = s.bounds_done[it->index];
-      for (int i = b.begin; i < b.end; ++i)
-        if (!known || std::isnan(s.sphere_fine[std::size_t(i)])) c.fine_->prefetch(s.world[std::size_t(i)]);
-      // Field bounds first. Near a surface the node bound's loss is most of the clearance, so the
-      // exact shapes are asked there; so they are where the band has clamped (the field then knows
-      // only "at least the band"). An exact distance only raises a sphere's bound, so it is asked
-      // only while the field's bound is below the smallest clearance so far, smallest first.
-      s.exact_order.clear();
-      for (int i = b.begin; i < b.end; ++i) {
-        const auto& sp = c.spheres_[std::size_t(i)];
-        const Eigen::Vector3d& w = s.world[std::size_t(i)];
-        const double co = known && !std::isnan(s.sphere_coarse[std::size_t(i)]) ? s.sphere_coarse[std::size_t(i)] : c.coarse_lower_bound(w);
-        const double fi = known && !std::isnan(s.sphere_fine[std::size_t(i)]) ? s.sphere_fine[std::size_t(i)] : c.fine_lower_bound(w);
-        const double sc = std::max(co, fi) - sp.radius - c.padding_;
-        s.sphere_gap[std::size_t(i)] = sc;
-        if (c.obstacles_ && (sc < kExactBelow || sc + sp.radius + c.padding_ > kBandShare * c.band_)) s.exact_order.push_back({sc, i});
-        else clearance = std::min(clearance, sc);
-      }
-      std::sort(s.exact_order.begin(), s.exact_order.end());
-      // A clearance lasting `limit` is all the caller needs (clearance_for): past it the field's
-      // bounds will do. Should the time still fall short, the rest of the spheres are asked too.
-      double need = it->speed.clearance_for(limit);
-      for (std::size_t k = 0; k < s.exact_order.size();) {
-        const auto [sc, i] = s.exact_order[k];
-        if (sc >= std::min(clearance, need)) {  // neither this sphere nor the rest can lower it below that
-          if (sc >= clearance || !(it->speed.time_to_move(sc, limit) < limit)) {
-            clearance = std::min(clearance, sc);
-            break;
-          }
-          need = std::numeric_limits<double>::infinity();  // fell short: the rest exactly
-        }
-        const auto& sp = c.spheres_[std::size_t(i)];
-        const double read = known ? s.sphere_exact[std::size_t(i)] : std::numeric_limits<double>::quiet_NaN();
-        const double distance = std::isnan(read) ? c.obstacles_->distance(s.world[std::size_t(i)]) : read;
-        s.sphere_gap[std::size_t(i)] = std::max(sc, distance - sp.radius - c.padding_);
-        clearance = std::min(clearance, s.sphere_gap[std::size_t(i)]);
-        ++k;
-      }
+      clearance = exact ? exact_sphere_gaps(it->index) : field_sphere_gaps(*it, limit);
     }
     it->clearance = std::max(clearance, it->clearance);
     it->t = it->speed.time_to_move(it->clearance, limit);
@@ -151,6 +114,65 @@ void SphereFieldChecker::Pass::certificate() {
   if (skipped) fd = std::min(fd, enough);
   out.free_distance = std::isfinite(fd) ? fd : 1e9;
   out.isotropic_distance = std::min(out.free_distance, isotropic);
+}
+
+// A body's spheres' gaps to the scene (into s.sphere_gap, for directional_time), the smallest
+// returned. What the environment pass read for them is not read again (NaN: not read there).
+double SphereFieldChecker::Pass::exact_sphere_gaps(std::size_t bi) {
+  const Body& b = c.bodies_[bi];
+  double clearance = std::numeric_limits<double>::infinity();
+  for (int i = b.begin; i < b.end; ++i) {
+    s.sphere_gap[std::size_t(i)] = exact_distance(bi, i) - c.spheres_[std::size_t(i)].radius - c.padding_;
+    clearance = std::min(clearance, s.sphere_gap[std::size_t(i)]);
+  }
+  return clearance;
+}
+
+double SphereFieldChecker::Pass::exact_distance(std::size_t bi, int i) {
+  const double read = s.bounds_done[bi] ? s.sphere_exact[std::size_t(i)] : std::numeric_limits<double>::quiet_NaN();
+  return std::isnan(read) ? c.obstacles_->distance(s.world[std::size_t(i)]) : read;
+}
+
+// The same from the field's bounds, the exact primitives asked only where those fall short.
+double SphereFieldChecker::Pass::field_sphere_gaps(const Candidate& cand, double limit) {
+  const Body& b = c.bodies_[cand.index];
+  const bool known = s.bounds_done[cand.index];
+  double clearance = std::numeric_limits<double>::infinity();
+  for (int i = b.begin; i < b.end; ++i)
+    if (!known || std::isnan(s.sphere_fine[std::size_t(i)])) c.fine_->prefetch(s.world[std::size_t(i)]);
+  // Field bounds first. Near a surface the node bound's loss is most of the clearance, so the
+  // exact shapes are asked there; so they are where the band has clamped (the field then knows
+  // only "at least the band"). An exact distance only raises a sphere's bound, so it is asked
+  // only while the field's bound is below the smallest clearance so far, smallest first.
+  s.exact_order.clear();
+  for (int i = b.begin; i < b.end; ++i) {
+    const auto& sp = c.spheres_[std::size_t(i)];
+    const Eigen::Vector3d& w = s.world[std::size_t(i)];
+    const double co = known && !std::isnan(s.sphere_coarse[std::size_t(i)]) ? s.sphere_coarse[std::size_t(i)] : c.coarse_lower_bound(w);
+    const double fi = known && !std::isnan(s.sphere_fine[std::size_t(i)]) ? s.sphere_fine[std::size_t(i)] : c.fine_lower_bound(w);
+    const double sc = std::max(co, fi) - sp.radius - c.padding_;
+    s.sphere_gap[std::size_t(i)] = sc;
+    if (c.obstacles_ && (sc < kExactBelow || sc + sp.radius + c.padding_ > kBandShare * c.band_)) s.exact_order.push_back({sc, i});
+    else clearance = std::min(clearance, sc);
+  }
+  std::sort(s.exact_order.begin(), s.exact_order.end());
+  // A clearance lasting `limit` is all the caller needs (clearance_for): past it the field's
+  // bounds will do. Should the time still fall short, the rest of the spheres are asked too.
+  double need = cand.speed.clearance_for(limit);
+  for (std::size_t k = 0; k < s.exact_order.size();) {
+    const auto [sc, i] = s.exact_order[k];
+    if (sc >= std::min(clearance, need)) {  // neither this sphere nor the rest can lower it below that
+      if (sc >= clearance || !(cand.speed.time_to_move(sc, limit) < limit)) {
+        clearance = std::min(clearance, sc);
+        break;
+      }
+      need = std::numeric_limits<double>::infinity();  // fell short: the rest exactly
+    }
+    s.sphere_gap[std::size_t(i)] = std::max(sc, exact_distance(cand.index, i) - c.spheres_[std::size_t(i)].radius - c.padding_);
+    clearance = std::min(clearance, s.sphere_gap[std::size_t(i)]);
+    ++k;
+  }
+  return clearance;
 }
 
 // How long a body's spheres keep clear of the scene's primitives, each sphere and primitive

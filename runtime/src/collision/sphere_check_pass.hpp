@@ -90,6 +90,13 @@ struct SphereFieldChecker::Pass {
   void levers(std::size_t bi);
   // A body's time from its spheres' directional bounds against the primitives (exact scenes only).
   double directional_time(const Candidate& cand, double limit);
+  // A body's smallest sphere gap to the scene, each sphere's into s.sphere_gap: from the exact
+  // primitives (exact_scene()), or from the field with the primitives where its bounds fall
+  // short of lasting `limit`. centres() of the body must be set.
+  double exact_sphere_gaps(std::size_t bi);
+  double field_sphere_gaps(const Candidate& cand, double limit);
+  // A sphere's exact distance to the scene, as the environment pass read it or now.
+  double exact_distance(std::size_t bi, int sphere);
 
   // World sphere centres of a body, computed at most once per query.
   void centres(std::size_t bi) {

@@ -72,17 +72,39 @@ Eigen::VectorXd random_q(const Kinematics& k, std::mt19937_64& rng) {
 }
 }  // namespace
 
-// Both forms of the fast layer: the field alone, and the field with the scene's exact primitives.
-class FastLayer : public ::testing::TestWithParam<bool> {
+// Every form of the fast layer: the field alone; a scene of a few exact primitives, checked by
+// their exact distances alone; and one of more than 64, where the field goes first and the
+// primitives settle what it leaves undecided (here the shelf plus 64 specks far out of reach, so
+// the answers are the shelf's).
+enum class Form { FieldOnly, WithExactPrimitives, FieldWithManyPrimitives };
+class FastLayer : public ::testing::TestWithParam<Form> {
  protected:
   SphereFieldChecker make(const ShelfWorld& w) const {
     SphereFieldChecker fast(w.kin, w.arm.spheres, w.sdf, 0.3);
-    if (GetParam()) fast.set_exact_obstacles(PrimitiveObstacles::from_scene(w.scene));
+    if (GetParam() == Form::FieldOnly) return fast;
+    Scene scene = w.scene;
+    if (GetParam() == Form::FieldWithManyPrimitives)
+      for (int k = 0; k < 64; ++k) {
+        Shape speck;
+        speck.type = ShapeType::Sphere;
+        speck.size = Eigen::Vector3d(0.01, 0, 0);
+        speck.origin.translation() = Eigen::Vector3d(0.1 * k - 3.2, 4.0, 3.0);
+        scene.objects.push_back({"speck" + std::to_string(k), {speck}});
+      }
+    const auto obstacles = PrimitiveObstacles::from_scene(scene);
+    EXPECT_EQ(obstacles->all_have_bits(), GetParam() == Form::WithExactPrimitives);
+    fast.set_exact_obstacles(obstacles);
     return fast;
   }
+  bool exact_primitives() const { return GetParam() != Form::FieldOnly; }
 };
-INSTANTIATE_TEST_SUITE_P(Collision, FastLayer, ::testing::Values(false, true),
-                         [](const auto& info) { return info.param ? "WithExactPrimitives" : "FieldOnly"; });
+INSTANTIATE_TEST_SUITE_P(Collision, FastLayer,
+                         ::testing::Values(Form::FieldOnly, Form::WithExactPrimitives, Form::FieldWithManyPrimitives),
+                         [](const auto& info) {
+                           return info.param == Form::FieldOnly             ? "FieldOnly"
+                                  : info.param == Form::WithExactPrimitives ? "WithExactPrimitives"
+                                                                            : "FieldWithManyPrimitives";
+                         });
 
 TEST_P(FastLayer, NeverSaysFreeWhereExactLayerCollides) {
   ShelfWorld w;
@@ -106,7 +128,7 @@ TEST_P(FastLayer, NeverSaysFreeWhereExactLayerCollides) {
   const long full = both_layers.counters().exact_full.load();
   EXPECT_LT(full, long(n) / 2) << "full exact checks: " << full << " of " << n;
   // With exact primitives the inner balls prove collisions (each one agreed with FCL above).
-  if (GetParam()) {
+  if (exact_primitives()) {
     EXPECT_GT(both_layers.counters().proven_collisions.load(), long(n) / 50);
   }
   RecordProperty("fast_free", fast_free);
