@@ -70,6 +70,7 @@ std::shared_ptr<const PrimitiveObstacles> PrimitiveObstacles::from_scene(const S
       out->lanes_.push_back(to_lanes(p));
       out->extent_ = std::max(out->extent_, p.origin.cwiseAbs().maxCoeff() + p.bound_radius);
     }
+  out->build_blocks();
   return out;
 }
 
@@ -100,31 +101,6 @@ double inner_radius(const std::vector<Shape>& shapes, const Eigen::Vector3d& p) 
 
 double PrimitiveObstacles::local_distance(const Primitive& s, const Eigen::Vector3d& world) {
   return local_signed_distance(s.type, s.half, s.to_local * (world - s.origin));
-}
-
-double PrimitiveObstacles::distance(const Eigen::Vector3d& p) const {
-  // The shape nearest the thread's last query goes first (consecutive queries are a body's spheres,
-  // or states along one motion): its exact distance is usually the answer, and every shape whose
-  // bounding sphere cannot beat it is skipped, compared squared (no root per shape). In scene
-  // order, the first shapes asked were often far ones.
-  const std::size_t n = prims_.size();
-  if (n == 0) return std::numeric_limits<double>::infinity();
-  thread_local std::size_t hint = 0;
-  if (hint >= n) hint = 0;
-  double best = local_distance(prims_[hint], p);
-  std::size_t nearest = hint;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Primitive& s = prims_[i];
-    const double reach = best + s.bound_radius;
-    if (i == hint || reach <= 0 || (p - s.origin).squaredNorm() >= reach * reach) continue;
-    const double d = local_distance(s, p);
-    if (d < best) {
-      best = d;
-      nearest = i;
-    }
-  }
-  hint = nearest;
-  return best;
 }
 
 void PrimitiveObstacles::reaching(const Eigen::Vector3d& p, double within, std::vector<int>& out) const {

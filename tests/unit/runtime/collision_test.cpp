@@ -1110,6 +1110,51 @@ TriMesh uv_sphere(double radius) {
 }
 }  // namespace
 
+// PrimitiveObstacles::distance scans every primitive in double lanes, blocks of one type: on
+// both SIMD paths it is the smallest signed distance of the shapes one by one, in scenes whose
+// counts leave spare lanes (a block's spare lanes repeat a primitive), inside shapes too; no
+// primitives, +inf.
+TEST(PrimitiveObstacles, DistanceIsTheNearestShapesOnBothPaths) {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::normal_distribution<double> g(0, 1);
+  const Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
+    force_simd_path(path);
+    EXPECT_EQ(PrimitiveObstacles::from_scene(Scene{})->distance(origin), std::numeric_limits<double>::infinity());
+  }
+  int inside = 0, checked = 0;
+  for (int count = 1; count <= 13; count += 3) {
+    Scene scene;
+    for (int k = 0; k < count; ++k) {
+      Shape s = box(Eigen::Vector3d(0.1 + 0.3 * std::abs(u(rng)), 0.1 + 0.3 * std::abs(u(rng)), 0.05 + 0.3 * std::abs(u(rng))),
+                    Eigen::Vector3d(u(rng), u(rng), u(rng)));
+      s.type = k % 3 == 0 ? ShapeType::Box : k % 3 == 1 ? ShapeType::Cylinder : ShapeType::Sphere;
+      if (s.type != ShapeType::Box) s.size.z() = 0;
+      s.origin.linear() = Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized().toRotationMatrix();
+      scene.objects.push_back({"o" + std::to_string(k), {s}});
+    }
+    const auto prims = PrimitiveObstacles::from_scene(scene);
+    ASSERT_TRUE(prims);
+    for (int i = 0; i < 3000; ++i) {
+      const Eigen::Vector3d p(1.5 * u(rng), 1.5 * u(rng), 1.5 * u(rng));
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const auto& o : scene.objects) nearest = std::min(nearest, shape_signed_distance(o.shapes[0], p));
+      force_simd_path(SimdPath::Portable);
+      const double portable = prims->distance(p);
+      force_simd_path(SimdPath::Avx2);
+      const double avx2 = prims->distance(p);
+      ASSERT_NEAR(portable, nearest, 1e-12) << count << " primitives, p = " << p.transpose();
+      ASSERT_EQ(avx2, portable) << "the paths differ at p = " << p.transpose();
+      inside += nearest < 0;
+      ++checked;
+    }
+  }
+  force_simd_path(SimdPath::Avx2);
+  EXPECT_GT(inside, 100);
+  RecordProperty("checked", checked);
+}
+
 // The exact primitive distance against FCL on the same scene: a ball slightly smaller than the
 // distance is free, one slightly larger touches; inside an obstacle the distance is negative.
 TEST(PrimitiveObstacles, DistanceAgreesWithFclOnBoxesCylindersAndSpheres) {

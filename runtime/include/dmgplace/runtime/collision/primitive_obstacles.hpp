@@ -135,6 +135,16 @@ class PrimitiveObstacles {
   std::vector<LanePrimitive> lanes_;  // prims_ in floats
   double extent_ = 0;
   std::vector<Primitive> prims_;
+  // prims_ again for distance(): blocks of 4 of one type, each element in 4 double lanes (one load
+  // covers the block); a block's spare lanes repeat its first primitive (primitive_distance.cpp).
+  struct alignas(32) DistanceBlock {
+    double to_local[9][4], origin[3][4], half[3][4];
+    ShapeType type;
+  };
+  std::vector<DistanceBlock> blocks_;
+  void build_blocks();
+  static double distance_avx2(const std::vector<DistanceBlock>& blocks, const Eigen::Vector3d& p);
+  static double distance_portable(const std::vector<DistanceBlock>& blocks, const Eigen::Vector3d& p);
 };
 
 }  // namespace dmgplace::runtime

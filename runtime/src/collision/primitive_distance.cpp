@@ -1,0 +1,109 @@
+// PrimitiveObstacles::distance: the signed distance to every primitive at once, in double lanes
+// (4 per vector under AVX2, 2 in the portable SSE2 build), the same formulas as
+// local_signed_distance. In a scene of a few primitives (SphereFieldChecker::exact_scene) every
+// body and sphere asks it, where the shape-by-shape scan with bounding-sphere culling it replaces
+// had become a third of the planner's time. No FMA, so both paths give the same answers.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "dmgplace/runtime/collision/primitive_obstacles.hpp"
+#include "dmgplace/runtime/system/simd_dispatch.hpp"
+
+namespace dmgplace::runtime {
+namespace {
+
+typedef double D2 __attribute__((vector_size(2 * sizeof(double))));
+typedef double D4 __attribute__((vector_size(4 * sizeof(double))));
+
+template <class V>
+DMGPLACE_LANES_INLINE V vmin(V a, V b) { return a < b ? a : b; }
+template <class V>
+DMGPLACE_LANES_INLINE V vmax(V a, V b) { return a > b ? a : b; }
+template <class V>
+DMGPLACE_LANES_INLINE V vsqrt(V a) {  // one instruction per lane (the file is built with -fno-math-errno)
+  for (int k = 0; k < int(sizeof(V) / sizeof(double)); ++k) a[k] = __builtin_sqrt(a[k]);
+  return a;
+}
+
+// The smallest signed distance from p to the blocks' primitives, L = 2 or 4 lanes per vector.
+template <class V, class Block>
+DMGPLACE_LANES_INLINE double blocks_min(const std::vector<Block>& blocks, const Eigen::Vector3d& p) {
+  constexpr int L = int(sizeof(V) / sizeof(double));
+  auto splat = [](double v) {
+    V r;
+    for (int k = 0; k < L; ++k) r[k] = v;
+    return r;
+  };
+  auto load = [](const double* at) {
+    V v;
+    __builtin_memcpy(&v, at, sizeof v);
+    return v;
+  };
+  const V px = splat(p.x()), py = splat(p.y()), pz = splat(p.z()), zero = splat(0.0);
+  V best = splat(std::numeric_limits<double>::infinity());
+  for (const Block& b : blocks)
+    for (int h = 0; h < 4; h += L) {
+      const V dx = px - load(&b.origin[0][h]), dy = py - load(&b.origin[1][h]), dz = pz - load(&b.origin[2][h]);
+      auto row = [&](int r) {
+        return load(&b.to_local[3 * r][h]) * dx + load(&b.to_local[3 * r + 1][h]) * dy + load(&b.to_local[3 * r + 2][h]) * dz;
+      };
+      const V lx = row(0), ly = row(1), lz = row(2);
+      V d;
+      if (b.type == ShapeType::Box) {
+        const V qx = vmax(lx, -lx) - load(&b.half[0][h]), qy = vmax(ly, -ly) - load(&b.half[1][h]),
+                qz = vmax(lz, -lz) - load(&b.half[2][h]);
+        const V ox = vmax(qx, zero), oy = vmax(qy, zero), oz = vmax(qz, zero);
+        d = vsqrt(ox * ox + oy * oy + oz * oz) + vmin(vmax(qx, vmax(qy, qz)), zero);
+      } else if (b.type == ShapeType::Cylinder) {
+        const V qr = vsqrt(lx * lx + ly * ly) - load(&b.half[0][h]), qz = vmax(lz, -lz) - load(&b.half[2][h]);
+        const V orad = vmax(qr, zero), oz = vmax(qz, zero);
+        d = vsqrt(orad * orad + oz * oz) + vmin(vmax(qr, qz), zero);
+      } else {  // a sphere (from_scene stores nothing else)
+        d = vsqrt(lx * lx + ly * ly + lz * lz) - load(&b.half[0][h]);
+      }
+      best = vmin(best, d);
+    }
+  double out = best[0];
+  for (int k = 1; k < L; ++k) out = std::min(out, best[k]);
+  return out;
+}
+
+}  // namespace
+
+void PrimitiveObstacles::build_blocks() {
+  blocks_.clear();
+  for (const ShapeType type : {ShapeType::Box, ShapeType::Cylinder, ShapeType::Sphere}) {
+    std::vector<const Primitive*> of_type;
+    for (const Primitive& p : prims_)
+      if (p.type == type) of_type.push_back(&p);
+    for (std::size_t first = 0; first < of_type.size(); first += 4) {
+      DistanceBlock b{};
+      b.type = type;
+      for (std::size_t lane = 0; lane < 4; ++lane) {
+        const Primitive& p = *of_type[first + lane < of_type.size() ? first + lane : first];
+        for (int e = 0; e < 9; ++e) b.to_local[e][lane] = p.to_local(e / 3, e % 3);
+        for (int e = 0; e < 3; ++e) {
+          b.origin[e][lane] = p.origin[e];
+          b.half[e][lane] = p.half[e];
+        }
+      }
+      blocks_.push_back(b);
+    }
+  }
+}
+
+__attribute__((target("avx2"), flatten)) double PrimitiveObstacles::distance_avx2(const std::vector<DistanceBlock>& blocks,
+                                                                        const Eigen::Vector3d& p) {
+  return blocks_min<D4>(blocks, p);
+}
+
+__attribute__((flatten)) double PrimitiveObstacles::distance_portable(const std::vector<DistanceBlock>& blocks, const Eigen::Vector3d& p) {
+  return blocks_min<D2>(blocks, p);
+}
+
+double PrimitiveObstacles::distance(const Eigen::Vector3d& p) const {
+  return simd_path() == SimdPath::Avx2 ? distance_avx2(blocks_, p) : distance_portable(blocks_, p);
+}
+
+}  // namespace dmgplace::runtime
