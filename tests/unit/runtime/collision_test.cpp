@@ -675,6 +675,25 @@ TEST(Collision, HeldObjectIsCheckedAndMayTouchTheFingers) {
   (void)cube;
 }
 
+namespace {
+// `count` boxes, cylinders and spheres (in turn) of random sizes (up to 0.1 + `spread` m),
+// places in [-1, 1]^3 and orientations.
+Scene random_primitives(std::mt19937_64& rng, int count, double spread) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::normal_distribution<double> g(0, 1);
+  Scene scene;
+  for (int k = 0; k < count; ++k) {
+    Shape s = box(Eigen::Vector3d(0.1 + spread * std::abs(u(rng)), 0.1 + spread * std::abs(u(rng)), 0.05 + spread * std::abs(u(rng))),
+                  Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    s.type = k % 3 == 0 ? ShapeType::Box : k % 3 == 1 ? ShapeType::Cylinder : ShapeType::Sphere;
+    if (s.type != ShapeType::Box) s.size.z() = 0;
+    s.origin.linear() = Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized().toRotationMatrix();
+    scene.objects.push_back({"o" + std::to_string(k), {s}});
+  }
+  return scene;
+}
+}  // namespace
+
 // PrimitiveObstacles::separations lists every primitive nearer a point than asked, with its exact
 // distance and a direction along which every point of the primitive lies at least that distance
 // short of the point (sampled points of the solid, rotated boxes, cylinders and spheres); a
@@ -682,16 +701,7 @@ TEST(Collision, HeldObjectIsCheckedAndMayTouchTheFingers) {
 TEST(PrimitiveObstacles, SeparationsListEveryNearPrimitiveWithASeparatingDirection) {
   std::mt19937_64 rng(4);
   std::uniform_real_distribution<double> u(-1, 1);
-  std::normal_distribution<double> g(0, 1);
-  Scene scene;
-  for (int k = 0; k < 9; ++k) {
-    Shape s = box(Eigen::Vector3d(0.1 + 0.2 * std::abs(u(rng)), 0.1 + 0.2 * std::abs(u(rng)), 0.05 + 0.2 * std::abs(u(rng))),
-                  Eigen::Vector3d(u(rng), u(rng), u(rng)));
-    s.type = k % 3 == 0 ? ShapeType::Box : k % 3 == 1 ? ShapeType::Cylinder : ShapeType::Sphere;
-    if (s.type != ShapeType::Box) s.size.z() = 0;
-    s.origin.linear() = Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized().toRotationMatrix();
-    scene.objects.push_back({"o" + std::to_string(k), {s}});
-  }
+  const Scene scene = random_primitives(rng, 9, 0.2);
   const auto prims = PrimitiveObstacles::from_scene(scene);
   ASSERT_TRUE(prims);
   std::vector<int> candidates;
@@ -1117,7 +1127,6 @@ TriMesh uv_sphere(double radius) {
 TEST(PrimitiveObstacles, DistanceIsTheNearestShapesOnBothPaths) {
   std::mt19937_64 rng(9);
   std::uniform_real_distribution<double> u(-1, 1);
-  std::normal_distribution<double> g(0, 1);
   const Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
     force_simd_path(path);
@@ -1125,15 +1134,7 @@ TEST(PrimitiveObstacles, DistanceIsTheNearestShapesOnBothPaths) {
   }
   int inside = 0, checked = 0;
   for (int count = 1; count <= 13; count += 3) {
-    Scene scene;
-    for (int k = 0; k < count; ++k) {
-      Shape s = box(Eigen::Vector3d(0.1 + 0.3 * std::abs(u(rng)), 0.1 + 0.3 * std::abs(u(rng)), 0.05 + 0.3 * std::abs(u(rng))),
-                    Eigen::Vector3d(u(rng), u(rng), u(rng)));
-      s.type = k % 3 == 0 ? ShapeType::Box : k % 3 == 1 ? ShapeType::Cylinder : ShapeType::Sphere;
-      if (s.type != ShapeType::Box) s.size.z() = 0;
-      s.origin.linear() = Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized().toRotationMatrix();
-      scene.objects.push_back({"o" + std::to_string(k), {s}});
-    }
+    const Scene scene = random_primitives(rng, count, 0.3);
     const auto prims = PrimitiveObstacles::from_scene(scene);
     ASSERT_TRUE(prims);
     for (int i = 0; i < 3000; ++i) {
