@@ -93,12 +93,14 @@ void PrimitiveObstacles::build_blocks() {
   }
 }
 
-__attribute__((target("avx2"), flatten)) double PrimitiveObstacles::distance_avx2(const std::vector<DistanceBlock>& blocks,
-                                                                        const Eigen::Vector3d& p) {
+// flatten: the kernel's lambdas are inlined too, so no vector crosses a call.
+__attribute__((target("avx2"), flatten)) double PrimitiveObstacles::distance_avx2(
+    const std::vector<DistanceBlock>& blocks, const Eigen::Vector3d& p) {
   return blocks_min<D4>(blocks, p);
 }
 
-__attribute__((flatten)) double PrimitiveObstacles::distance_portable(const std::vector<DistanceBlock>& blocks, const Eigen::Vector3d& p) {
+__attribute__((flatten)) double PrimitiveObstacles::distance_portable(const std::vector<DistanceBlock>& blocks,
+                                                                      const Eigen::Vector3d& p) {
   return blocks_min<D2>(blocks, p);
 }
 
