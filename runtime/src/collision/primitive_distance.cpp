@@ -8,23 +8,17 @@
 #include <limits>
 
 #include "dmgplace/runtime/collision/primitive_obstacles.hpp"
+#include "dmgplace/runtime/system/lanes.hpp"
 #include "dmgplace/runtime/system/simd_dispatch.hpp"
 
 namespace dmgplace::runtime {
 namespace {
 
-typedef double D2 __attribute__((vector_size(2 * sizeof(double))));
-typedef double D4 __attribute__((vector_size(4 * sizeof(double))));
-
-template <class V>
-DMGPLACE_LANES_INLINE V vmin(V a, V b) { return a < b ? a : b; }
-template <class V>
-DMGPLACE_LANES_INLINE V vmax(V a, V b) { return a > b ? a : b; }
-template <class V>
-DMGPLACE_LANES_INLINE V vsqrt(V a) {  // one instruction per lane (the file is built with -fno-math-errno)
-  for (int k = 0; k < int(sizeof(V) / sizeof(double)); ++k) a[k] = __builtin_sqrt(a[k]);
-  return a;
-}
+using lanes::abs;
+using lanes::max;
+using lanes::max0;
+using lanes::min;
+using lanes::sqrt;  // one instruction per lane: the file is built with -fno-math-errno
 
 // The smallest signed distance from p to the blocks' primitives, L = 2 or 4 lanes per vector.
 template <class V, class Block>
@@ -51,18 +45,17 @@ DMGPLACE_LANES_INLINE double blocks_min(const std::vector<Block>& blocks, const 
       const V lx = row(0), ly = row(1), lz = row(2);
       V d;
       if (b.type == ShapeType::Box) {
-        const V qx = vmax(lx, -lx) - load(&b.half[0][h]), qy = vmax(ly, -ly) - load(&b.half[1][h]),
-                qz = vmax(lz, -lz) - load(&b.half[2][h]);
-        const V ox = vmax(qx, zero), oy = vmax(qy, zero), oz = vmax(qz, zero);
-        d = vsqrt(ox * ox + oy * oy + oz * oz) + vmin(vmax(qx, vmax(qy, qz)), zero);
+        const V qx = abs(lx) - load(&b.half[0][h]), qy = abs(ly) - load(&b.half[1][h]), qz = abs(lz) - load(&b.half[2][h]);
+        const V ox = max0(qx), oy = max0(qy), oz = max0(qz);
+        d = sqrt(ox * ox + oy * oy + oz * oz) + min(max(qx, max(qy, qz)), zero);
       } else if (b.type == ShapeType::Cylinder) {
-        const V qr = vsqrt(lx * lx + ly * ly) - load(&b.half[0][h]), qz = vmax(lz, -lz) - load(&b.half[2][h]);
-        const V orad = vmax(qr, zero), oz = vmax(qz, zero);
-        d = vsqrt(orad * orad + oz * oz) + vmin(vmax(qr, qz), zero);
+        const V qr = sqrt(lx * lx + ly * ly) - load(&b.half[0][h]), qz = abs(lz) - load(&b.half[2][h]);
+        const V orad = max0(qr), oz = max0(qz);
+        d = sqrt(orad * orad + oz * oz) + min(max(qr, qz), zero);
       } else {  // a sphere (from_scene stores nothing else)
-        d = vsqrt(lx * lx + ly * ly + lz * lz) - load(&b.half[0][h]);
+        d = sqrt(lx * lx + ly * ly + lz * lz) - load(&b.half[0][h]);
       }
-      best = vmin(best, d);
+      best = min(best, d);
     }
   double out = best[0];
   for (int k = 1; k < L; ++k) out = std::min(out, best[k]);
@@ -96,12 +89,12 @@ void PrimitiveObstacles::build_blocks() {
 // flatten: the kernel's lambdas are inlined too, so no vector crosses a call.
 __attribute__((target("avx2"), flatten)) double PrimitiveObstacles::distance_avx2(
     const std::vector<DistanceBlock>& blocks, const Eigen::Vector3d& p) {
-  return blocks_min<D4>(blocks, p);
+  return blocks_min<lanes::D>(blocks, p);
 }
 
 __attribute__((flatten)) double PrimitiveObstacles::distance_portable(const std::vector<DistanceBlock>& blocks,
                                                                       const Eigen::Vector3d& p) {
-  return blocks_min<D2>(blocks, p);
+  return blocks_min<lanes::D2>(blocks, p);
 }
 
 double PrimitiveObstacles::distance(const Eigen::Vector3d& p) const {

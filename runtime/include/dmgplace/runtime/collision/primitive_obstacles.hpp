@@ -1,7 +1,8 @@
 #pragma once
 // Exact signed distance to an environment made only of boxes, cylinders and spheres (MoveIt
 // planning scenes usually are). The sphere layer asks it where the distance field's interpolation
-// margin leaves a sphere undecided: no margin, so far fewer configurations go to FCL, and longer
+// margin leaves a sphere undecided, or for every body and sphere in a scene of a few primitives
+// (SphereFieldChecker::exact_scene): no margin, so far fewer configurations go to FCL, and longer
 // certified motions near surfaces.
 #include <Eigen/Geometry>
 #include <cstdint>

@@ -55,9 +55,13 @@ DMGPLACE_LANES_INLINE F splatf(float v) {
   x[0] = v;
   return __builtin_shufflevector(x, x, 0, 0, 0, 0, 0, 0, 0, 0);
 }
-// The same operations for both kinds of vector.
+// Two doubles: one SSE2 register, what a portable build runs natively (its 4-double D is split
+// into pairs, comparisons lane by lane); PrimitiveObstacles::distance's portable path.
+typedef double D2 __attribute__((vector_size(2 * sizeof(double))));
+
+// The same operations for every kind of vector.
 template <class V>
-concept Vector = std::is_same_v<V, D> || std::is_same_v<V, F>;
+concept Vector = std::is_same_v<V, D> || std::is_same_v<V, F> || std::is_same_v<V, D2>;
 template <class T>
 using VectorOf = std::conditional_t<std::is_same_v<T, double>, D, F>;
 template <class T>
