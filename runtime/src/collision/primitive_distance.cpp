@@ -62,6 +62,41 @@ DMGPLACE_LANES_INLINE double blocks_min(const std::vector<Block>& blocks, const 
   return out;
 }
 
+// The smallest signed distance from each of 8 points (float lanes) to the primitives. A box's or
+// cylinder's distance is sqrt(o2) outside (o2, its squared distance, > 0) and its inside term i
+// (<= 0) inside, never both nonzero; sqrt is monotone and correctly rounded, so the smallest
+// sqrt(o2) + i over them is sqrt(min o2) + min i: one root for all of them.
+template <class Prim>
+DMGPLACE_LANES_INLINE void lanes_min(const std::vector<Prim>& prims, const float* x, const float* y, const float* z,
+                                     float* out) {
+  using lanes::F;
+  using lanes::splatf;
+  const F px = lanes::load(x), py = lanes::load(y), pz = lanes::load(z), zero{};
+  const F inf = splatf(std::numeric_limits<float>::infinity());
+  F out2 = inf, inside = zero, spheres = inf;
+  for (const Prim& s : prims) {
+    const F dx = px - lanes::load(s.origin[0]), dy = py - lanes::load(s.origin[1]), dz = pz - lanes::load(s.origin[2]);
+    auto row = [&](int r) {
+      return lanes::load(s.to_local[3 * r]) * dx + lanes::load(s.to_local[3 * r + 1]) * dy + lanes::load(s.to_local[3 * r + 2]) * dz;
+    };
+    const F lx = row(0), ly = row(1), lz = row(2);
+    if (s.type == ShapeType::Box) {
+      const F qx = abs(lx) - splatf(s.half[0]), qy = abs(ly) - splatf(s.half[1]), qz = abs(lz) - splatf(s.half[2]);
+      const F ox = max0(qx), oy = max0(qy), oz = max0(qz);
+      out2 = min(out2, ox * ox + oy * oy + oz * oz);
+      inside = min(inside, min(max(qx, max(qy, qz)), zero));
+    } else if (s.type == ShapeType::Cylinder) {
+      const F qr = sqrt(lx * lx + ly * ly) - splatf(s.half[0]), qz = abs(lz) - splatf(s.half[2]);
+      const F orad = max0(qr), oz = max0(qz);
+      out2 = min(out2, orad * orad + oz * oz);
+      inside = min(inside, min(max(qr, qz), zero));
+    } else {  // a sphere
+      spheres = min(spheres, sqrt(lx * lx + ly * ly + lz * lz) - splatf(s.half[0]));
+    }
+  }
+  lanes::store(out, min(sqrt(out2) + inside, spheres));
+}
+
 }  // namespace
 
 void PrimitiveObstacles::build_blocks() {
@@ -95,6 +130,31 @@ __attribute__((target("avx2"), flatten)) double PrimitiveObstacles::distance_avx
 __attribute__((flatten)) double PrimitiveObstacles::distance_portable(const std::vector<DistanceBlock>& blocks,
                                                                       const Eigen::Vector3d& p) {
   return blocks_min<lanes::D2>(blocks, p);
+}
+
+// No FMA here either: both paths round alike.
+__attribute__((target("avx2"), flatten)) void PrimitiveObstacles::distances_avx2(const std::vector<LanePrimitive>& prims,
+                                                                                const float* x, const float* y,
+                                                                                const float* z, float* out) {
+  lanes_min(prims, x, y, z, out);
+}
+
+__attribute__((flatten)) void PrimitiveObstacles::distances_portable(const std::vector<LanePrimitive>& prims, const float* x,
+                                                                     const float* y, const float* z, float* out) {
+  lanes_min(prims, x, y, z, out);
+}
+
+void PrimitiveObstacles::distances(const float* x, const float* y, const float* z, float* out) const {
+  if (simd_path() == SimdPath::Avx2) distances_avx2(lanes_, x, y, z, out);
+  else distances_portable(lanes_, x, y, z, out);
+}
+
+double PrimitiveObstacles::float_error(double limit) const {
+  // Each step rounds by at most 2^-24 of what it meets: coordinates up to `limit`, a primitive's
+  // origin and extents up to extent(), the float rotation's entries off by 2^-24 each. The local
+  // coordinates collect about 12 such roundings of limit + extent(), a distance about 45 (a
+  // cylinder's, two roots deep); 64 bound them.
+  return 64.0 * 0x1p-24 * (limit + extent_ + 1.0);
 }
 
 double PrimitiveObstacles::distance(const Eigen::Vector3d& p) const {

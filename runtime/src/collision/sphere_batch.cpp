@@ -119,6 +119,7 @@ void SphereFieldChecker::set_lane_bounds() {
   // Forward kinematics in floats adds its own bound, for points as far from their link's origin
   // as any sphere's far side.
   lane_rounding_ = 64.0 * 0x1p-24 * (lane_limit_ + 2.0 * reach_ + 1.0);
+  exact_float_error_ = obstacles_ ? obstacles_->float_error(lane_limit_) : 0.0;
 }
 
 double SphereFieldChecker::lane_margin() const {

@@ -129,6 +129,10 @@ double SphereFieldChecker::Pass::exact_sphere_gaps(std::size_t bi) {
 }
 
 double SphereFieldChecker::Pass::exact_distance(std::size_t bi, int i) {
+  if (c.exact_scene()) {
+    exact_distances(bi);
+    return s.sphere_exact[std::size_t(i)];
+  }
   const double read = s.bounds_done[bi] ? s.sphere_exact[std::size_t(i)] : std::numeric_limits<double>::quiet_NaN();
   return std::isnan(read) ? c.obstacles_->distance(s.world[std::size_t(i)]) : read;
 }

@@ -49,8 +49,11 @@ struct SphereFieldChecker::Pass {
     // Certified mode: what the environment pass read for a body's spheres (bounds_done[body]), so
     // the certificate's sphere-by-sphere refinement does not read it again. Per sphere: the
     // coarse and fine node bounds and the exact primitives' distance, NaN where not read.
-    std::vector<char> bounds_done;
+    // In exact scenes sphere_exact holds every sphere of a body once distances_done[body]
+    // (exact_distances), in any mode.
+    std::vector<char> bounds_done, distances_done;
     std::vector<double> sphere_coarse, sphere_fine, sphere_exact;
+    std::vector<double> body_exact;  // exact scenes: body_distances()
     // Certified mode: each sphere's gap to the scene as far as the certificate's sphere-by-sphere
     // refinement read it (a lower bound), for the body's directional time.
     std::vector<double> sphere_gap;
@@ -97,6 +100,14 @@ struct SphereFieldChecker::Pass {
   double field_sphere_gaps(const Candidate& cand, double limit);
   // A sphere's exact distance to the scene, as the environment pass read it or now.
   double exact_distance(std::size_t bi, int sphere);
+  // Exact scenes: a lower bound on each of a body's spheres' distances to the scene, all at once
+  // (PrimitiveObstacles::distances, float lanes, less their rounding bound exact_float_error_),
+  // into s.sphere_exact; at most once per query.
+  void exact_distances(std::size_t bi);
+  // The same for every body's bounding-sphere centre, into s.body_exact.
+  void body_distances();
+  template <class Point>
+  void distances_of(int count, Point point, double* out) const;
 
   // World sphere centres of a body, computed at most once per query.
   void centres(std::size_t bi) {

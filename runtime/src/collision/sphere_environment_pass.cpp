@@ -3,13 +3,15 @@
 #include <cmath>
 #include <limits>
 
+#include "dmgplace/runtime/collision/primitive_obstacles.hpp"
 #include "sphere_check_pass.hpp"
 
 namespace dmgplace::runtime {
 
 // Every moving body against the scene: its bounding sphere against the coarse, then the fine grid;
 // then sphere by sphere, the exact primitives where the grid cannot tell. In a scene of a few
-// primitives (exact_scene()) the same steps read the exact distances instead of the grid. Bodies
+// primitives (exact_scene()) the same steps read the exact distances instead of the grid, every
+// body centre at once, then every sphere of a body at once (float lanes: distances_of). Bodies
 // left undecided are flagged for the exact layer (with the primitives they may touch, when known).
 bool SphereFieldChecker::Pass::environment() {
   const bool exact = c.exact_scene();
@@ -18,11 +20,12 @@ bool SphereFieldChecker::Pass::environment() {
     s.body_center[bi] = poses[std::size_t(c.bodies_[bi].link)] * c.bodies_[bi].center;
     if (!exact && (c.bodies_[bi].moving || c.bodies_[bi].attached)) c.fine_->prefetch(s.body_center[bi]);
   }
+  if (exact) body_distances();
   for (std::size_t bi = 0; bi < c.bodies_.size(); ++bi) {
     const Body& b = c.bodies_[bi];
     if (!b.moving && !b.attached) continue;
     if (exact) {
-      const double d = c.obstacles_->distance(s.body_center[bi]) - b.radius - c.padding_;
+      const double d = s.body_exact[bi] - b.radius - c.padding_;
       if (d >= 0) {
         cleared(bi, d);
         continue;  // the whole body is clear
@@ -52,8 +55,12 @@ bool SphereFieldChecker::Pass::environment() {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     if (certify) {
       s.bounds_done[bi] = 1;
-      for (int i = b.begin; i < b.end; ++i) s.sphere_coarse[std::size_t(i)] = s.sphere_fine[std::size_t(i)] = s.sphere_exact[std::size_t(i)] = nan;
+      for (int i = b.begin; i < b.end; ++i) {
+        s.sphere_coarse[std::size_t(i)] = s.sphere_fine[std::size_t(i)] = nan;
+        if (!exact) s.sphere_exact[std::size_t(i)] = nan;
+      }
     }
+    if (exact) exact_distances(bi);
     for (int i = b.begin; i < b.end; ++i) {
       const auto& sp = c.spheres_[std::size_t(i)];
       const Eigen::Vector3d& w = s.world[std::size_t(i)];
@@ -78,14 +85,16 @@ bool SphereFieldChecker::Pass::environment() {
         }
       }
       if (c.obstacles_) {  // exact, inside the grid or not
-        const double distance = c.obstacles_->distance(w);
-        if (certify) s.sphere_exact[std::size_t(i)] = distance;
+        // (Exact scenes: a lower bound, exact_float_error_ short of it at most.)
+        const double distance = exact ? s.sphere_exact[std::size_t(i)] : c.obstacles_->distance(w);
+        if (certify && !exact) s.sphere_exact[std::size_t(i)] = distance;
         const double gap = distance - sp.radius - c.padding_;
         if (gap >= 0) {
           cleared(bi, gap);
           continue;
         }
-        if (c.inner(i) > 0 && distance < c.inner(i)) {  // part of the link's solid is inside an obstacle (0: unknown)
+        const double at_most = exact ? distance + 2.0 * c.exact_float_error_ : distance;
+        if (c.inner(i) > 0 && at_most < c.inner(i)) {  // part of the link's solid is inside an obstacle (0: unknown)
           out.environment_free = false;
           out.proven_collision = true;
           return false;
@@ -112,6 +121,47 @@ bool SphereFieldChecker::Pass::environment() {
       out.env_masks[std::size_t(out.env_link_count - 1)] = mask;
   }
   return true;
+}
+
+// Lower bounds on the distances of `count` points (`point(k)`) to the scene's primitives, 8 at a
+// time in float lanes, into out[k]: the float distance less its rounding bound. A point past
+// lane_limit_ (or NaN), where that bound does not hold, is measured in doubles.
+template <class Point>
+void SphereFieldChecker::Pass::distances_of(int count, Point point, double* out) const {
+  constexpr int W = lanes::WF;
+  alignas(32) float x[W], y[W], z[W], d[W];
+  for (int first = 0; first < count; first += W) {
+    const int n = std::min(W, count - first);
+    for (int k = 0; k < W; ++k) {  // spare lanes repeat the first point
+      const Eigen::Vector3d& w = point(first + (k < n ? k : 0));
+      x[k] = float(w.x());
+      y[k] = float(w.y());
+      z[k] = float(w.z());
+    }
+    c.obstacles_->distances(x, y, z, d);
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Vector3d& w = point(first + k);
+      const double limit = c.lane_limit_;
+      const bool within = std::abs(w.x()) <= limit && std::abs(w.y()) <= limit && std::abs(w.z()) <= limit;
+      out[first + k] = within ? double(d[k]) - c.exact_float_error_ : c.obstacles_->distance(w);
+    }
+  }
+}
+
+void SphereFieldChecker::Pass::exact_distances(std::size_t bi) {
+  if (s.distances_done[bi]) return;
+  s.distances_done[bi] = 1;
+  centres(bi);
+  const Body& b = c.bodies_[bi];
+  distances_of(b.end - b.begin, [&](int k) -> const Eigen::Vector3d& { return s.world[std::size_t(b.begin + k)]; },
+               &s.sphere_exact[std::size_t(b.begin)]);
+}
+
+void SphereFieldChecker::Pass::body_distances() {
+  // Static bodies too: every lane costs the same, and most bodies move.
+  s.body_exact.resize(c.bodies_.size());
+  distances_of(int(c.bodies_.size()), [&](int k) -> const Eigen::Vector3d& { return s.body_center[std::size_t(k)]; },
+               s.body_exact.data());
 }
 
 }  // namespace dmgplace::runtime

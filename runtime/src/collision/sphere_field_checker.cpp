@@ -230,6 +230,10 @@ SphereFieldChecker::Pass::Pass(const SphereFieldChecker& checker, const Eigen::V
   s.body_center.resize(c.bodies_.size());
   s.world.resize(c.spheres_.size());
   s.world_done.assign(c.bodies_.size(), 0);
+  if (c.exact_scene()) {
+    s.distances_done.assign(c.bodies_.size(), 0);
+    s.sphere_exact.resize(c.spheres_.size());
+  }
   if (certify) {
     s.body_clear.assign(c.bodies_.size(), std::numeric_limits<double>::infinity());
     s.body_flagged.assign(c.bodies_.size(), 0);

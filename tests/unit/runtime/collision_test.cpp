@@ -1156,6 +1156,57 @@ TEST(PrimitiveObstacles, DistanceIsTheNearestShapesOnBothPaths) {
   RecordProperty("checked", checked);
 }
 
+// PrimitiveObstacles::distances (8 points per call in float lanes, what the scalar passes ask in
+// exact scenes) is within float_error(limit) of distance() for points within `limit`, and bitwise
+// the same on both SIMD paths: rotated boxes, cylinders and spheres, some scenes moved 4 m out
+// (a larger extent), points inside shapes too, every lane a different point.
+TEST(PrimitiveObstacles, FloatLaneDistancesAreWithinTheirErrorBoundOnBothPaths) {
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> u(-1, 1);
+  constexpr int W = lanes::WF;
+  int inside = 0, checked = 0;
+  double worst = 0;  // largest error seen, as a share of the bound
+  for (int count = 1; count <= 13; count += 3)
+    for (const double shift : {0.0, 4.0}) {
+      Scene scene = random_primitives(rng, count, 0.3);
+      for (auto& o : scene.objects) o.shapes[0].origin.translation().x() += shift;
+      const auto prims = PrimitiveObstacles::from_scene(scene);
+      ASSERT_TRUE(prims);
+      const double limit = 1.5 + shift;
+      const double bound = prims->float_error(limit);
+      for (int i = 0; i < 400; ++i) {
+        alignas(32) float x[W], y[W], z[W], portable[W], avx2[W];
+        for (int k = 0; k < W; ++k) {
+          // Near the shapes mostly (the scene spans about [-1.3, 1.3] around its shift), the
+          // limit's corner in one lane.
+          const Eigen::Vector3d p = k == 0 && i % 50 == 0 ? Eigen::Vector3d(limit, -limit, limit)
+                                                           : Eigen::Vector3d(shift + 1.5 * u(rng), 1.5 * u(rng), 1.5 * u(rng));
+          x[k] = float(p.x());
+          y[k] = float(p.y());
+          z[k] = float(p.z());
+        }
+        force_simd_path(SimdPath::Portable);
+        prims->distances(x, y, z, portable);
+        force_simd_path(SimdPath::Avx2);
+        prims->distances(x, y, z, avx2);
+        for (int k = 0; k < W; ++k) {
+          const Eigen::Vector3d p(x[k], y[k], z[k]);  // the float point is the point asked about
+          const double exact = prims->distance(p);
+          ASSERT_LE(std::abs(double(portable[k]) - exact), bound) << count << " primitives, p = " << p.transpose();
+          ASSERT_EQ(avx2[k], portable[k]) << "the paths differ at p = " << p.transpose();
+          worst = std::max(worst, std::abs(double(portable[k]) - exact) / bound);
+          inside += exact < 0;
+          ++checked;
+        }
+      }
+    }
+  force_simd_path(SimdPath::Avx2);
+  EXPECT_GT(inside, 200);
+  EXPECT_GT(worst, 0.0);  // floats do round: a path in doubles would not be this kernel
+  RecordProperty("checked", checked);
+  RecordProperty("worst_share_of_bound_x1000", int(1000 * worst));
+}
+
 // The exact primitive distance against FCL on the same scene: a ball slightly smaller than the
 // distance is free, one slightly larger touches; inside an obstacle the distance is negative.
 TEST(PrimitiveObstacles, DistanceAgreesWithFclOnBoxesCylindersAndSpheres) {

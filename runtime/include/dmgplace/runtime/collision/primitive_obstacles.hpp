@@ -30,6 +30,12 @@ class PrimitiveObstacles {
 
   // Signed distance from p to the nearest primitive (negative inside one); +inf when there are none.
   double distance(const Eigen::Vector3d& p) const;
+  // The same for lanes::WF points at once (x[k], y[k], z[k]) into out[k], in floats: each within
+  // float_error(limit) of distance() for a point whose coordinates are at most `limit` in
+  // magnitude. A body's spheres all ask at once, where one at a time half of each vector of
+  // distance() went to spare lanes (SphereFieldChecker::Pass::exact_distances).
+  void distances(const float* x, const float* y, const float* z, float* out) const;
+  double float_error(double limit) const;
   // A primitive's separation from a point outside it: the distance, and the unit direction from
   // the primitive's nearest point to p, along which every point of the primitive lies at least
   // that distance short of p (the primitive is convex). Directional certificates use it
@@ -146,6 +152,10 @@ class PrimitiveObstacles {
   void build_blocks();
   static double distance_avx2(const std::vector<DistanceBlock>& blocks, const Eigen::Vector3d& p);
   static double distance_portable(const std::vector<DistanceBlock>& blocks, const Eigen::Vector3d& p);
+  static void distances_avx2(const std::vector<LanePrimitive>& prims, const float* x, const float* y, const float* z,
+                             float* out);
+  static void distances_portable(const std::vector<LanePrimitive>& prims, const float* x, const float* y, const float* z,
+                                 float* out);
 };
 
 }  // namespace dmgplace::runtime

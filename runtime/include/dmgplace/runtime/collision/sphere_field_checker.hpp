@@ -258,6 +258,9 @@ class SphereFieldChecker {
   // bodies and the scene, set_lane_bounds) and the float poses' own error bound.
   void set_lane_bounds();
   double lane_limit_ = 0, lane_rounding_ = 0;
+  // PrimitiveObstacles::float_error for points within lane_limit_: the scalar passes' exact
+  // distances in float lanes (Pass::exact_distances) are lower bounds by this much.
+  double exact_float_error_ = 0;
   std::vector<Body> bodies_;
   double reach_ = 0;  // no sphere gets farther than this from the model root's origin
   double link_reach_ = 0;  // nor from its own link's origin
