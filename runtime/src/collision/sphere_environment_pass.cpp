@@ -85,7 +85,7 @@ bool SphereFieldChecker::Pass::environment() {
         }
       }
       if (c.obstacles_) {  // exact, inside the grid or not
-        // (Exact scenes: a lower bound, exact_float_error_ short of it at most.)
+        // (Exact scenes: a lower bound, at most twice exact_float_error_ below the distance.)
         const double distance = exact ? s.sphere_exact[std::size_t(i)] : c.obstacles_->distance(w);
         if (certify && !exact) s.sphere_exact[std::size_t(i)] = distance;
         const double gap = distance - sp.radius - c.padding_;

@@ -32,8 +32,9 @@ class PrimitiveObstacles {
   double distance(const Eigen::Vector3d& p) const;
   // The same for lanes::WF points at once (x[k], y[k], z[k]) into out[k], in floats: each within
   // float_error(limit) of distance() for a point whose coordinates are at most `limit` in
-  // magnitude. A body's spheres all ask at once, where one at a time half of each vector of
-  // distance() went to spare lanes (SphereFieldChecker::Pass::exact_distances).
+  // magnitude. Eight points per vector, where distance() takes four doubles of primitives (some
+  // of them spare lanes) per point: a body's spheres ask at once (SphereFieldChecker::Pass::
+  // exact_distances).
   void distances(const float* x, const float* y, const float* z, float* out) const;
   double float_error(double limit) const;
   // A primitive's separation from a point outside it: the distance, and the unit direction from
