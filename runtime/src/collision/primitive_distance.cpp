@@ -62,41 +62,6 @@ DMGPLACE_LANES_INLINE double blocks_min(const std::vector<Block>& blocks, const 
   return out;
 }
 
-// The smallest signed distance from each of 8 points (float lanes) to the primitives. A box's or
-// cylinder's distance is sqrt(o2) outside (o2, its squared distance, > 0) and its inside term i
-// (<= 0) inside, never both nonzero; sqrt is monotone and correctly rounded, so the smallest
-// sqrt(o2) + i over them is sqrt(min o2) + min i: one root for all of them.
-template <class Prim>
-DMGPLACE_LANES_INLINE void lanes_min(const std::vector<Prim>& prims, const float* x, const float* y, const float* z,
-                                     float* out) {
-  using lanes::F;
-  using lanes::splatf;
-  const F px = lanes::load(x), py = lanes::load(y), pz = lanes::load(z), zero{};
-  const F inf = splatf(std::numeric_limits<float>::infinity());
-  F out2 = inf, inside = zero, spheres = inf;
-  for (const Prim& s : prims) {
-    const F dx = px - lanes::load(s.origin[0]), dy = py - lanes::load(s.origin[1]), dz = pz - lanes::load(s.origin[2]);
-    auto row = [&](int r) {
-      return lanes::load(s.to_local[3 * r]) * dx + lanes::load(s.to_local[3 * r + 1]) * dy + lanes::load(s.to_local[3 * r + 2]) * dz;
-    };
-    const F lx = row(0), ly = row(1), lz = row(2);
-    if (s.type == ShapeType::Box) {
-      const F qx = abs(lx) - splatf(s.half[0]), qy = abs(ly) - splatf(s.half[1]), qz = abs(lz) - splatf(s.half[2]);
-      const F ox = max0(qx), oy = max0(qy), oz = max0(qz);
-      out2 = min(out2, ox * ox + oy * oy + oz * oz);
-      inside = min(inside, min(max(qx, max(qy, qz)), zero));
-    } else if (s.type == ShapeType::Cylinder) {
-      const F qr = sqrt(lx * lx + ly * ly) - splatf(s.half[0]), qz = abs(lz) - splatf(s.half[2]);
-      const F orad = max0(qr), oz = max0(qz);
-      out2 = min(out2, orad * orad + oz * oz);
-      inside = min(inside, min(max(qr, qz), zero));
-    } else {  // a sphere
-      spheres = min(spheres, sqrt(lx * lx + ly * ly + lz * lz) - splatf(s.half[0]));
-    }
-  }
-  lanes::store(out, min(sqrt(out2) + inside, spheres));
-}
-
 }  // namespace
 
 void PrimitiveObstacles::build_blocks() {
@@ -130,6 +95,28 @@ __attribute__((target("avx2"), flatten)) double PrimitiveObstacles::distance_avx
 __attribute__((flatten)) double PrimitiveObstacles::distance_portable(const std::vector<DistanceBlock>& blocks,
                                                                       const Eigen::Vector3d& p) {
   return blocks_min<lanes::D2>(blocks, p);
+}
+
+// The smallest signed distance from each of 8 points (float lanes) to the primitives. A box's or
+// cylinder's distance is sqrt(out2) outside and its inside term inside, never both nonzero; sqrt
+// is monotone and correctly rounded, so the smallest of them is sqrt(min out2) + min inside: one
+// root for all of them.
+DMGPLACE_LANES_INLINE void PrimitiveObstacles::lanes_min(const std::vector<LanePrimitive>& prims, const float* x,
+                                                         const float* y, const float* z, float* out) {
+  using lanes::F;
+  const F px = lanes::load(x), py = lanes::load(y), pz = lanes::load(z);
+  const F inf = lanes::splatf(std::numeric_limits<float>::infinity());
+  F out2 = inf, inside{}, spheres = inf;
+  for (const LanePrimitive& s : prims) {
+    const LaneGap g = lane_gap(s, px, py, pz);
+    if (s.type == ShapeType::Sphere) {
+      spheres = min(spheres, g.sphere);
+    } else {
+      out2 = min(out2, g.out2);
+      inside = min(inside, g.inside);
+    }
+  }
+  lanes::store(out, min(sqrt(out2) + inside, spheres));
 }
 
 // No FMA here either: both paths round alike.

@@ -90,22 +90,10 @@ class PrimitiveObstacles {
       const LanePrimitive& s = lanes_[i];
       const std::uint32_t near = near_lanes(s, qx, qy, qz, need, wide) & clear;
       if (!near) continue;
-      auto R = [&](int e) __attribute__((always_inline)) { return lanes::load(s.to_local[e]); };
-      const F dx = qx - lanes::load(s.origin[0]), dy = qy - lanes::load(s.origin[1]), dz = qz - lanes::load(s.origin[2]);
-      const F px = R(0) * dx + R(1) * dy + R(2) * dz;
-      const F py = R(3) * dx + R(4) * dy + R(5) * dz;
-      const F pz = R(6) * dx + R(7) * dy + R(8) * dz;
-      F out2;  // squared distance from the shape's outside, 0 inside
-      if (s.type == ShapeType::Box) {
-        const F ox = lanes::max0(lanes::abs(px) - splatf(s.half[0])), oy = lanes::max0(lanes::abs(py) - splatf(s.half[1])),
-                oz = lanes::max0(lanes::abs(pz) - splatf(s.half[2]));
-        out2 = ox * ox + oy * oy + oz * oz;
-      } else if (s.type == ShapeType::Cylinder) {
-        const F orad = lanes::max0(lanes::sqrt(px * px + py * py) - splatf(s.half[0]));
-        const F oz = lanes::max0(lanes::abs(pz) - splatf(s.half[2]));
-        out2 = orad * orad + oz * oz;
-      } else {  // a sphere (from_scene stores nothing else)
-        const F o = lanes::max0(lanes::sqrt(dx * dx + dy * dy + dz * dz) - splatf(s.half[0]));
+      const LaneGap g = lane_gap(s, qx, qy, qz);
+      F out2 = g.out2;  // squared distance from the shape's outside, 0 inside
+      if (s.type == ShapeType::Sphere) {
+        const F o = lanes::max0(g.sphere);
         out2 = o * o;
       }
       clear &= ~(near & ~lanes::bits(out2 >= need2, wide));
@@ -132,6 +120,43 @@ class PrimitiveObstacles {
     ShapeType type;
   };
   static LanePrimitive to_lanes(const Primitive& p);
+  // A point (every lane) against one primitive, the formulas of local_distance. A box or
+  // cylinder: `out2`, the squared distance from its outside (0 inside), and `inside`, its largest
+  // face offset where that is negative (0 outside). A sphere: its signed distance, `sphere`.
+  struct LaneGap {
+    lanes::F out2, inside, sphere;
+  };
+  static DMGPLACE_LANES_INLINE LaneGap lane_gap(const LanePrimitive& s, lanes::F x, lanes::F y, lanes::F z) {
+    using lanes::F;
+    using lanes::splatf;
+    LaneGap g{};
+    const F dx = x - lanes::load(s.origin[0]), dy = y - lanes::load(s.origin[1]), dz = z - lanes::load(s.origin[2]);
+    if (s.type == ShapeType::Sphere) {  // (from_scene stores nothing but boxes, cylinders and spheres)
+      g.sphere = lanes::sqrt(dx * dx + dy * dy + dz * dz) - splatf(s.half[0]);
+      return g;
+    }
+    auto R = [&](int e) __attribute__((always_inline)) { return lanes::load(s.to_local[e]); };
+    const F px = R(0) * dx + R(1) * dy + R(2) * dz;
+    const F py = R(3) * dx + R(4) * dy + R(5) * dz;
+    const F pz = R(6) * dx + R(7) * dy + R(8) * dz;
+    const F oz = lanes::abs(pz) - splatf(s.half[2]);
+    if (s.type == ShapeType::Box) {
+      const F ox = lanes::abs(px) - splatf(s.half[0]), oy = lanes::abs(py) - splatf(s.half[1]);
+      const F cx = lanes::max0(ox), cy = lanes::max0(oy), cz = lanes::max0(oz);
+      g.out2 = cx * cx + cy * cy + cz * cz;
+      g.inside = lanes::min(lanes::max(ox, lanes::max(oy, oz)), F{});
+    } else {  // a cylinder
+      const F orad = lanes::sqrt(px * px + py * py) - splatf(s.half[0]);
+      const F cr = lanes::max0(orad), cz = lanes::max0(oz);
+      g.out2 = cr * cr + cz * cz;
+      g.inside = lanes::min(lanes::max(orad, oz), F{});
+    }
+    return g;
+  }
+  // The smallest signed distance from each of lanes::WF points to `prims` (distances(); defined,
+  // and used, in primitive_distance.cpp).
+  static DMGPLACE_LANES_INLINE void lanes_min(const std::vector<LanePrimitive>& prims, const float* x, const float* y,
+                                              const float* z, float* out);
   // Lanes whose point is within need + bound_radius of the primitive's centre.
   static DMGPLACE_LANES_INLINE std::uint32_t near_lanes(const LanePrimitive& s, lanes::F x, lanes::F y, lanes::F z,
                                                         float need, bool wide) {
