@@ -148,7 +148,7 @@ double Kinematics::joint_value(int j, const Eigen::VectorXd& q) const {
 
 // Always inlined: in link_poses' loop a call measured 6% slower forward kinematics.
 __attribute__((always_inline)) inline void Kinematics::compose(int j, const Eigen::VectorXd& q, const Eigen::Isometry3d& parent,
-                                                               Eigen::Isometry3d& child) const {
+                                                               Eigen::Isometry3d& child, const double* sincos) const {
   const auto& jt = model_->joints[std::size_t(j)];
   const auto& m = terms_[std::size_t(j)];
   const auto P = parent.linear();
@@ -163,7 +163,8 @@ __attribute__((always_inline)) inline void Kinematics::compose(int j, const Eige
     if (!revolute) return;
     // Turning about e_axis mixes the two columns across it: (u, v) -> (c u + s v, c v - s u).
     double s, c;
-    fast_sincos(joint_value(j, q), s, c);
+    if (sincos) s = sincos[0], c = sincos[1];
+    else fast_sincos(joint_value(j, q), s, c);
     s *= m.axis_sign;
     const int a = (m.axis + 1) % 3, b = (m.axis + 2) % 3;
     const Eigen::Vector3d u = C.col(a), v = C.col(b);
@@ -176,7 +177,8 @@ __attribute__((always_inline)) inline void Kinematics::compose(int j, const Eige
     return;
   }
   double s, c;
-  fast_sincos(joint_value(j, q), s, c);
+  if (sincos) s = sincos[0], c = sincos[1];
+  else fast_sincos(joint_value(j, q), s, c);
   const Eigen::Matrix3d R = jt.origin.linear() + s * m.OK + (1 - c) * m.OKK;
   C.noalias() = P * R;
 }
@@ -188,9 +190,33 @@ void Kinematics::link_poses(const Eigen::VectorXd& q, std::vector<Eigen::Isometr
   // Express the tree in the base frame: first the root-to-base transform, then invert it.
   // child = parent * origin * motion, the motion folded into the origin's rotation (revolute) or
   // translation (prismatic) in place: no 4x4 temporary per joint.
+  // Every revolute joint's sine and cosine first, at once in SIMD lanes (fast_sincos_many): the
+  // Panda's forward kinematics took a fifth less time than with one joint's at a time.
+  constexpr std::size_t kAtOnce = 64;
+  double value[kAtOnce], sc[2][kAtOnce];
+  const bool at_once = order_.size() <= kAtOnce;
+  auto turns = [&](int j) {
+    const JointType t = model_->joints[std::size_t(j)].type;
+    return t == JointType::Revolute || t == JointType::Continuous;
+  };
+  int n = 0;
+  if (at_once) {
+    for (int j : order_)
+      if (turns(j)) value[n++] = joint_value(j, q);
+    fast_sincos_many(value, n, sc[0], sc[1]);
+  }
+  int k = 0;
   for (int j : order_) {
     const auto& jt = model_->joints[std::size_t(j)];
-    compose(j, q, poses[std::size_t(jt.parent)], poses[std::size_t(jt.child)]);
+    double pair[2];
+    const double* given = nullptr;
+    if (at_once && turns(j)) {
+      pair[0] = sc[0][k];
+      pair[1] = sc[1][k];
+      ++k;
+      given = pair;
+    }
+    compose(j, q, poses[std::size_t(jt.parent)], poses[std::size_t(jt.child)], given);
   }
   if (base_is_root_) return;
   const Eigen::Isometry3d to_base = poses[std::size_t(base_)].inverse();

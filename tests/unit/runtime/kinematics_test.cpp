@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "dmgplace/formats/error.hpp"
@@ -296,4 +297,38 @@ TEST(FastSincos, AgreesWithLibmToTheLastBits) {
   EXPECT_EQ(s, std::sin(1e9));
   dmgplace::runtime::fast_sincos(std::nan(""), s, c);
   EXPECT_TRUE(std::isnan(s) && std::isnan(c));
+}
+
+// fast_sincos_many (link_poses' joints at once, in SIMD lanes): on both paths, for any count and
+// with huge or non-finite angles among them, every lane exactly as fast_sincos answers alone.
+TEST(FastSincos, ManyAtOnceEqualsOneAtATimeOnBothPaths) {
+  using namespace dmgplace::runtime;
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-7, 7);
+  int wild_rounds = 0;
+  for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
+    force_simd_path(path);
+    for (int n = 0; n <= 40; ++n) {
+      std::vector<double> x(static_cast<std::size_t>(n)), s(static_cast<std::size_t>(n), 9.0), c(static_cast<std::size_t>(n), 9.0);
+      for (auto& v : x) v = u(rng);
+      if (n > 3 && n % 3 == 0) {  // one lane past the core's range, one NaN
+        x[std::size_t(n / 2)] = n % 2 ? 1e9 : -std::numeric_limits<double>::infinity();
+        x[std::size_t(n - 1)] = std::nan("");
+        ++wild_rounds;
+      }
+      fast_sincos_many(x.data(), n, s.data(), c.data());
+      for (int k = 0; k < n; ++k) {
+        double ws, wc;
+        fast_sincos(x[std::size_t(k)], ws, wc);
+        if (std::isnan(ws)) {
+          EXPECT_TRUE(std::isnan(s[std::size_t(k)]) && std::isnan(c[std::size_t(k)])) << to_string(path) << " n " << n << " lane " << k;
+          continue;
+        }
+        EXPECT_EQ(s[std::size_t(k)], ws) << to_string(path) << " n " << n << " lane " << k;
+        EXPECT_EQ(c[std::size_t(k)], wc) << to_string(path) << " n " << n << " lane " << k;
+      }
+    }
+  }
+  force_simd_path(SimdPath::Avx2);  // back to what the CPU has
+  EXPECT_GT(wild_rounds, 10);
 }

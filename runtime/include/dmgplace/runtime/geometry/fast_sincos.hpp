@@ -12,7 +12,10 @@ inline __attribute__((always_inline)) void fast_sincos_core(double x, double& s,
   // x = j * pi/2 + y, pi/2 split in two so j * pi/2 is exact for the j used here (fdlibm's split).
   constexpr double kTwoOverPi = 6.36619772367581382433e-01;
   constexpr double kPio2Hi = 1.57079632673412561417e+00, kPio2Lo = 6.07710050650619224932e-11;
-  const double j = std::nearbyint(x * kTwoOverPi);
+  // Rounded to the nearest integer (ties to even, as nearbyint) by adding and removing 1.5 * 2^52,
+  // exact below 2^51: no libm call in a scalar build, one add and one subtract per lane in a loop.
+  constexpr double kRound = 0x1.8p52;
+  const double j = (x * kTwoOverPi + kRound) - kRound;
   const double y = (x - j * kPio2Hi) - j * kPio2Lo;
   const double z = y * y;
   const double sy = y + y * z * (-1.66666666666666307295e-1 +
@@ -30,6 +33,11 @@ inline __attribute__((always_inline)) void fast_sincos_core(double x, double& s,
   s = (q & 2) ? -ss : ss;
   c = ((q + 1) & 2) ? -cc : cc;
 }
+
+// sin and cos of n angles (x[k] into s[k], c[k]) in SIMD lanes: AVX2 where the CPU has it (no
+// FMA, so every lane rounds as fast_sincos does), else the portable build. Kinematics::link_poses
+// asks for all its joints at once.
+void fast_sincos_many(const double* x, int n, double* s, double* c);
 
 inline void fast_sincos(double x, double& s, double& c) {
   if (!(std::abs(x) < 1e5)) {  // also NaN

@@ -80,7 +80,9 @@ class Kinematics {
   // child = parent x joint j's frame at q (parent and child distinct): link_poses and chain_pose
   // compose these. A quarter-turn joint (JointMotionTerms::quarter) takes the parent's columns
   // permuted and turns two of them; others use the Rodrigues terms.
-  void compose(int j, const Eigen::VectorXd& q, const Eigen::Isometry3d& parent, Eigen::Isometry3d& child) const;
+  // `sincos`: the joint's sine and cosine when the caller has them (else computed here).
+  void compose(int j, const Eigen::VectorXd& q, const Eigen::Isometry3d& parent, Eigen::Isometry3d& child,
+               const double* sincos = nullptr) const;
   // The tip's pose, and with J its Jacobian (tip_pose, jacobian, tip_pose_and_jacobian).
   Eigen::Isometry3d chain_pose(const Eigen::VectorXd& q, Jacobian* J) const;
   // Per joint, Rodrigues' formula folded into the origin (rotation O, translation t): the child
