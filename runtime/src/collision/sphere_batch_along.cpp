@@ -11,25 +11,37 @@
 
 namespace dmgplace::runtime {
 
-bool SphereFieldChecker::static_widening(const Eigen::VectorXd& direction, double reach, std::vector<float>& widen) const {
-  // How far each body (then each pair, relative to each other) can move over `reach` along
-  // +-direction: the static bound of check_along's first cut, rounded up into floats.
+const std::vector<double>& SphereFieldChecker::static_speeds(const Eigen::VectorXd& direction) const {
+  struct Last {
+    std::uint64_t id = 0;
+    std::vector<double> direction, speeds;
+  };
+  thread_local Last last;
+  const auto n = std::size_t(direction.size());
+  if (last.id == id_ && last.direction.size() == n && std::equal(last.direction.begin(), last.direction.end(), direction.data()))
+    return last.speeds;
   auto speed = [&](const std::vector<ChainJoint>& joints) {
     double v = 0;
     for (const auto& j : joints) v += std::abs(direction[j.slot]) * j.reach;
     return v;
   };
+  last.speeds.clear();
+  for (const Body& b : bodies_) last.speeds.push_back(speed(b.chain));
+  for (const PairMoves& m : pair_moves_) last.speeds.push_back(speed(m.a) + speed(m.b));
+  last.id = id_;
+  last.direction.assign(direction.data(), direction.data() + n);
+  return last.speeds;
+}
+
+bool SphereFieldChecker::static_widening(const Eigen::VectorXd& direction, double reach, std::vector<float>& widen) const {
+  // How far each body (then each pair, relative to each other) can move over `reach` along
+  // +-direction: the static bound of check_along's first cut, rounded up into floats.
   widen.clear();
-  auto add = [&](double v) {
+  for (const double v : static_speeds(direction)) {
     const double w = reach * v * (1 + 0x1p-20);
     if (!(w <= 1.0)) return false;  // past the magnitudes lane_margin() covers; nothing that far is proven
     widen.push_back(float(w));
-    return true;
-  };
-  for (const Body& b : bodies_)
-    if (!add(speed(b.chain))) return false;
-  for (const PairMoves& m : pair_moves_)
-    if (!add(speed(m.a) + speed(m.b))) return false;
+  }
   return true;
 }
 

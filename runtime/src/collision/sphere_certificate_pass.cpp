@@ -21,7 +21,7 @@ constexpr double kBandShare = 0.75;
 void SphereFieldChecker::Pass::certificate() {
   for (std::size_t bi = 0; bi < c.bodies_.size(); ++bi)
     if ((c.bodies_[bi].moving || c.bodies_[bi].attached) && std::isfinite(s.body_clear[bi])) {
-      const double v = speed(c.bodies_[bi].chain);
+      const double v = static_speed(bi);
       if (v > 0) candidate(s.body_clear[bi] / v, s.body_clear[bi], bi, false, false);
     }
   const double limit = std::min(table_limit, enough);

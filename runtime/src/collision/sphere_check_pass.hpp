@@ -125,12 +125,14 @@ struct SphereFieldChecker::Pass {
     out.min_clearance = std::min(out.min_clearance, clearance);
     if (certify && !s.body_flagged[bi]) s.body_clear[bi] = std::min(s.body_clear[bi], clearance);
   }
-  // A cheap static speed: metres per unit of joint motion along dir.
-  double speed(const std::vector<ChainJoint>& joints) const {
-    double v = 0;
-    for (const auto& j : joints) v += std::abs((*dir)[j.slot]) * j.reach;
-    return v;
+  // A cheap static speed (metres per unit of joint motion along dir, from the chain reaches) of
+  // body bi, or of pair pi (index bodies + pi): static_speeds, kept per direction. The pointer
+  // holds for the pass: nothing in a pass asks about another direction.
+  double static_speed(std::size_t index) {
+    if (!speeds) speeds = c.static_speeds(*dir).data();
+    return speeds[index];
   }
+  const double* speeds = nullptr;
   bool outside(const Eigen::Vector3d& p) const { return ((p - c.lo_).array() < 0).any() || ((c.hi_ - p).array() < 0).any(); }
 
   const SphereFieldChecker& c;

@@ -1,6 +1,7 @@
 #include "dmgplace/runtime/collision/sphere_field_checker.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -31,6 +32,8 @@ SphereFieldChecker::SphereFieldChecker(const Kinematics& kin, std::vector<format
 }
 
 void SphereFieldChecker::build_bodies() {
+  static std::atomic<std::uint64_t> next_id{0};
+  id_ = ++next_id;
   const auto moving = kin_->moving_links();
   bodies_.clear();
   const int robot_end = attached_link_ >= 0 ? attached_begin_ : int(spheres_.size());

@@ -239,6 +239,11 @@ class SphereFieldChecker {
   struct LaneMotion;
   // free_lanes_along's static widening: per body, then per pair (false: past 1 m somewhere).
   bool static_widening(const Eigen::VectorXd& direction, double reach, std::vector<float>& widen) const;
+  // The static speeds along `direction` (metres per unit of joint motion): each body's (its chain
+  // reaches), then each pair's relative one. Every check and batch of one motion asks for the
+  // same direction, so this thread's last answer is kept (for this body set: id_).
+  const std::vector<double>& static_speeds(const Eigen::VectorXd& direction) const;
+  std::uint64_t id_ = 0;  // a new one whenever the bodies are built (build_bodies)
   // free_lanes' body, compiled for AVX2 + FMA and for the portable baseline (one per path).
   // `widen`: per body then per pair (bodies_.size() + pairs_.size() floats), metres added to
   // what each test needs (free_lanes_along's static bounds); null: none. `motion` (with widen):
