@@ -109,12 +109,14 @@ struct SphereFieldChecker::Pass {
   template <class Point>
   void distances_of(int count, Point point, double* out) const;
 
+  // T p as R p + t: Eigen multiplies an Isometry3d's whole 4x4 matrix into (p, 1).
+  static Eigen::Vector3d moved(const Eigen::Isometry3d& T, const Eigen::Vector3d& p) { return T.linear() * p + T.translation(); }
   // World sphere centres of a body, computed at most once per query.
   void centres(std::size_t bi) {
     if (s.world_done[bi]) return;
     const Body& b = c.bodies_[bi];
     const Eigen::Isometry3d& T = poses[std::size_t(b.link)];
-    for (int i = b.begin; i < b.end; ++i) s.world[std::size_t(i)] = T * c.spheres_[std::size_t(i)].center;
+    for (int i = b.begin; i < b.end; ++i) s.world[std::size_t(i)] = moved(T, c.spheres_[std::size_t(i)].center);
     s.world_done[bi] = 1;
   }
   void candidate(double t, double clearance, std::size_t index, bool pair, bool fine) {

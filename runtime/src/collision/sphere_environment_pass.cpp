@@ -17,7 +17,7 @@ bool SphereFieldChecker::Pass::environment() {
   const bool exact = c.exact_scene();
   // All body centres first, their fine-grid nodes requested at once (most misses then overlap).
   for (std::size_t bi = 0; bi < c.bodies_.size(); ++bi) {
-    s.body_center[bi] = poses[std::size_t(c.bodies_[bi].link)] * c.bodies_[bi].center;
+    s.body_center[bi] = moved(poses[std::size_t(c.bodies_[bi].link)], c.bodies_[bi].center);
     if (!exact && (c.bodies_[bi].moving || c.bodies_[bi].attached)) c.fine_->prefetch(s.body_center[bi]);
   }
   if (exact) body_distances();

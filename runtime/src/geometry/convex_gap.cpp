@@ -296,8 +296,10 @@ double convex_gap(const ConvexSolid& a, const Eigen::Isometry3d& ta, const Conve
   const double slack = 1e-12 * (1 + a.radius() + b.radius()) + a.climb_slack() + b.climb_slack();
   // Support of A - B against direction v, in the world frame.
   int from_a = hint ? hint->from_a : -1, from_b = hint ? hint->from_b : -1;  // hull vertices of the last supports: the next climbs start there
+  // (R p + t spelled out: Eigen multiplies an Isometry3d's whole 4x4 matrix into (p, 1).)
   auto support = [&](const Eigen::Vector3d& v) -> Eigen::Vector3d {
-    return ta * a.support(ta.linear().transpose() * -v, from_a) - tb * b.support(tb.linear().transpose() * v, from_b);
+    const Eigen::Vector3d pa = a.support(ta.linear().transpose() * -v, from_a), pb = b.support(tb.linear().transpose() * v, from_b);
+    return (ta.linear() * pa + ta.translation()) - (tb.linear() * pb + tb.translation());
   };
   // A hinted start is a direction only: until the first support, v is no point of A - B, so its
   // length bounds nothing (the first tolerance test waits).
