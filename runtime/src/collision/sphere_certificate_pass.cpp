@@ -133,14 +133,14 @@ double SphereFieldChecker::Pass::exact_distance(std::size_t bi, int i) {
     exact_distances(bi);
     return s.sphere_exact[std::size_t(i)];
   }
-  const double read = s.bounds_done[bi] ? s.sphere_exact[std::size_t(i)] : std::numeric_limits<double>::quiet_NaN();
+  const double read = has(bi, kBoundsRead) ? s.sphere_exact[std::size_t(i)] : std::numeric_limits<double>::quiet_NaN();
   return std::isnan(read) ? c.obstacles_->distance(s.world[std::size_t(i)]) : read;
 }
 
 // The same from the field's bounds, the exact primitives asked only where those fall short.
 double SphereFieldChecker::Pass::field_sphere_gaps(const Candidate& cand, double limit) {
   const Body& b = c.bodies_[cand.index];
-  const bool known = s.bounds_done[cand.index];
+  const bool known = has(cand.index, kBoundsRead);
   double clearance = std::numeric_limits<double>::infinity();
   for (int i = b.begin; i < b.end; ++i)
     if (!known || std::isnan(s.sphere_fine[std::size_t(i)])) c.fine_->prefetch(s.world[std::size_t(i)]);
@@ -214,8 +214,8 @@ double SphereFieldChecker::Pass::directional_time(const Candidate& cand, double 
 }
 
 void SphereFieldChecker::Pass::levers(std::size_t bi) {
-  if (s.levers_done[bi]) return;
-  s.levers_done[bi] = 1;
+  if (has(bi, kLevers)) return;
+  mark(bi, kLevers);
   const Body& b = c.bodies_[bi];
   for (std::size_t k = 0; k < b.chain.size(); ++k) {
     const ChainJoint& j = b.chain[k];

@@ -40,18 +40,17 @@ struct SphereFieldChecker::Pass {
   // Reused by every query of a thread (sized per query): no allocation once warm.
   struct Scratch {
     std::vector<Eigen::Vector3d> body_center, world;
-    std::vector<char> world_done;
+    // Per body, what this query has done for it (BodyFlag bits): one clear per query.
+    std::vector<std::uint8_t> body_flags;
     std::vector<double> body_clear;   // certified mode: each body's clearance to the scene
-    std::vector<char> body_flagged;   // certified mode: left to the exact layer
     std::vector<Candidate> cands;
     std::vector<double> times;  // cands' t, packed: the certificate's smallest-first scan reads only these
     std::vector<std::pair<double, int>> exact_order;  // a body's spheres to ask the exact shapes: field bound, sphere
-    // Certified mode: what the environment pass read for a body's spheres (bounds_done[body]), so
+    // Certified mode: what the environment pass read for a body's spheres (kBoundsRead), so
     // the certificate's sphere-by-sphere refinement does not read it again. Per sphere: the
     // coarse and fine node bounds and the exact primitives' distance, NaN where not read.
-    // In exact scenes sphere_exact holds every sphere of a body once distances_done[body]
+    // In exact scenes sphere_exact holds every sphere of a body once it is kDistances
     // (exact_distances), in any mode.
-    std::vector<char> bounds_done, distances_done;
     std::vector<double> sphere_coarse, sphere_fine, sphere_exact;
     std::vector<double> body_exact;  // exact scenes: body_distances()
     // Certified mode: each sphere's gap to the scene as far as the certificate's sphere-by-sphere
@@ -62,9 +61,18 @@ struct SphereFieldChecker::Pass {
     // and its pairs'.
     std::vector<Eigen::Vector3d> slot_axis, slot_origin, lever;
     std::vector<double> lever_norm;
-    std::vector<char> slot_done, levers_done;
+    std::vector<char> slot_done;
   };
   static Scratch& thread_scratch();  // this thread's
+  enum BodyFlag : std::uint8_t {
+    kWorld = 1,       // s.world holds its spheres (centres())
+    kDistances = 2,   // s.sphere_exact holds its spheres' exact distances (exact_distances())
+    kBoundsRead = 4,  // certified mode: the environment pass kept what it read for its spheres
+    kLevers = 8,      // certified mode: its lever arms are in s.lever (levers())
+    kFlagged = 16,    // certified mode: left to the exact layer
+  };
+  bool has(std::size_t bi, BodyFlag f) const { return (s.body_flags[bi] & f) != 0; }
+  void mark(std::size_t bi, BodyFlag f) { s.body_flags[bi] |= f; }
 
   Pass(const SphereFieldChecker& checker, const Eigen::VectorXd* q, const std::vector<Eigen::Isometry3d>& poses,
        const Eigen::VectorXd* dir, double enough);
@@ -113,11 +121,11 @@ struct SphereFieldChecker::Pass {
   static Eigen::Vector3d moved(const Eigen::Isometry3d& T, const Eigen::Vector3d& p) { return T.linear() * p + T.translation(); }
   // World sphere centres of a body, computed at most once per query.
   void centres(std::size_t bi) {
-    if (s.world_done[bi]) return;
+    if (has(bi, kWorld)) return;
     const Body& b = c.bodies_[bi];
     const Eigen::Isometry3d& T = poses[std::size_t(b.link)];
     for (int i = b.begin; i < b.end; ++i) s.world[std::size_t(i)] = moved(T, c.spheres_[std::size_t(i)].center);
-    s.world_done[bi] = 1;
+    mark(bi, kWorld);
   }
   void candidate(double t, double clearance, std::size_t index, bool pair, bool fine) {
     s.cands.push_back({t, clearance, index, pair, fine, 0, {}});
@@ -125,7 +133,7 @@ struct SphereFieldChecker::Pass {
   }
   void cleared(std::size_t bi, double clearance) {
     out.min_clearance = std::min(out.min_clearance, clearance);
-    if (certify && !s.body_flagged[bi]) s.body_clear[bi] = std::min(s.body_clear[bi], clearance);
+    if (certify && !has(bi, kFlagged)) s.body_clear[bi] = std::min(s.body_clear[bi], clearance);
   }
   // A cheap static speed (metres per unit of joint motion along dir, from the chain reaches) of
   // body bi, or of pair pi (index bodies + pi): static_speeds, kept per direction. The pointer

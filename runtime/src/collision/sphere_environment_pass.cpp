@@ -54,7 +54,7 @@ bool SphereFieldChecker::Pass::environment() {
     // Certified mode keeps what it reads for the certificate's refinement (sphere_coarse ...).
     const double nan = std::numeric_limits<double>::quiet_NaN();
     if (certify) {
-      s.bounds_done[bi] = 1;
+      mark(bi, kBoundsRead);
       for (int i = b.begin; i < b.end; ++i) {
         s.sphere_coarse[std::size_t(i)] = s.sphere_fine[std::size_t(i)] = nan;
         if (!exact) s.sphere_exact[std::size_t(i)] = nan;
@@ -107,7 +107,7 @@ bool SphereFieldChecker::Pass::environment() {
       if (!flagged) {
         flagged = true;
         if (certify) {  // the exact layer certifies this link from its exact distance
-          s.body_flagged[bi] = 1;
+          mark(bi, kFlagged);
           s.body_clear[bi] = std::numeric_limits<double>::infinity();
         }
         if (b.attached) out.attached_near_env = true;
@@ -149,8 +149,8 @@ void SphereFieldChecker::Pass::distances_of(int count, Point point, double* out)
 }
 
 void SphereFieldChecker::Pass::exact_distances(std::size_t bi) {
-  if (s.distances_done[bi]) return;
-  s.distances_done[bi] = 1;
+  if (has(bi, kDistances)) return;
+  mark(bi, kDistances);
   centres(bi);
   const Body& b = c.bodies_[bi];
   distances_of(b.end - b.begin, [&](int k) -> const Eigen::Vector3d& { return s.world[std::size_t(b.begin + k)]; },

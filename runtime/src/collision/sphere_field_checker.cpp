@@ -230,26 +230,19 @@ SphereFieldChecker::Pass::Pass(const SphereFieldChecker& checker, const Eigen::V
     : c(checker), q(q_), poses(poses_), dir(dir_), enough(enough_),
       certify(dir_ && checker.certifiable_ && enough_ > 0),  // enough 0: the caller needs no certificate
       s(thread_scratch()) {
-  s.body_center.resize(c.bodies_.size());
-  s.world.resize(c.spheres_.size());
-  s.world_done.assign(c.bodies_.size(), 0);
-  if (c.exact_scene()) {
-    s.distances_done.assign(c.bodies_.size(), 0);
-    s.sphere_exact.resize(c.spheres_.size());
-  }
-  if (certify) {
-    s.body_clear.assign(c.bodies_.size(), std::numeric_limits<double>::infinity());
-    s.body_flagged.assign(c.bodies_.size(), 0);
-    s.bounds_done.assign(c.bodies_.size(), 0);
-    s.sphere_coarse.resize(c.spheres_.size());
-    s.sphere_fine.resize(c.spheres_.size());
-    s.sphere_exact.resize(c.spheres_.size());
-    s.sphere_gap.resize(c.spheres_.size());
-  }
+  const std::size_t nb = c.bodies_.size(), ns = c.spheres_.size();
+  s.body_center.resize(nb);
+  s.world.resize(ns);
+  s.body_flags.assign(nb, 0);
+  if (c.exact_scene()) s.sphere_exact.resize(ns);
   s.cands.clear();
   s.times.clear();
   if (certify) {
-    s.levers_done.assign(c.bodies_.size(), 0);
+    s.body_clear.assign(nb, std::numeric_limits<double>::infinity());
+    s.sphere_coarse.resize(ns);
+    s.sphere_fine.resize(ns);
+    s.sphere_exact.resize(ns);
+    s.sphere_gap.resize(ns);
     s.slot_done.assign(std::size_t(dir->size()), 0);
     s.lever.resize(std::size_t(c.lever_count_));
     s.lever_norm.resize(std::size_t(c.lever_count_));
