@@ -786,6 +786,59 @@ TEST_P(FastLayer, CertifiedFreeDistanceIsFreeForFclAlongTheWholeStretch) {
   RecordProperty("certified", certified);
 }
 
+// Every check and span batch of one motion shares its direction's static speeds (kept per thread,
+// SphereFieldChecker::static_speeds). A checker and its per-grasp copy (more bodies and pairs),
+// asked in turn along one direction, must each answer as when asked alone.
+TEST_P(FastLayer, CheckersAskedInTurnAlongOneDirectionAnswerAsAlone) {
+  ShelfWorld w;
+  const auto& [arm, kin, scene, sdf] = w;
+  SphereFieldChecker fast = make(w);
+  fast.set_self_tables(test::self_distance_tables(kin, arm.spheres));
+  AttachedSpheres object;  // a 12 cm rod held along the tool axis
+  object.link = arm.model.link_index("dmgarm_tcp");
+  for (int k = 0; k < 4; ++k) {
+    object.centers.emplace_back(0, 0, 0.03 + 0.03 * k);
+    object.radii.push_back(0.03);
+  }
+  object.touching_links = {arm.model.link_index("dmgarm_leftfinger"), arm.model.link_index("dmgarm_rightfinger")};
+  const SphereFieldChecker held = fast.with_attached(object);
+  std::mt19937_64 rng(21);
+  std::normal_distribution<double> g(0, 1);
+  auto unit = [&] {
+    Eigen::VectorXd d(kin.dof());
+    for (int j = 0; j < kin.dof(); ++j) d[j] = g(rng);
+    return Eigen::VectorXd(d.normalized());
+  };
+  int differ = 0, proven = 0;
+  for (int i = 0; i < 300; ++i) {
+    const Eigen::VectorXd q = random_q(kin, rng), dir = unit(), other = unit();
+    const Eigen::VectorXd far = q + 0.02 * dir;
+    const double* lanes[2] = {q.data(), far.data()};
+    // Alone: another direction asked just before. A certificate asked to last `enough` reads the
+    // static speeds for what it may skip; a span batch widens by them.
+    const double enough = 0.03;
+    (void)fast.check_along(q, other, enough);
+    const double held_alone = held.check_along(q, dir, enough).free_distance;
+    (void)fast.check_along(q, other, enough);
+    const double base_alone = fast.check_along(q, dir, enough).free_distance;
+    (void)fast.check_along(q, other, enough);
+    const std::uint32_t held_lanes_alone = held.free_lanes_along(lanes, 2, dir, 0.01);
+    // In turn, the same direction throughout.
+    const double base = fast.check_along(q, dir, enough).free_distance;
+    const double with_object = held.check_along(q, dir, enough).free_distance;
+    const std::uint32_t held_lanes = held.free_lanes_along(lanes, 2, dir, 0.01);
+    const double base_again = fast.check_along(q, dir, enough).free_distance;
+    EXPECT_EQ(base, base_alone);
+    EXPECT_EQ(base_again, base_alone);
+    EXPECT_EQ(with_object, held_alone);
+    EXPECT_EQ(held_lanes, held_lanes_alone);
+    differ += base_alone != held_alone;
+    proven += held_alone > 0;
+  }
+  EXPECT_GT(differ, 3) << "the held object must change some certificates";
+  EXPECT_GT(proven, 50);
+}
+
 // The two layers share one set of link poses per query, so they must pose the same robot.
 TEST(TwoLayer, RefusesLayersOnDifferentKinematics) {
   ShelfWorld w;
