@@ -14,6 +14,9 @@ namespace {
 // change moves a link by under 1e-8 m, and every layer (spheres, exact, tables) sees the same model.
 constexpr double kSnap = 1e-9;
 
+// A joint that turns (a sincos per configuration): revolute, or continuous.
+bool turns(const Joint& j) { return j.type == JointType::Revolute || j.type == JointType::Continuous; }
+
 // Is O a signed permutation within kSnap? Then column c of O is sign[c] * e_perm[c], and O is
 // made exactly that.
 bool snap_quarter_turns(Eigen::Matrix3d& O, int perm[3], double sign[3]) {
@@ -157,7 +160,7 @@ __attribute__((always_inline)) inline void Kinematics::compose(int j, const Eige
   if (jt.type == JointType::Prismatic) t += joint_value(j, q) * m.Oa;
   child.translation().noalias() = P * t;
   child.translation() += parent.translation();
-  const bool revolute = jt.type == JointType::Revolute || jt.type == JointType::Continuous;
+  const bool revolute = turns(jt);
   if (m.quarter) {
     for (int c = 0; c < 3; ++c) C.col(c) = m.sign[c] * P.col(m.perm[c]);
     if (!revolute) return;
@@ -187,30 +190,26 @@ void Kinematics::link_poses(const Eigen::VectorXd& q, std::vector<Eigen::Isometr
   // Every link but the roots is written below (joints in topological order): only roots are reset.
   if (poses.size() != model_->links.size()) poses.assign(model_->links.size(), Eigen::Isometry3d::Identity());
   for (int r : roots_) poses[std::size_t(r)].setIdentity();
-  // Express the tree in the base frame: first the root-to-base transform, then invert it.
-  // child = parent * origin * motion, the motion folded into the origin's rotation (revolute) or
-  // translation (prismatic) in place: no 4x4 temporary per joint.
-  // Every revolute joint's sine and cosine first, at once in SIMD lanes (fast_sincos_many): the
+  // Every turning joint's sine and cosine first, at once in SIMD lanes (fast_sincos_many): the
   // Panda's forward kinematics took a fifth less time than with one joint's at a time.
   constexpr std::size_t kAtOnce = 64;
   double value[kAtOnce], sc[2][kAtOnce];
   const bool at_once = order_.size() <= kAtOnce;
-  auto turns = [&](int j) {
-    const JointType t = model_->joints[std::size_t(j)].type;
-    return t == JointType::Revolute || t == JointType::Continuous;
-  };
   int n = 0;
   if (at_once) {
     for (int j : order_)
-      if (turns(j)) value[n++] = joint_value(j, q);
+      if (turns(model_->joints[std::size_t(j)])) value[n++] = joint_value(j, q);
     fast_sincos_many(value, n, sc[0], sc[1]);
   }
+  // Express the tree in the base frame: first the root-to-base transform, then invert it.
+  // child = parent * origin * motion, the motion folded into the origin's rotation (revolute) or
+  // translation (prismatic) in place: no 4x4 temporary per joint.
   int k = 0;
   for (int j : order_) {
     const auto& jt = model_->joints[std::size_t(j)];
     double pair[2];
     const double* given = nullptr;
-    if (at_once && turns(j)) {
+    if (at_once && turns(jt)) {
       pair[0] = sc[0][k];
       pair[1] = sc[1][k];
       ++k;
