@@ -26,8 +26,8 @@ const std::vector<Box> kBoxes = {
     {7, 1, 9, 1.2}, {7, 2.8, 9, 3}, {7, 1, 7.2, 3}, {8.8, 1, 9, 3},  // enclosure
 };
 
-bool free_point(double x, double y, double margin = 0) {
-  for (const auto& b : kBoxes)
+bool free_point(double x, double y, double margin = 0, const std::vector<Box>& boxes = kBoxes) {
+  for (const auto& b : boxes)
     if (x >= b.x0 - margin && x <= b.x1 + margin && y >= b.y0 - margin && y <= b.y1 + margin) return false;
   return true;
 }
@@ -43,14 +43,14 @@ struct Problem {
   std::shared_ptr<MultiGoalRRTConnect> planner;
 };
 
-Problem make(std::uint64_t seed) {
+Problem make(std::uint64_t seed, const std::vector<Box>& boxes = kBoxes) {
   auto space = std::make_shared<ob::RealVectorStateSpace>(2);
   space->setBounds(0, 10);
   Problem p;
   p.si = std::make_shared<ob::SpaceInformation>(space);
-  p.si->setStateValidityChecker([](const ob::State* s) {
+  p.si->setStateValidityChecker([boxes](const ob::State* s) {
     const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
-    return free_point(v->values[0], v->values[1], kMargin);
+    return free_point(v->values[0], v->values[1], kMargin, boxes);
   });
   p.si->setStateValidityCheckingResolution(0.002);  // 0.002 * extent ~ 0.028
   p.si->setup();
@@ -67,7 +67,7 @@ Problem make(std::uint64_t seed) {
 }
 
 // Every segment free when checked far finer than the planner's resolution.
-void expect_valid_path(const FoundPath& f, double gx, double gy) {
+void expect_valid_path(const FoundPath& f, double gx, double gy, const std::vector<Box>& boxes = kBoxes) {
   ASSERT_GE(f.path.size(), 2u);
   EXPECT_DOUBLE_EQ(f.path.front()[0], 1);
   EXPECT_DOUBLE_EQ(f.path.front()[1], 1);
@@ -78,7 +78,7 @@ void expect_valid_path(const FoundPath& f, double gx, double gy) {
     const int n = 2000;
     for (int k = 0; k <= n; ++k) {
       const double t = double(k) / n;
-      ASSERT_TRUE(free_point(a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]))) << "segment " << i;
+      ASSERT_TRUE(free_point(a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), 0, boxes)) << "segment " << i;
     }
   }
 }
@@ -153,6 +153,31 @@ TEST(MultiGoalRRTConnect, BlockedStartGoalLineIsTriedOnce) {
   EXPECT_GE(f[0].path.size(), 3u) << "the wall is in the way";
   EXPECT_GT(counting->all, 10);
   EXPECT_EQ(counting->direct, 1);
+}
+
+// Balanced growth: the smaller tree grows toward each sample, so a goal in a pocket (a slot 0.4
+// wide in its left wall, behind the wall's gap) gets as many tree nodes as the open start side.
+// The trees then differ by at most what one connect adds to the larger tree (one range per node,
+// 5% of the extent once the wide phase ends, so about 20 across this world) at every meeting.
+// Alternating which tree grows leaves the pocket's tree a few nodes against hundreds.
+TEST(MultiGoalRRTConnect, TheSmallerTreeGrowsSoAPocketedGoalsTreeKeepsUp) {
+  std::vector<Box> boxes = kBoxes;
+  for (const Box& b : std::vector<Box>{{7.4, 6, 10, 6.2}, {7.4, 3.8, 10, 4}, {7.4, 4, 7.6, 4.8}, {7.4, 5.2, 7.6, 6}})
+    boxes.push_back(b);
+  std::size_t nodes = 0;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    Problem p = make(seed, boxes);
+    p.planner->set_anytime(false);
+    ASSERT_TRUE(p.planner->add_goal(1, {9, 5}));
+    p.planner->solve(ob::timedPlannerTerminationCondition(5.0));
+    const auto f = p.planner->take_paths();
+    ASSERT_EQ(f.size(), 1u) << "seed " << seed;
+    expect_valid_path(f[0], 9, 5, boxes);
+    EXPECT_LE(f[0].start_nodes, f[0].goal_nodes + 25) << "seed " << seed;
+    EXPECT_LE(f[0].goal_nodes, f[0].start_nodes + 25) << "seed " << seed;
+    nodes += f[0].start_nodes + f[0].goal_nodes;
+  }
+  EXPECT_GE(nodes, 8 * 40u) << "the pocket should take a search, not a lucky early connection";
 }
 
 TEST(MultiGoalRRTConnect, ValidatorCanRejectAPathAndSingleQueryModeFillsTheProblemDefinition) {

@@ -27,6 +27,7 @@ struct FoundPath {
   // When the trees met (or the straight line held), before shortcutting: the time OMPL's stock
   // planners report, since they do not shorten their paths.
   double time_connected = 0;
+  std::size_t start_nodes = 0, goal_nodes = 0;  // the two trees' sizes when they met
 };
 
 class MultiGoalRRTConnect : public ompl::base::Planner {
