@@ -266,11 +266,10 @@ ob::PlannerStatus MultiGoalRRTConnect::solve(const ob::PlannerTerminationConditi
       from_goal = forward ? b : a;
     }
     const double connected = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    const std::size_t goal_nodes = goal_trees_.at(goal_id)->nodes.size();
     FoundPath f = make_path(from_start, from_goal, goal_id);
     f.time_connected = connected;
     f.start_nodes = start_tree_->nodes.size();
-    f.goal_nodes = goal_nodes;
+    f.goal_nodes = goal_trees_.at(goal_id)->nodes.size();
     {
       // Writers hold the mutex: goal_count() reads the map from other threads.
       std::lock_guard<std::mutex> lock(mutex_);
