@@ -55,6 +55,14 @@ CertifiedMotionValidator::CertificateFn CertifiedMotionValidator::certificate_of
 }
 
 bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State* s2) const {
+  return check_motion(s1, s2, false);
+}
+
+bool CertifiedMotionValidator::checkMotionBetweenValid(const ob::State* s1, const ob::State* s2) const {
+  return check_motion(s1, s2, true);
+}
+
+bool CertifiedMotionValidator::check_motion(const ob::State* s1, const ob::State* s2, bool end_valid) const {
   const Segment seg(*si_, s1, s2);
   const int steps = seg.steps;
   // A certificate is symmetric (speeds bound |direction|): state i proves states i-k .. i+k.
@@ -76,7 +84,7 @@ bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State*
   auto need_of = [&](int states) { return proven_free_ ? std::min(states, kBatch) : states; };
   int k = 0, span_k = 0;
   // The far end first: a bad goal is found at once.
-  if (!check(steps, need_of(steps - 1), k, &span_k)) {
+  if (!end_valid && !check(steps, need_of(steps - 1), k, &span_k)) {
     ++invalid_;
     return false;
   }
@@ -137,7 +145,7 @@ bool CertifiedMotionValidator::checkMotion(const ob::State* s1, const ob::State*
       m = last;
     }
   };
-  queue.assign(1, {1, steps - 1 - k, k, span_k});
+  queue.assign(1, {1, steps - 1 - k, k, span_k});  // (end_valid: k = 0, every state but the ends)
   for (std::size_t head = 0; head < queue.size(); ++head) {
     const auto [lo, hi, e, se, certified_only] = queue[head];
     if (lo > hi) continue;

@@ -1,5 +1,6 @@
 #include "dmgplace/runtime/motion/multi_goal_rrt_connect.hpp"
 #include "dmgplace/runtime/motion/nearest_states.hpp"
+#include "dmgplace/runtime/motion/certified_motion_validator.hpp"
 
 #include <ompl/base/PlannerData.h>
 #include <ompl/base/ProblemDefinition.h>
@@ -95,13 +96,18 @@ bool MultiGoalRRTConnect::state_valid(const std::vector<double>& q) const {
   return si_->isValid(scratch_);
 }
 
-bool MultiGoalRRTConnect::motion_valid(const std::vector<double>& a, const std::vector<double>& b) const {
+bool MultiGoalRRTConnect::motion_valid(const std::vector<double>& a, const std::vector<double>& b, bool b_valid) const {
   // The space's motion validator: OMPL's discrete one (bisection order, every longest-valid-segment
   // step) unless the space has a certified one (make_arm_space with a free-distance function).
   if (!scratch_) scratch_ = si_->allocState();
   if (!scratch_end_) scratch_end_ = si_->allocState();
   si_->getStateSpace()->copyFromReals(scratch_, a);
   si_->getStateSpace()->copyFromReals(scratch_end_, b);
+  // Both ends tree nodes (a connection, a shortcut): no far end checked first (identical answers;
+  // bench-mbm, paired runs: 5% less time per problem, table_under_pick 35%).
+  if (b_valid)
+    if (const auto* v = dynamic_cast<const CertifiedMotionValidator*>(si_->getMotionValidator().get()))
+      return v->checkMotionBetweenValid(scratch_, scratch_end_);
   return si_->checkMotion(scratch_, scratch_end_);
 }
 
@@ -189,7 +195,7 @@ void MultiGoalRRTConnect::shortcut(JointPath& path, bool ends_blocked) {
   int budget = 100;
   for (std::size_t i = 0; i + 2 < path.size() && budget > 0; ++i)
     for (std::size_t j = path.size() - 1; j >= i + 2 && budget > 0; --j, --budget)
-      if (!(ends_blocked && i == 0 && j == path.size() - 1) && motion_valid(path[i], path[j])) {
+      if (!(ends_blocked && i == 0 && j == path.size() - 1) && motion_valid(path[i], path[j], true)) {
         path.erase(path.begin() + std::ptrdiff_t(i) + 1, path.begin() + std::ptrdiff_t(j));
         break;
       }
@@ -240,7 +246,7 @@ ob::PlannerStatus MultiGoalRRTConnect::solve(const ob::PlannerTerminationConditi
       if (g == goal_trees_.end()) continue;
       from_start = start_tree_->nodes.front().get();
       from_goal = g->second->nodes.front().get();
-      if (!motion_valid(from_start->q, from_goal->q)) {
+      if (!motion_valid(from_start->q, from_goal->q, true)) {
         blocked_direct_.insert(goal_id);
         continue;
       }

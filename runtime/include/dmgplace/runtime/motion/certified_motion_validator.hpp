@@ -42,8 +42,13 @@ class CertifiedMotionValidator : public ompl::base::MotionValidator {
   bool checkMotion(const ompl::base::State* s1, const ompl::base::State* s2) const override;
   bool checkMotion(const ompl::base::State* s1, const ompl::base::State* s2,
                    std::pair<ompl::base::State*, double>& last_valid) const override;
+  // checkMotion for a motion whose both ends are known valid (tree nodes: a connection, a
+  // shortcut): its far end is not checked first, so the first certificate lands mid-way, where
+  // such a motion is blocked if at all.
+  bool checkMotionBetweenValid(const ompl::base::State* s1, const ompl::base::State* s2) const;
 
  private:
+  bool check_motion(const ompl::base::State* s1, const ompl::base::State* s2, bool end_valid) const;
   CertificateFn certificate_;
   ProvenFreeFn proven_free_;
 };

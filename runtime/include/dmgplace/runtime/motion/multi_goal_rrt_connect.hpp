@@ -75,7 +75,8 @@ class MultiGoalRRTConnect : public ompl::base::Planner {
   bool report(FoundPath f, std::chrono::steady_clock::time_point t0);
   // `ends_blocked`: the straight line from the first to the last waypoint is known to collide.
   void shortcut(JointPath& path, bool ends_blocked);
-  bool motion_valid(const std::vector<double>& a, const std::vector<double>& b) const;
+  // a is valid (a tree node); `b_valid`: so is b (CertifiedMotionValidator::checkMotionBetweenValid).
+  bool motion_valid(const std::vector<double>& a, const std::vector<double>& b, bool b_valid = false) const;
   bool state_valid(const std::vector<double>& q) const;
   void sample(std::vector<double>& q);
   double distance(const std::vector<double>& a, const std::vector<double>& b) const;
