@@ -42,9 +42,9 @@ class CertifiedMotionValidator : public ompl::base::MotionValidator {
   bool checkMotion(const ompl::base::State* s1, const ompl::base::State* s2) const override;
   bool checkMotion(const ompl::base::State* s1, const ompl::base::State* s2,
                    std::pair<ompl::base::State*, double>& last_valid) const override;
-  // checkMotion for a motion whose both ends are known valid (tree nodes: a connection, a
-  // shortcut): its far end is not checked first, so the first certificate lands mid-way, where
-  // such a motion is blocked if at all.
+  // checkMotion for a motion whose both ends are known valid (both tree nodes: a shortcut jump,
+  // a straight line between two roots): its far end is not checked, so the first certificate
+  // lands mid-way, where such a motion is blocked if at all.
   bool checkMotionBetweenValid(const ompl::base::State* s1, const ompl::base::State* s2) const;
 
  private:
