@@ -270,7 +270,7 @@ TEST(CertifiedMotionValidator, EveryStateOfAValidMotionIsProvenBySomeCheck) {
   RecordProperty("valid_motions", valid);
 }
 
-// checkMotionBetweenValid (a connection or shortcut between tree nodes): on motions whose both
+// checkMotionBetweenValid (shortcut jumps, the straight line between roots): on motions whose both
 // ends are valid, the discrete validator's answer every time; the far end is never checked, and
 // on each valid motion every other state is proven by some check (certificates at half the
 // clearance, a third of clear lanes left undecided, so ranges, batches and spans all take part).
