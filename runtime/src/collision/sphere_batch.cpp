@@ -171,6 +171,11 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
     if (prims) return prims->clear_lanes(p.x, p.y, p.z, float(need), lanes, reach, wide);
     return clear_of_field(p, float(need), margin, lanes, c.lo_, c.hi_, c.coarse_.get(), *c.fine_, wide);
   };
+  // A body's bounding sphere: with primitives, also the ones its spheres may reach (`reach`).
+  auto clear_body = [&](const Xyz& p, double r, std::uint32_t lanes) __attribute__((always_inline)) {
+    if (!prims) return clear_lanes(p, r, lanes);
+    return prims->clear_reaching_lanes(p.x, p.y, p.z, float(r + c.padding_ + margin + body_widen), lanes, reach, wide);
+  };
   lanes::MF in_range = ~lanes::MF{};
   for (std::size_t bi = 0; bi < c.bodies_.size(); ++bi) {
     const Body& b = c.bodies_[bi];
@@ -179,19 +184,13 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
     in_range &= within(centre[bi], limit);
     if (!b.moving && !b.attached) continue;
     body_widen = widened(bi);
-    if (prims)
-      reach = prims->reaching_lanes(centre[bi].x, centre[bi].y, centre[bi].z, float(b.radius + c.padding_ + margin + body_widen),
-                                    alive, wide);
-    std::uint32_t open = alive & ~clear_lanes(centre[bi], b.radius, alive);
+    std::uint32_t open = alive & ~clear_body(centre[bi], b.radius, alive);
     // Undecided under the static bound: the lanes' own (sphere_lane_motion.hpp), where smaller.
     if (open && motion && body_widen > 0) {
       const float local = motion->body(c, bi, poses, centre.data(), open);
       if (local < body_widen) {
         body_widen = local;
-        if (prims)
-          reach = prims->reaching_lanes(centre[bi].x, centre[bi].y, centre[bi].z,
-                                        float(b.radius + c.padding_ + margin + body_widen), open, wide);
-        open &= ~clear_lanes(centre[bi], b.radius, open);
+        open &= ~clear_body(centre[bi], b.radius, open);
       }
     }
     if (!open) continue;

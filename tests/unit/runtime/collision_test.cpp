@@ -1260,6 +1260,62 @@ TEST(PrimitiveObstacles, FloatLaneDistancesAreWithinTheirErrorBoundOnBothPaths) 
   RecordProperty("worst_share_of_bound_x1000", int(1000 * worst));
 }
 
+// PrimitiveObstacles::clear_reaching_lanes, a body's bounding sphere in the batch check: its
+// clear lanes are alive lanes at least `need` from every primitive but for float rounding, the
+// other alive lanes closer; every primitive left out of `reach` is at least `need` from every
+// alive lane; and clear_lanes over only the reached primitives gives the same lanes as over all
+// (what the body's spheres rely on). Scenes of 1-13 primitives and one past 64 (no bits: all
+// reached); random alive masks and needs; the portable build of the lanes.
+TEST(PrimitiveObstacles, ClearAndReachingLanesAgreeWithExactDistances) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(-1, 1), unit(0, 1);
+  constexpr int W = lanes::WF;
+  int left_out = 0, clear = 0, blocked = 0;
+  for (const int count : {1, 4, 7, 10, 13, 70}) {
+    const Scene scene = random_primitives(rng, count, 0.3);
+    const auto prims = PrimitiveObstacles::from_scene(scene);
+    ASSERT_TRUE(prims);
+    const double bound = prims->float_error(2.0);
+    for (int i = 0; i < 500; ++i) {
+      alignas(32) float x[W], y[W], z[W];
+      for (int k = 0; k < W; ++k) x[k] = float(1.5 * u(rng)), y[k] = float(1.5 * u(rng)), z[k] = float(1.5 * u(rng));
+      const float need = float(0.02 + 0.3 * unit(rng));
+      const auto alive = std::uint32_t(rng() & 0xff);
+      std::uint64_t reach = 0;
+      const std::uint32_t got = prims->clear_reaching_lanes(x, y, z, need, alive, reach);
+      ASSERT_EQ(got & ~alive, 0u) << "a lane not asked about came back clear";
+      ASSERT_EQ(prims->clear_lanes(x, y, z, need, alive, reach), got) << "the reached primitives alone decide otherwise";
+      ASSERT_EQ(prims->clear_lanes(x, y, z, need, alive), got);
+      if (!prims->all_have_bits()) {
+        ASSERT_EQ(reach, ~std::uint64_t(0));
+      }
+      for (int k = 0; k < W; ++k) {
+        if (!(alive >> k & 1u)) continue;
+        const Eigen::Vector3d p(x[k], y[k], z[k]);
+        const double d = prims->distance(p);
+        if (got >> k & 1u) {
+          ASSERT_GE(d, need - bound) << count << " primitives, p = " << p.transpose();
+          ++clear;
+        } else {
+          ASSERT_LT(d, need + bound) << "blocked though clear: " << count << " primitives, p = " << p.transpose();
+          ++blocked;
+        }
+        for (std::size_t o = 0; o < std::min<std::size_t>(scene.objects.size(), 64); ++o) {
+          if (reach >> o & 1u) continue;
+          ASSERT_GE(shape_signed_distance(scene.objects[o].shapes[0], p), need - bound)
+              << "primitive " << o << " left out of reach, p = " << p.transpose();
+          ++left_out;
+        }
+      }
+    }
+  }
+  EXPECT_GT(clear, 1000);
+  EXPECT_GT(blocked, 1000);
+  EXPECT_GT(left_out, 1000);  // the reach mask does leave primitives out
+  RecordProperty("clear", clear);
+  RecordProperty("blocked", blocked);
+}
+
 // The exact primitive distance against FCL on the same scene: a ball slightly smaller than the
 // distance is free, one slightly larger touches; inside an obstacle the distance is negative.
 TEST(PrimitiveObstacles, DistanceAgreesWithFclOnBoxesCylindersAndSpheres) {

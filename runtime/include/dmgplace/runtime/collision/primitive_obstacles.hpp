@@ -58,25 +58,11 @@ class PrimitiveObstacles {
   bool all_have_bits() const { return prims_.size() <= 64; }
   std::size_t size() const { return prims_.size(); }
 
-  // Primitives (bit i: the i-th, for the first 64) whose bounding sphere comes within `need` of
-  // the point in some `alive` lane (bit k: x[k], y[k], z[k], lanes::WF points): a body's bounding
-  // sphere asks once, then its spheres test only these. All ones when there are more than 64
-  // primitives. In floats: the caller adds its rounding margin to `need`. `wide`: compiled for AVX
-  // (lanes::bits).
-  DMGPLACE_LANES_INLINE std::uint64_t reaching_lanes(const float* x, const float* y, const float* z, float need,
-                                                     std::uint32_t alive, bool wide = false) const {
-    if (!all_have_bits()) return ~std::uint64_t(0);
-    const lanes::F px = lanes::load(x), py = lanes::load(y), pz = lanes::load(z);
-    std::uint64_t mask = 0;
-    for (std::size_t i = 0; i < lanes_.size(); ++i)  // no branch: which primitives are near varies by batch
-      mask |= std::uint64_t((near_lanes(lanes_[i], px, py, pz, need, wide) & alive) != 0) << i;
-    return mask;
-  }
-
   // Of the `alive` lanes, those at least `need` (> 0) from every primitive in `candidates`
-  // (reaching_lanes; the others are known to be farther): exact but for float rounding (the
-  // caller's margin in `need`), no field margin, valid anywhere. One primitive at a time across
-  // all lanes, squared distances (one root per lane for a cylinder or sphere).
+  // (clear_reaching_lanes' `reach`; the others are known to be farther): exact but for float
+  // rounding (the caller's margin in `need`), no field margin, valid anywhere. One primitive at a
+  // time across all lanes, squared distances (one root per lane for a cylinder or sphere); only
+  // the candidates' bits are visited.
   DMGPLACE_LANES_INLINE std::uint32_t clear_lanes(const float* x, const float* y, const float* z, float need,
                                                   std::uint32_t alive, std::uint64_t candidates = ~std::uint64_t(0),
                                                   bool wide = false) const {
@@ -85,19 +71,47 @@ class PrimitiveObstacles {
     std::uint32_t clear = alive;
     const F need2 = splatf(need * need);
     const F qx = lanes::load(x), qy = lanes::load(y), qz = lanes::load(z);
-    for (std::size_t i = 0; i < lanes_.size() && clear; ++i) {
-      if (i < 64 && !(candidates >> i & 1u)) continue;
+    auto test = [&](std::size_t i) __attribute__((always_inline)) {
       const LanePrimitive& s = lanes_[i];
       const std::uint32_t near = near_lanes(s, qx, qy, qz, need, wide) & clear;
-      if (!near) continue;
-      const LaneGap g = lane_gap(s, qx, qy, qz);
-      F out2 = g.out2;  // squared distance from the shape's outside, 0 inside
-      if (s.type == ShapeType::Sphere) {
-        const F o = lanes::max0(g.sphere);
-        out2 = o * o;
-      }
-      clear &= ~(near & ~lanes::bits(out2 >= need2, wide));
+      if (near) clear &= ~(near & ~lanes::bits(outside2(s, qx, qy, qz) >= need2, wide));
+    };
+    if (all_have_bits()) {
+      const std::uint64_t every = lanes_.size() == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << lanes_.size()) - 1;
+      for (std::uint64_t left = candidates & every; left && clear; left &= left - 1) test(std::size_t(__builtin_ctzll(left)));
+      return clear;
     }
+    for (std::size_t i = 0; i < lanes_.size() && clear; ++i)
+      if (i >= 64 || (candidates >> i & 1u)) test(i);
+    return clear;
+  }
+  // clear_lanes of a body's bounding sphere (lanes::WF points x[k], y[k], z[k]), which also finds
+  // the primitives its spheres may reach: `reach` gets bit i where the i-th primitive's bounding
+  // sphere comes within `need` of the point in some `alive` lane (all ones past 64 primitives),
+  // the `candidates` of its spheres' clear_lanes. One bounding-sphere test per primitive serves
+  // both. In floats: the caller adds its rounding margin to `need`. `wide`: compiled for AVX
+  // (lanes::bits).
+  DMGPLACE_LANES_INLINE std::uint32_t clear_reaching_lanes(const float* x, const float* y, const float* z, float need,
+                                                           std::uint32_t alive, std::uint64_t& reach, bool wide = false) const {
+    if (!all_have_bits()) {
+      reach = ~std::uint64_t(0);
+      return clear_lanes(x, y, z, need, alive, reach, wide);
+    }
+    using lanes::F;
+    std::uint32_t clear = alive;
+    std::uint64_t mask = 0;
+    const F need2 = lanes::splatf(need * need);
+    const F qx = lanes::load(x), qy = lanes::load(y), qz = lanes::load(z);
+    for (std::size_t i = 0; i < lanes_.size(); ++i) {
+      const LanePrimitive& s = lanes_[i];
+      std::uint32_t near = near_lanes(s, qx, qy, qz, need, wide) & alive;
+      if (!near) continue;
+      mask |= std::uint64_t(1) << i;
+      near &= clear;
+      if (!near) continue;
+      clear &= ~(near & ~lanes::bits(outside2(s, qx, qy, qz) >= need2, wide));
+    }
+    reach = mask;
     return clear;
   }
   // Largest coordinate magnitude of any primitive's points (float rounding grows with it).
@@ -157,6 +171,13 @@ class PrimitiveObstacles {
   // and used, in primitive_distance.cpp).
   static DMGPLACE_LANES_INLINE void lanes_min(const std::vector<LanePrimitive>& prims, const float* x, const float* y,
                                               const float* z, float* out);
+  // The squared distance from a primitive's outside in every lane (0 inside).
+  static DMGPLACE_LANES_INLINE lanes::F outside2(const LanePrimitive& s, lanes::F x, lanes::F y, lanes::F z) {
+    const LaneGap g = lane_gap(s, x, y, z);
+    if (s.type != ShapeType::Sphere) return g.out2;
+    const lanes::F o = lanes::max0(g.sphere);
+    return o * o;
+  }
   // Lanes whose point is within need + bound_radius of the primitive's centre.
   static DMGPLACE_LANES_INLINE std::uint32_t near_lanes(const LanePrimitive& s, lanes::F x, lanes::F y, lanes::F z,
                                                         float need, bool wide) {
