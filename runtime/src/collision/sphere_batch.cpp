@@ -209,16 +209,25 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
     float pair_widen = widened(nb + pi);
     const Xyz &ca = centre[std::size_t(p.a)], &cb = centre[std::size_t(p.b)];
     std::uint32_t near = lanes::bits(overlaps(ca, cb, float(p.reach) + margin + pair_widen), wide) & alive;
+    if (!near) continue;
+    // A pair with a table asks it first, the pair's motion over the reach bounded by the smaller
+    // of its static widening and the table's own slopes times its joints' travel: the wrist pairs
+    // near in every lane are settled there without the lanes' lever arms (LaneMotion::pair).
+    const Table* table = p.table >= 0 ? &(*c.tables_)[std::size_t(p.table)] : nullptr;
+    const double travel = table && motion ? motion->table_travel(*table) : 0.0;
+    auto table_apart = [&](std::uint32_t lanes) __attribute__((always_inline)) {
+      return lanes & table->apart_lanes(in, c.padding_ + std::min(double(pair_widen), travel), wide);
+    };
+    if (table) near &= ~table_apart(near);
     // Near under the static bound: the lanes' own, where smaller (as for bodies).
     if (near && motion && pair_widen > 0) {
       const float local = motion->pair(c, pi, poses, centre.data(), near);
       if (local < pair_widen) {
         pair_widen = local;
         near &= lanes::bits(overlaps(ca, cb, float(p.reach) + margin + pair_widen), wide);
+        if (table && near && double(pair_widen) < travel) near &= ~table_apart(near);
       }
     }
-    if (!near) continue;
-    if (p.table >= 0) near &= ~(*c.tables_)[std::size_t(p.table)].apart_lanes(in, c.padding_ + double(pair_widen), wide);
     if (!near) continue;
     const Body &a = c.bodies_[std::size_t(p.a)], &b = c.bodies_[std::size_t(p.b)];
     spheres_of(std::size_t(p.a));
