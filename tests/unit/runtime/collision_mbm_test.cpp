@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 #include <random>
+#include <string>
 
 #include "analytic_sdf.hpp"
 #include "dmgplace/runtime/collision/exact_checker.hpp"
@@ -138,6 +139,50 @@ TEST(CollisionMbm, SelfDistanceTablesNeverExceedTheExactDistanceOnThePanda) {
     const double stride = test::self_table_defaults().coarse_stride;
     EXPECT_LT(far_gap, (2 + stride) * (t.slope[0] + t.slope[1]) * std::max(t.step[0], t.step[1]) + 1e-6);
   }
+}
+
+// The tables' slopes bound how fast the pair's exact distance changes with the table's joints:
+// the Lipschitz bound certified checks (the self pass's table limit) and span batches
+// (LaneMotion::table_travel) widen a table's bound by. And not loosely everywhere: on some table
+// some step's change comes within a factor of two of it, so slopes half as large fail here.
+TEST(CollisionMbm, SelfDistanceTableSlopesBoundHowFastTheExactDistanceChanges) {
+  DMGPLACE_REQUIRE_SHARED();
+  const PandaArm& panda = panda_arm();
+  const runtime::Kinematics& kin = *panda.kin;
+  const RobotModel& model = panda.model;
+  runtime::ExactChecker exact(kin, Scene{});
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::normal_distribution<double> n(0, 1);
+  ASSERT_FALSE(panda.tables.empty());
+  double tightest_of_all = 0;
+  for (const auto& t : panda.tables) {
+    const std::string name = model.links[std::size_t(t.link_a)].name + " / " + model.links[std::size_t(t.link_b)].name;
+    double tightest = 0;
+    for (int i = 0; i < 400; ++i) {
+      Eigen::VectorXd q(7);
+      for (int j = 0; j < 7; ++j) q[j] = kin.lower()[j] + u(rng) * (kin.upper()[j] - kin.lower()[j]);
+      // One joint at a time (the first, the second, then both), so neither joint's slope hides
+      // behind the other's.
+      Eigen::VectorXd moved = q;
+      double budget = 0;
+      for (int k = 0; k < 2; ++k) {
+        if (t.joints[std::size_t(k)] < 0 || i % 3 == 1 - k) continue;
+        const int slot = kin.chain_slot(t.joints[std::size_t(k)]);
+        moved[slot] = std::clamp(q[slot] + 0.05 * n(rng), kin.lower()[slot], kin.upper()[slot]);
+        budget += t.slope[std::size_t(k)] * std::abs(moved[slot] - q[slot]);
+      }
+      // Overlapping meshes count as 0 apart: the clearance the bound speaks of.
+      const double before = std::max(0.0, exact.link_distance(q, t.link_a, t.link_b));
+      const double after = std::max(0.0, exact.link_distance(moved, t.link_a, t.link_b));
+      ASSERT_LE(std::abs(after - before), budget + 1e-9) << name << " from q = " << q.transpose() << " to " << moved.transpose();
+      if (budget > 1e-4) tightest = std::max(tightest, std::abs(after - before) / budget);
+    }
+    EXPECT_GT(tightest, 0.2) << name << ": every change far below the slopes' bound";
+    tightest_of_all = std::max(tightest_of_all, tightest);
+    RecordProperty(name + " tightest", std::to_string(tightest));
+  }
+  EXPECT_GT(tightest_of_all, 0.5) << "every change far below the slopes' bound: slopes too small would pass";
 }
 
 // The Panda's link meshes in both MotionBenchMaker scenes: proven clearances (the meshes' convex

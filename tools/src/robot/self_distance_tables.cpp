@@ -38,18 +38,40 @@ void tree_path(const RobotModel& m, const std::vector<int>& parent_joint, int a,
     if (std::find(up_a.begin(), up_a.end(), j) == up_a.end()) path.push_back(j), on_a_side.push_back(0);
 }
 
-// Largest distance from joint k's origin of any point of `link`'s spheres: the joint origins from
-// the link up to k are rigid offsets (every joint between is revolute or fixed), plus the farthest
-// sphere surface in the link frame.
+// Largest distance from joint k's axis of any point of `link`'s spheres: how fast turning k moves
+// them, so the pair's distance changes no faster (the table's slope for k). The link's spheres are
+// carried up to k's frame as balls: exactly through fixed joints; through another revolute joint,
+// each as the ball that holds it at every angle of that joint. The distance from k's axis (not its
+// origin) is what turning k moves a point by: a point near the axis barely moves.
 double slope_bound(const RobotModel& m, const std::vector<int>& parent_joint, int link, int k,
                    const std::vector<formats::LinkSphere>& link_spheres) {
-  double reach = 0;
-  for (const auto& s : link_spheres) reach = std::max(reach, s.center.norm() + s.radius);
+  struct Ball {
+    Eigen::Vector3d centre;
+    double radius;
+  };
+  std::vector<Ball> balls;
+  for (const auto& s : link_spheres) balls.push_back({s.center, s.radius});
   for (int l = link; parent_joint[std::size_t(l)] >= 0;) {
     const int j = parent_joint[std::size_t(l)];
-    if (j == k) return reach;
-    reach += m.joints[std::size_t(j)].origin.translation().norm();
-    l = m.joints[std::size_t(j)].parent;
+    const Joint& joint = m.joints[std::size_t(j)];
+    if (j == k) {  // the balls are in k's frame, its axis through the origin
+      const Eigen::Vector3d a = joint.axis.normalized();
+      double most = 0;
+      for (const Ball& b : balls) most = std::max(most, (b.centre - b.centre.dot(a) * a).norm() + b.radius);
+      return most;
+    }
+    if (joint.type != JointType::Fixed) {
+      // Turning about this joint's axis sweeps a ball around a circle: the ball about the
+      // circle's centre (on the axis) reaching the circle's radius farther holds it at any angle.
+      const Eigen::Vector3d a = joint.axis.normalized();
+      for (Ball& b : balls) {
+        const Eigen::Vector3d along = b.centre.dot(a) * a;
+        b.radius += (b.centre - along).norm();
+        b.centre = along;
+      }
+    }
+    for (Ball& b : balls) b.centre = joint.origin * b.centre;
+    l = joint.parent;
   }
   return std::numeric_limits<double>::infinity();  // not reached: k is not above the link
 }
