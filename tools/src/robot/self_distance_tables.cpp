@@ -60,6 +60,7 @@ double slope_bound(const RobotModel& m, const std::vector<int>& parent_joint, in
       for (const Ball& b : balls) most = std::max(most, (b.centre - b.centre.dot(a) * a).norm() + b.radius);
       return most;
     }
+    if (joint.type == JointType::Prismatic) break;  // no rigid reach (tables take revolute joints only)
     if (joint.type != JointType::Fixed) {
       // Turning about this joint's axis sweeps a ball around a circle: the ball about the
       // circle's centre (on the axis) reaching the circle's radius farther holds it at any angle.
@@ -73,7 +74,7 @@ double slope_bound(const RobotModel& m, const std::vector<int>& parent_joint, in
     for (Ball& b : balls) b.centre = joint.origin * b.centre;
     l = joint.parent;
   }
-  return std::numeric_limits<double>::infinity();  // not reached: k is not above the link
+  return std::numeric_limits<double>::infinity();  // not reached (k is not above the link), or past a slide
 }
 
 bool spheres_overlap(const std::vector<formats::LinkSphere>& a, const std::vector<formats::LinkSphere>& b,
