@@ -68,15 +68,9 @@ struct SphereFieldChecker::LaneMotion {
     return m;
   }
 
-  // How far the reach can move a self-distance table's bound: its slopes times its joints' travel
-  // (the table's lower bound is Lipschitz in its joints with those slopes), rounded up. No lanes:
-  // the travel is the same for all.
-  double table_travel(const Table& table) const {
-    double v = 0;
-    for (int k = 0; k < 2; ++k)
-      if (table.slot[k] >= 0) v += table.data.slope[std::size_t(k)] * std::abs(dir[table.slot[k]]);
-    return v * t * (1 + 1e-9);
-  }
+  // How far the reach can move a self-distance table's bound (Table::speed over t), rounded up.
+  // No lanes: the travel is the same for all.
+  double table_travel(const Table& table) const { return table.speed(dir) * t * (1 + 1e-9); }
 
   // The largest displacement of body bi's bounding ball over [-t, t] along dir, over the lanes in
   // `lanes`, rounded up; NaN where a lane's geometry is not finite (the caller keeps its static

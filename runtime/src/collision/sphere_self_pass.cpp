@@ -38,8 +38,7 @@ bool SphereFieldChecker::Pass::self_pairs() {
       if (lb > 0) {
         if (certify_this) {
           // Only the table's joints move the pair relative to each other, at most `slope` each.
-          double vt = t.data.slope[0] * std::abs((*dir)[t.slot[0]]);
-          if (t.slot[1] >= 0) vt += t.data.slope[1] * std::abs((*dir)[t.slot[1]]);
+          const double vt = t.speed(dir->data());
           if (vt > 0) table_limit = std::min(table_limit, lb / vt);
         }
         continue;

@@ -196,6 +196,14 @@ class SphereFieldChecker {
       return 1e-4 * double(tenths_mm[index]) - loss;
     }
     double lower_bound(const Eigen::VectorXd& q) const { return lower_bound(q.data()); }
+    // How fast the bound can fall moving along joint-space direction `dir` (by slot): the slopes
+    // times the table's joints' rates (the bound is Lipschitz in its joints with those slopes).
+    double speed(const double* dir) const {
+      double v = 0;
+      for (int k = 0; k < 2; ++k)
+        if (slot[k] >= 0) v += data.slope[std::size_t(k)] * std::abs(dir[slot[k]]);
+      return v;
+    }
     // Bit k set where lower_bound(q[k]) > padding, for 8 configurations in SIMD lanes (defined
     // in sphere_batch.cpp, its only user; `wide` as in free_lanes_body).
     std::uint32_t apart_lanes(const double* const* q, double padding, bool wide) const;
