@@ -303,8 +303,10 @@ TEST(CertifiedMotionValidator, BetweenValidEndsKeepsTheDiscreteAnswersAndSkipsTh
 }
 
 // A certificate's estimate (how far a span batch's static widening would reach there), not its
-// reach, decides whether a span batch is tried next to it: an estimate of 0 never brings one, a
-// quarter of the reach fewer than the whole reach; the answers stay the discrete ones throughout.
+// reach, decides whether a span batch is tried next to it: between two valid states (where the
+// motion does not start with the far end's plain check and a span batch over all of it), an
+// estimate of 0 never brings one, a quarter of the reach fewer than the whole reach; the answers
+// stay the discrete ones throughout.
 TEST(CertifiedMotionValidator, SpanBatchesFollowTheCertificatesEstimate) {
   std::atomic<long> discrete_checks{0};
   auto si = make_space(&discrete_checks);
@@ -323,7 +325,19 @@ TEST(CertifiedMotionValidator, SpanBatchesFollowTheCertificatesEstimate) {
           for (int k = 0; k < count; ++k) mask |= std::uint32_t(clearance(q[k][0], q[k][1]) > reach + 0.01) << k;
           return mask;
         });
-    EXPECT_GT(discrete_answers(si, discrete, certified, 13), 300) << "estimate share " << share;
+    std::mt19937_64 rng(13);
+    ob::ScopedState<> a(si), b(si);
+    int invalid = 0;
+    for (int i = 0; i < 3000; ++i) {
+      do random_motion(rng, a, b);
+      while (clearance(b[0], b[1]) <= 0);
+      const bool d = discrete.checkMotion(a.get(), b.get()), c = certified.checkMotionBetweenValid(a.get(), b.get());
+      EXPECT_EQ(c, d) << "estimate share " << share << ", motion (" << a[0] << ", " << a[1] << ") -> (" << b[0] << ", "
+                      << b[1] << ")";
+      if (c != d) break;
+      invalid += !d;
+    }
+    EXPECT_GT(invalid, 300) << "estimate share " << share;
     return spans;
   };
   const long none = spans_with(0.0), quarter = spans_with(0.25), whole = spans_with(1.0);
@@ -331,4 +345,49 @@ TEST(CertifiedMotionValidator, SpanBatchesFollowTheCertificatesEstimate) {
   EXPECT_GT(quarter, 0);
   EXPECT_LT(quarter, whole);
   RecordProperty("span_batches", std::to_string(quarter) + " of " + std::to_string(whole));
+}
+
+// With batch proofs a motion's far end gets a plain check (the certificate asked for nothing,
+// `enough` 0), since span batches take the whole motion; without them its certificate is asked to
+// reach the whole motion. The answers are the discrete ones either way.
+TEST(CertifiedMotionValidator, FarEndIsAPlainCheckWhereBatchesTakeTheMotion) {
+  std::atomic<long> discrete_checks{0};
+  auto si = make_space(&discrete_checks);
+  ob::DiscreteMotionValidator discrete(si);
+  long spans = 0;
+  auto far_end_needs = [&](bool batches) {
+    std::vector<double> needs;  // `enough` of each motion's first check: its far end
+    bool first = false;
+    CertifiedMotionValidator::ProvenFreeFn proven;
+    if (batches)
+      proven = [&spans](const double* const* q, int count, const Eigen::VectorXd&, double reach) {
+        spans += reach > 0;
+        std::uint32_t mask = 0;
+        for (int k = 0; k < count; ++k) mask |= std::uint32_t(clearance(q[k][0], q[k][1]) > reach + 0.01) << k;
+        return mask;
+      };
+    CertifiedMotionValidator certified(
+        si,
+        CertifiedMotionValidator::CertificateFn([&](const Eigen::VectorXd& q, const Eigen::VectorXd&, double enough) {
+          if (first) needs.push_back(enough);
+          first = false;
+          const double c = clearance(q[0], q[1]);
+          return c > 0 ? CertifiedMotionValidator::Certificate{c / 2, c / 2} : CertifiedMotionValidator::Certificate{-1.0, -1.0};
+        }),
+        proven);
+    std::mt19937_64 rng(17);
+    ob::ScopedState<> a(si), b(si);
+    for (int i = 0; i < 2000; ++i) {
+      random_motion(rng, a, b);
+      first = true;
+      const bool c = certified.checkMotion(a.get(), b.get()), d = discrete.checkMotion(a.get(), b.get());
+      EXPECT_EQ(c, d) << "motion (" << a[0] << ", " << a[1] << ") -> (" << b[0] << ", " << b[1] << ")";
+      if (c != d) break;
+    }
+    EXPECT_EQ(needs.size(), 2000u);
+    return needs;
+  };
+  for (const double need : far_end_needs(true)) EXPECT_EQ(need, 0.0) << "with batches";
+  for (const double need : far_end_needs(false)) EXPECT_GT(need, 0.0) << "without batches";
+  EXPECT_GT(spans, 1000) << "span batches take the motions from their far ends (estimates are half the reach)";
 }
