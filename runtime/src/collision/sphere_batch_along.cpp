@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "dmgplace/formats/error.hpp"
 #include "dmgplace/runtime/collision/sphere_field_checker.hpp"
 #include "dmgplace/runtime/system/simd_dispatch.hpp"
 #include "sphere_lane_motion.hpp"
@@ -15,19 +16,18 @@ const std::vector<double>& SphereFieldChecker::static_speeds(const Eigen::Vector
   struct Last {
     std::uint64_t id = 0;
     std::vector<double> direction, speeds;
+    Eigen::VectorXd magnitude;  // |direction|, kept so the product allocates nothing
   };
   thread_local Last last;
   const auto n = std::size_t(direction.size());
   if (last.id == id_ && last.direction.size() == n && std::equal(last.direction.begin(), last.direction.end(), direction.data()))
     return last.speeds;
-  auto speed = [&](const std::vector<ChainJoint>& joints) {
-    double v = 0;
-    for (const auto& j : joints) v += std::abs(direction[j.slot]) * j.reach;
-    return v;
-  };
-  last.speeds.clear();
-  for (const Body& b : bodies_) last.speeds.push_back(speed(b.chain));
-  for (const PairMoves& m : pair_moves_) last.speeds.push_back(speed(m.a) + speed(m.b));
+  if (direction.size() != static_reach_.cols())
+    throw Error("SphereFieldChecker", "direction", "one entry per chain joint expected");
+  // Each row: the sum over its joints of |direction| x reach (one matrix-vector product).
+  last.magnitude = direction.cwiseAbs();
+  last.speeds.resize(std::size_t(static_reach_.rows()));
+  Eigen::Map<Eigen::VectorXd>(last.speeds.data(), static_reach_.rows()).noalias() = static_reach_ * last.magnitude;
   last.id = id_;
   last.direction.assign(direction.data(), direction.data() + n);
   return last.speeds;

@@ -142,6 +142,15 @@ void SphereFieldChecker::build_bodies() {
       }
       add_pair(i, j, table);
     }
+  static_reach_.setZero(Eigen::Index(bodies_.size() + pairs_.size()), Eigen::Index(kin_->dof()));
+  auto add_reaches = [&](std::size_t row, const std::vector<ChainJoint>& joints) {
+    for (const ChainJoint& j : joints) static_reach_(Eigen::Index(row), j.slot) += j.reach;
+  };
+  for (std::size_t bi = 0; bi < bodies_.size(); ++bi) add_reaches(bi, bodies_[bi].chain);
+  for (std::size_t pi = 0; pi < pairs_.size(); ++pi) {
+    add_reaches(bodies_.size() + pi, pair_moves_[pi].a);
+    add_reaches(bodies_.size() + pi, pair_moves_[pi].b);
+  }
 }
 
 SphereFieldChecker::Table::Table(const formats::SelfDistanceTable& t) : data(t) {

@@ -279,6 +279,9 @@ class SphereFieldChecker {
   double link_reach_ = 0;  // nor from its own link's origin
   std::vector<Pair> pairs_;                   // body pairs checked for self-collision
   std::vector<PairMoves> pair_moves_;         // per pair
+  // static_speeds as one product: a row per body, then per pair (the pair's relative joints), a
+  // column per chain joint (its slot in q), each entry the sum of that joint's reaches in the row.
+  Eigen::MatrixXd static_reach_;
   int lever_count_ = 0;                       // chain joints summed over the bodies
   std::shared_ptr<const std::vector<Table>> tables_;  // shared by every per-grasp copy
   // Every `kCoarseStride`-th node of the distance grid: small enough to stay in cache, and with
