@@ -391,3 +391,40 @@ TEST(CertifiedMotionValidator, FarEndIsAPlainCheckWhereBatchesTakeTheMotion) {
   for (const double need : far_end_needs(false)) EXPECT_GT(need, 0.0) << "without batches";
   EXPECT_GT(spans, 1000) << "span batches take the motions from their far ends (estimates are half the reach)";
 }
+
+// In the open (every lane proven), a motion's interior after its far end's plain check goes to
+// batches by its size: up to 8 states one raked batch (no reach), 9-16 states one span batch
+// (reach 1 state), more one span batch of a wider reach; never a certified check.
+TEST(CertifiedMotionValidator, AMotionsInteriorGoesToOneBatchInTheOpen) {
+  std::atomic<long> checks{0};
+  auto si = make_space(&checks);
+  const double h = si->getStateSpace()->getLongestValidSegmentLength();
+  long raked = 0, spans = 0, certified = 0, far_ends = 0;
+  double reach = 0;
+  CertifiedMotionValidator validator(
+      si,
+      CertifiedMotionValidator::CertificateFn([&](const Eigen::VectorXd&, const Eigen::VectorXd&, double enough) {
+        (enough > 0 ? certified : far_ends) += 1;
+        return CertifiedMotionValidator::Certificate{100.0, 100.0};
+      }),
+      [&](const double* const*, int count, const Eigen::VectorXd&, double r) {
+        (r > 0 ? spans : raked) += 1;
+        reach = r;
+        return count >= 32 ? ~0u : (1u << count) - 1;
+      });
+  ob::ScopedState<> a(si), b(si);
+  for (int steps = 3; steps <= 60; ++steps) {
+    raked = spans = certified = far_ends = 0;
+    a[0] = 1;
+    a[1] = 1;
+    b[0] = 1 + (steps - 0.5) * h;  // `steps` states of the discrete validator
+    b[1] = 1;
+    EXPECT_TRUE(validator.checkMotion(a.get(), b.get()));
+    const int interior = steps - 1;
+    EXPECT_EQ(far_ends, 1) << steps << " steps";
+    EXPECT_EQ(certified, 0) << steps << " steps";
+    EXPECT_EQ(raked, interior <= 8 ? 1 : 0) << steps << " steps";
+    EXPECT_EQ(spans, interior <= 8 ? 0 : 1) << steps << " steps";
+    if (interior > 8 && interior <= 16) EXPECT_NEAR(reach / ((b[0] - a[0]) / steps), 1.0, 1e-5) << steps << " steps";
+  }
+}
