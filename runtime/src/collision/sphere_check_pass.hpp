@@ -80,6 +80,11 @@ struct SphereFieldChecker::Pass {
   // Each returns false when the answer is final (a proven collision, or more pairs than fit).
   bool environment();
   bool self_pairs();
+  // self_pairs' verdicts on an overlapping sphere pair (global indices, centres s2 apart): a
+  // collision proven by the spheres' inner balls (out says so); the body pair left to the exact
+  // layer (out.pairs_overflow when more pairs than fit).
+  bool proven_overlap(int i, int j, double s2);
+  void flag(const Body& a, const Body& b);
   void certificate();  // out.free_distance
 
   // How far a body's bounding sphere, or a pair's two, can move along dir (displacement_bound.hpp),

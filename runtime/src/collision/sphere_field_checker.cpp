@@ -92,6 +92,20 @@ void SphereFieldChecker::build_bodies() {
     std::fill_n(l.z, PoseBatch::kLanes, float(spheres_[i].center.z()));
     std::fill_n(l.r, PoseBatch::kLanes, float(spheres_[i].radius));
   }
+  pair_spheres_.clear();
+  for (auto& b : bodies_) {
+    b.local = int(pair_spheres_.size());
+    const int w = local_width(b);
+    pair_spheres_.resize(pair_spheres_.size() + 4 * std::size_t(w), 0.0);
+    double* at = pair_spheres_.data() + b.local;
+    for (int k = 0; k < w; ++k) {
+      const bool real = b.begin + k < b.end;
+      const formats::LinkSphere& s = spheres_[std::size_t(real ? b.begin + k : b.begin)];
+      // A spare lane: 1e6 m away on every axis, no radius, so no sphere reaches it.
+      for (int d = 0; d < 3; ++d) at[d * w + k] = real ? s.center[d] : 1e6;
+      at[3 * w + k] = real ? s.radius : 0.0;
+    }
+  }
   lever_count_ = 0;
   for (auto& b : bodies_) {
     b.lever_begin = lever_count_;

@@ -44,9 +44,19 @@ bool SphereFieldChecker::Pass::self_pairs() {
         continue;
       }
     }
+    bool hit = false;
+    if (!certify_this) {
+      // No gaps to measure: the first overlap decides, in the bodies' own frames.
+      const PairContact k = c.pair_contact(p, poses[std::size_t(a.link)], poses[std::size_t(b.link)],
+                                           s.body_center[std::size_t(p.b)]);
+      if (k.i < 0) continue;
+      if (proven_overlap(k.i, k.j, k.s2)) return false;
+      flag(a, b);
+      if (out.pairs_overflow) return false;
+      continue;
+    }
     centres(std::size_t(p.a));
     centres(std::size_t(p.b));
-    bool hit = false;
     // The pair's gap so far: a sphere pair past it cannot lower it, and all share the pair's speed
     // bound, so such pairs need no root. Past `need`, unexamined, they only cap the certificate,
     // and only when no gap is found at all (a finite gap limits it more).
@@ -67,13 +77,7 @@ bool SphereFieldChecker::Pass::self_pairs() {
         const double r = ra + c.spheres_[std::size_t(j)].radius;
         const double s2 = (wa - s.world[std::size_t(j)]).squaredNorm();
         if (s2 < r * r) {
-          // The two inner balls overlap: so do the solids (both must have a ball: 0 is unknown).
-          const double ia = c.inner(i), ib = c.inner(j), in = ia + ib;
-          if (ia > 0 && ib > 0 && s2 < in * in) {
-            out.self_free = false;
-            out.proven_collision = true;
-            return false;
-          }
+          if (proven_overlap(i, j, s2)) return false;
           hit = true;
           break;
         }
@@ -88,15 +92,29 @@ bool SphereFieldChecker::Pass::self_pairs() {
       else skipped |= certify_this && beyond;
       continue;
     }
-    out.self_free = false;
-    if (a.attached || b.attached) out.attached_involved = true;
-    if (out.pair_count == SphereCheck::kMaxPairs) {
-      out.pairs_overflow = true;
-      return false;
-    }
-    out.pairs[std::size_t(out.pair_count++)] = {a.link, b.link};
+    flag(a, b);
+    if (out.pairs_overflow) return false;
   }
   return true;
+}
+
+bool SphereFieldChecker::Pass::proven_overlap(int i, int j, double s2) {
+  // The two inner balls overlap: so do the solids (both must have a ball: 0 is unknown).
+  const double ia = c.inner(i), ib = c.inner(j), in = ia + ib;
+  if (!(ia > 0 && ib > 0 && s2 < in * in)) return false;
+  out.self_free = false;
+  out.proven_collision = true;
+  return true;
+}
+
+void SphereFieldChecker::Pass::flag(const Body& a, const Body& b) {
+  out.self_free = false;
+  if (a.attached || b.attached) out.attached_involved = true;
+  if (out.pair_count == SphereCheck::kMaxPairs) {
+    out.pairs_overflow = true;
+    return;
+  }
+  out.pairs[std::size_t(out.pair_count++)] = {a.link, b.link};
 }
 
 }  // namespace dmgplace::runtime

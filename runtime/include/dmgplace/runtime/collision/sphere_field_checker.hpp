@@ -172,6 +172,7 @@ class SphereFieldChecker {
     std::vector<ChainJoint> chain;  // chain joints that move this body, the link's own joint first
     int lever_begin = 0;     // its chain's first lever arm in a query's per-body cache (Pass::levers)
     int begin = 0, end = 0;  // sphere range
+    int local = 0;           // its spheres in pair_spheres_ (offset)
     Eigen::Vector3d center = Eigen::Vector3d::Zero();
     double radius = 0;
     bool moving = false;
@@ -242,6 +243,24 @@ class SphereFieldChecker {
     float x[PoseBatch::kLanes], y[PoseBatch::kLanes], z[PoseBatch::kLanes], r[PoseBatch::kLanes];
   };
   std::vector<LaneSphere> lane_spheres_;
+  // spheres_ again for pair_contact, per body in its link frame: x, y, z and radius, four arrays of
+  // the body's sphere count rounded up to 4 (spare lanes far away, radius 0). Built with the bodies.
+  std::vector<double> pair_spheres_;
+  static int local_width(const Body& b) { return (b.end - b.begin + 3) & ~3; }
+  // A body pair's first overlapping spheres (padding_ added once), in the order the scalar loop
+  // visits them (a's spheres, then b's): the global sphere indices and their centres' squared
+  // distance, or i = -1. `cb`: b's bounding-sphere centre in the world.
+  struct PairContact {
+    int i = -1, j = -1;
+    double s2 = 0;
+  };
+  PairContact pair_contact(const Pair& p, const Eigen::Isometry3d& Ta, const Eigen::Isometry3d& Tb,
+                           const Eigen::Vector3d& cb) const;
+  template <bool Wide>
+  static PairContact pair_contact_body(const SphereFieldChecker& c, const Pair& p, const Eigen::Isometry3d& Ta,
+                                       const Eigen::Isometry3d& Tb, const Eigen::Vector3d& cb);
+  static PairContact pair_contact_avx2(const SphereFieldChecker& c, const Pair& p, const Eigen::Isometry3d& Ta,
+                                       const Eigen::Isometry3d& Tb, const Eigen::Vector3d& cb);
   // A body's displacement over free_lanes_along's reach from each lane's own lever arms
   // (src/collision/sphere_lane_motion.hpp).
   struct LaneMotion;
