@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <random>
 
 #include "dmgplace/runtime/motion/certified_motion_validator.hpp"
@@ -347,17 +348,18 @@ TEST(CertifiedMotionValidator, SpanBatchesFollowTheCertificatesEstimate) {
   RecordProperty("span_batches", std::to_string(quarter) + " of " + std::to_string(whole));
 }
 
-// With batch proofs a motion's far end gets a plain check (the certificate asked for nothing,
-// `enough` 0), since span batches take the whole motion; without them its certificate is asked to
-// reach the whole motion. The answers are the discrete ones either way.
+// With batch proofs a motion's far end, where it gets a check at all, gets a plain one (the
+// certificate asked for nothing, `enough` 0), since span batches take the whole motion; without
+// them every far end's certificate is asked to reach the whole motion. The answers are the
+// discrete ones either way.
 TEST(CertifiedMotionValidator, FarEndIsAPlainCheckWhereBatchesTakeTheMotion) {
   std::atomic<long> discrete_checks{0};
   auto si = make_space(&discrete_checks);
   ob::DiscreteMotionValidator discrete(si);
   long spans = 0;
   auto far_end_needs = [&](bool batches) {
-    std::vector<double> needs;  // `enough` of each motion's first check: its far end
-    bool first = false;
+    std::vector<double> needs;  // `enough` of each check of a motion's far end
+    Eigen::Vector2d far;
     CertifiedMotionValidator::ProvenFreeFn proven;
     if (batches)
       proven = [&spans](const double* const* q, int count, const Eigen::VectorXd&, double reach) {
@@ -369,8 +371,7 @@ TEST(CertifiedMotionValidator, FarEndIsAPlainCheckWhereBatchesTakeTheMotion) {
     CertifiedMotionValidator certified(
         si,
         CertifiedMotionValidator::CertificateFn([&](const Eigen::VectorXd& q, const Eigen::VectorXd&, double enough) {
-          if (first) needs.push_back(enough);
-          first = false;
+          if ((q - far).norm() < 1e-9) needs.push_back(enough);
           const double c = clearance(q[0], q[1]);
           return c > 0 ? CertifiedMotionValidator::Certificate{c / 2, c / 2} : CertifiedMotionValidator::Certificate{-1.0, -1.0};
         }),
@@ -379,52 +380,135 @@ TEST(CertifiedMotionValidator, FarEndIsAPlainCheckWhereBatchesTakeTheMotion) {
     ob::ScopedState<> a(si), b(si);
     for (int i = 0; i < 2000; ++i) {
       random_motion(rng, a, b);
-      first = true;
+      far = Eigen::Vector2d(b[0], b[1]);
       const bool c = certified.checkMotion(a.get(), b.get()), d = discrete.checkMotion(a.get(), b.get());
       EXPECT_EQ(c, d) << "motion (" << a[0] << ", " << a[1] << ") -> (" << b[0] << ", " << b[1] << ")";
       if (c != d) break;
     }
-    EXPECT_EQ(needs.size(), 2000u);
+    EXPECT_LE(needs.size(), 2000u) << "a far end is checked at most once";
     return needs;
   };
-  for (const double need : far_end_needs(true)) EXPECT_EQ(need, 0.0) << "with batches";
-  for (const double need : far_end_needs(false)) EXPECT_GT(need, 0.0) << "without batches";
+  const auto with = far_end_needs(true), without = far_end_needs(false);
+  for (const double need : with) EXPECT_EQ(need, 0.0) << "with batches";
+  EXPECT_GT(with.size(), 1000u) << "far ends are often blocked here: most get a plain check first";
+  for (const double need : without) EXPECT_GT(need, 0.0) << "without batches";
+  EXPECT_EQ(without.size(), 2000u);
   EXPECT_GT(spans, 1000) << "span batches take the motions from their far ends (estimates are half the reach)";
 }
 
-// In the open (every lane proven), a motion's interior after its far end's plain check goes to
-// batches by its size: up to 8 states one raked batch (no reach), 9-16 states one span batch
-// (reach 1 state), more one span batch of a wider reach; never a certified check.
-TEST(CertifiedMotionValidator, AMotionsInteriorGoesToOneBatchInTheOpen) {
+// In the open (every lane proven), a motion goes to batches by its size, never to a certified
+// check. While its far ends have been blocked (a fresh validator assumes half are), the far end
+// first gets a plain check and the interior up to 8 states one raked batch (no reach), 9-16
+// states one span batch (reach 1 state), more one span batch of a wider reach. Once far ends are
+// seldom blocked, the far end is the first batch's last lane: no plain check, and the same sizes
+// count the far end in.
+TEST(CertifiedMotionValidator, AMotionGoesToOneBatchInTheOpen) {
   std::atomic<long> checks{0};
   auto si = make_space(&checks);
   const double h = si->getStateSpace()->getLongestValidSegmentLength();
   long raked = 0, spans = 0, certified = 0, far_ends = 0;
   double reach = 0;
-  CertifiedMotionValidator validator(
-      si,
-      CertifiedMotionValidator::CertificateFn([&](const Eigen::VectorXd&, const Eigen::VectorXd&, double enough) {
-        (enough > 0 ? certified : far_ends) += 1;
-        return CertifiedMotionValidator::Certificate{100.0, 100.0};
-      }),
-      [&](const double* const*, int count, const Eigen::VectorXd&, double r) {
-        (r > 0 ? spans : raked) += 1;
-        reach = r;
-        return count >= 32 ? ~0u : (1u << count) - 1;
-      });
+  auto make = [&] {
+    return std::make_unique<CertifiedMotionValidator>(
+        si,
+        CertifiedMotionValidator::CertificateFn([&](const Eigen::VectorXd&, const Eigen::VectorXd&, double enough) {
+          (enough > 0 ? certified : far_ends) += 1;
+          return CertifiedMotionValidator::Certificate{100.0, 100.0};
+        }),
+        [&](const double* const*, int count, const Eigen::VectorXd&, double r) {
+          (r > 0 ? spans : raked) += 1;
+          reach = r;
+          return count >= 32 ? ~0u : (1u << count) - 1;
+        });
+  };
   ob::ScopedState<> a(si), b(si);
-  for (int steps = 3; steps <= 60; ++steps) {
+  auto motion = [&](CertifiedMotionValidator& validator, int steps) {
     raked = spans = certified = far_ends = 0;
     a[0] = 1;
     a[1] = 1;
     b[0] = 1 + (steps - 0.5) * h;  // `steps` states of the discrete validator
     b[1] = 1;
     EXPECT_TRUE(validator.checkMotion(a.get(), b.get()));
-    const int interior = steps - 1;
-    EXPECT_EQ(far_ends, 1) << steps << " steps";
+  };
+  auto batches_by_size = [&](int states, int steps) {
     EXPECT_EQ(certified, 0) << steps << " steps";
-    EXPECT_EQ(raked, interior <= 8 ? 1 : 0) << steps << " steps";
-    EXPECT_EQ(spans, interior <= 8 ? 0 : 1) << steps << " steps";
-    if (interior > 8 && interior <= 16) EXPECT_NEAR(reach / ((b[0] - a[0]) / steps), 1.0, 1e-5) << steps << " steps";
+    EXPECT_EQ(raked, states <= 8 ? 1 : 0) << steps << " steps";
+    EXPECT_EQ(spans, states <= 8 ? 0 : 1) << steps << " steps";
+    if (states > 8 && states <= 16) EXPECT_NEAR(reach / ((b[0] - a[0]) / steps), 1.0, 1e-5) << steps << " steps";
+  };
+  for (int steps = 3; steps <= 60; ++steps) {
+    auto fresh = make();
+    motion(*fresh, steps);
+    EXPECT_EQ(far_ends, 1) << steps << " steps";
+    batches_by_size(steps - 1, steps);
   }
+  auto seasoned = make();
+  for (int i = 0; i < 200; ++i) motion(*seasoned, 40);
+  for (int steps = 3; steps <= 60; ++steps) {
+    motion(*seasoned, steps);
+    EXPECT_EQ(far_ends, 0) << steps << " steps";
+    batches_by_size(steps, steps);
+  }
+}
+
+// Where far ends are seldom blocked they go to the first batch, and a far end its lane leaves
+// unproven gets a plain check before any other state; where they are often blocked, a plain check
+// first again. The answers are the discrete ones throughout.
+TEST(CertifiedMotionValidator, FarEndsGoToTheFirstBatchWhereSeldomBlocked) {
+  std::atomic<long> checks{0};
+  auto si = make_space(&checks);
+  ob::DiscreteMotionValidator discrete(si);
+  Eigen::Vector2d far;
+  int calls = 0;  // certificate calls of the current motion
+  int far_first = 0, far_later = 0, far_in_lane = 0;
+  std::mt19937_64 lanes(5);
+  CertifiedMotionValidator certified(
+      si,
+      CertifiedMotionValidator::CertificateFn([&](const Eigen::VectorXd& q, const Eigen::VectorXd&, double) {
+        if ((q - far).norm() < 1e-9) (calls == 0 ? far_first : far_later) += 1;
+        ++calls;
+        const double c = clearance(q[0], q[1]);
+        return c > 0 ? CertifiedMotionValidator::Certificate{c / 2, c / 2} : CertifiedMotionValidator::Certificate{-1.0, -1.0};
+      }),
+      [&](const double* const* q, int count, const Eigen::VectorXd&, double reach) {
+        std::uint32_t mask = 0;  // a quarter of clear lanes left undecided
+        for (int k = 0; k < count; ++k)
+          if (clearance(q[k][0], q[k][1]) > reach + 0.01 && lanes() % 4 != 0) {
+            mask |= 1u << k;
+            far_in_lane += (Eigen::Vector2d(q[k][0], q[k][1]) - far).norm() < 1e-9;
+          }
+        return mask;
+      });
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> u(-1, 1);
+  ob::ScopedState<> a(si), b(si);
+  // Motions up to 1.4 long (a planner's extensions), `blocked`: far ends inside a disc, else in
+  // the free space.
+  auto run = [&](int count, bool blocked) {
+    far_first = far_later = far_in_lane = 0;
+    for (int i = 0; i < count; ++i) {
+      do {
+        random_motion(rng, a, b);
+        b[0] = std::clamp(a[0] + u(rng), 0.0, 10.0);
+        b[1] = std::clamp(a[1] + u(rng), 0.0, 10.0);
+      } while ((clearance(b[0], b[1]) <= 0) != blocked);
+      far = Eigen::Vector2d(b[0], b[1]);
+      calls = 0;
+      const bool c = certified.checkMotion(a.get(), b.get()), d = discrete.checkMotion(a.get(), b.get());
+      EXPECT_EQ(c, d) << "motion (" << a[0] << ", " << a[1] << ") -> (" << b[0] << ", " << b[1] << ")";
+      if (c != d) return;
+    }
+  };
+  run(1, false);
+  EXPECT_EQ(far_first, 1) << "a fresh validator checks the far end first";
+  run(200, false);  // free far ends: into the batch from the first few dozen on
+  run(500, false);
+  EXPECT_GT(far_in_lane, 150) << "lanes prove many far ends";
+  EXPECT_GT(far_first, 50) << "a far end a lane leaves unproven is checked first";
+  EXPECT_EQ(far_later, 0);
+  run(100, true);  // blocked far ends: found by their plain checks, first
+  EXPECT_EQ(far_first, 100);
+  run(50, false);
+  EXPECT_EQ(far_in_lane, 0) << "after a run of blocked far ends, plain checks first again";
+  EXPECT_EQ(far_first, 50);
 }

@@ -12,6 +12,7 @@
 #include <ompl/base/MotionValidator.h>
 
 #include <Eigen/Core>
+#include <atomic>
 #include <cstdint>
 #include <functional>
 
@@ -51,6 +52,10 @@ class CertifiedMotionValidator : public ompl::base::MotionValidator {
   bool check_motion(const ompl::base::State* s1, const ompl::base::State* s2, bool end_valid) const;
   CertificateFn certificate_;
   ProvenFreeFn proven_free_;
+  // How often far ends were blocked lately, 1 << 16 meaning always: a running average over about
+  // the last 32 motions checked with one. Relaxed: a lost update only shifts which order is tried.
+  mutable std::atomic<std::uint32_t> far_blocked_{1u << 15};
+  void far_end_was(bool blocked) const;
 };
 
 }  // namespace dmgplace::runtime
