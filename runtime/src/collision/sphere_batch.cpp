@@ -2,8 +2,9 @@
 // Every step runs in floats across all 8 lanes (lanes::F, one AVX register): forward kinematics
 // (Kinematics::link_poses_batch into a PoseBatchF), then one body or sphere at a time: centres,
 // bounds, exact primitive distances, pair distances. Every test that can say "free" adds a
-// rounding margin (lane_margin(): the kinematics' own error bound and the steps after it), so the
-// floats stay conservative. Only the field loads are one
+// rounding margin (lane_margin(): the kinematics' own error bound and the steps after it; a pair
+// test adds a second pose error, one per body), so the floats stay conservative. Only the field
+// loads are one
 // per lane. Compiled for AVX2 + FMA and for the portable baseline, chosen at run time
 // (system/simd_dispatch).
 #include <algorithm>
@@ -149,6 +150,8 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
   centre.resize(c.bodies_.size());
   done.assign(c.bodies_.size(), 0);
   const float margin = float(c.lane_margin()), limit = float(c.lane_limit_);
+  // A pair's two spheres (or bounding spheres) each carry their own link's pose error.
+  const float pair_margin = float(c.lane_margin() + c.kin_->float_pose_error(c.link_reach_));
   auto spheres_of = [&](std::size_t bi) {
     if (done[bi]) return;
     const Body& b = c.bodies_[bi];
@@ -208,7 +211,7 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
     const Pair& p = c.pairs_[pi];
     float pair_widen = widened(nb + pi);
     const Xyz &ca = centre[std::size_t(p.a)], &cb = centre[std::size_t(p.b)];
-    std::uint32_t near = lanes::bits(overlaps(ca, cb, float(p.reach) + margin + pair_widen), wide) & alive;
+    std::uint32_t near = lanes::bits(overlaps(ca, cb, float(p.reach) + pair_margin + pair_widen), wide) & alive;
     if (!near) continue;
     // A pair with a table asks it first, the pair's motion over the reach bounded by the smaller
     // of its static widening and the table's own slopes times its joints' travel: the wrist pairs
@@ -224,7 +227,7 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
       const float local = motion->pair(c, pi, poses, centre.data(), near);
       if (local < pair_widen) {
         pair_widen = local;
-        near &= lanes::bits(overlaps(ca, cb, float(p.reach) + margin + pair_widen), wide);
+        near &= lanes::bits(overlaps(ca, cb, float(p.reach) + pair_margin + pair_widen), wide);
         if (table && near && double(pair_widen) < travel) near &= ~table_apart(near);
       }
     }
@@ -236,7 +239,7 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
     lanes::MF acc{};
     for (int i = a.begin; i < a.end; ++i) {
       const Xyz& wa = world[std::size_t(i)];
-      const float ra = float(c.spheres_[std::size_t(i)].radius + c.padding_) + margin + pair_widen;
+      const float ra = float(c.spheres_[std::size_t(i)].radius + c.padding_) + pair_margin + pair_widen;
       // A sphere clear of b's bounding sphere in every lane still open cannot touch b's spheres.
       if (!(lanes::bits(overlaps(wa, cb, ra + float(b.radius)), wide) & near & ~hit)) continue;
       // The same float sums and squares as ra + r_j in scalars, all lanes at once.
