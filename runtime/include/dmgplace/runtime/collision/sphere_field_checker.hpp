@@ -287,7 +287,8 @@ class SphereFieldChecker {
   // free_lanes works in floats: lanes whose body centres stay within lane_limit_ metres of the
   // origin on every axis, every test that can say "free" widened by lane_margin() metres, which
   // bounds the rounding there: lane_rounding_ for the steps after the poses (set with the robot's
-  // bodies and the scene, set_lane_bounds) and the float poses' own error bound.
+  // bodies and the scene, set_lane_bounds) and the float poses' own error bound (twice for a
+  // self pair's tests: one per body).
   void set_lane_bounds();
   double lane_limit_ = 0, lane_rounding_ = 0;
   // PrimitiveObstacles::float_error for points within lane_limit_: the scalar passes' exact
