@@ -434,7 +434,9 @@ TEST(CertifiedMotionValidator, AMotionGoesToOneBatchInTheOpen) {
     EXPECT_EQ(certified, 0) << steps << " steps";
     EXPECT_EQ(raked, states <= 8 ? 1 : 0) << steps << " steps";
     EXPECT_EQ(spans, states <= 8 ? 0 : 1) << steps << " steps";
-    if (states > 8 && states <= 16) EXPECT_NEAR(reach / ((b[0] - a[0]) / steps), 1.0, 1e-5) << steps << " steps";
+    if (states > 8 && states <= 16) {
+      EXPECT_NEAR(reach / ((b[0] - a[0]) / steps), 1.0, 1e-5) << steps << " steps";
+    }
   };
   for (int steps = 3; steps <= 60; ++steps) {
     auto fresh = make();
