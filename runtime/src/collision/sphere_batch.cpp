@@ -27,12 +27,21 @@ using Xyz = LaneXyz;
 // A link's pose in every lane (PoseBatchF): rotation row-major, then the translation.
 using LinkPose = std::array<PoseBatchF::Lanes, 12>;
 
+// A link's pose loaded into vectors once for all its spheres: the stores of their centres could
+// alias the pose's arrays for all the compiler knows, so it would reload all 12 per sphere.
+struct PoseLanes {
+  F t[12];
+  explicit PoseLanes(const LinkPose& T) {
+    for (int e = 0; e < 12; ++e) t[e] = lanes::load(T[std::size_t(e)].data());
+  }
+};
+
 // c = R p + t in every lane, p given in every lane.
-inline __attribute__((always_inline)) void transform(const LinkPose& T, F px, F py, F pz, Xyz& c) {
-  auto t = [&](int e) __attribute__((always_inline)) { return lanes::load(T[std::size_t(e)].data()); };
-  lanes::store(c.x, t(0) * px + t(1) * py + t(2) * pz + t(9));
-  lanes::store(c.y, t(3) * px + t(4) * py + t(5) * pz + t(10));
-  lanes::store(c.z, t(6) * px + t(7) * py + t(8) * pz + t(11));
+inline __attribute__((always_inline)) void transform(const PoseLanes& T, F px, F py, F pz, Xyz& c) {
+  const F* t = T.t;
+  lanes::store(c.x, t[0] * px + t[1] * py + t[2] * pz + t[9]);
+  lanes::store(c.y, t[3] * px + t[4] * py + t[5] * pz + t[10]);
+  lanes::store(c.z, t[6] * px + t[7] * py + t[8] * pz + t[11]);
 }
 
 // Lanes whose point p is at least `need` from the scene by the field (inside the grid only): the
@@ -155,7 +164,7 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
   auto spheres_of = [&](std::size_t bi) {
     if (done[bi]) return;
     const Body& b = c.bodies_[bi];
-    const LinkPose& pose = poses.pose[std::size_t(b.link)];
+    const PoseLanes pose(poses.pose[std::size_t(b.link)]);
     for (int i = b.begin; i < b.end; ++i) {
       const LaneSphere& l = c.lane_spheres_[std::size_t(i)];
       transform(pose, lanes::load(l.x), lanes::load(l.y), lanes::load(l.z), world[std::size_t(i)]);
@@ -182,7 +191,7 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
   lanes::MF in_range = ~lanes::MF{};
   for (std::size_t bi = 0; bi < c.bodies_.size(); ++bi) {
     const Body& b = c.bodies_[bi];
-    transform(poses.pose[std::size_t(b.link)], splatf(float(b.center.x())), splatf(float(b.center.y())),
+    transform(PoseLanes(poses.pose[std::size_t(b.link)]), splatf(float(b.center.x())), splatf(float(b.center.y())),
               splatf(float(b.center.z())), centre[bi]);
     in_range &= within(centre[bi], limit);
     if (!b.moving && !b.attached) continue;
