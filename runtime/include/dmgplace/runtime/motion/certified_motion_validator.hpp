@@ -35,6 +35,9 @@ class CertifiedMotionValidator : public ompl::base::MotionValidator {
   // (of `count` <= 8) along +-direction is proven free; unset means undecided.
   using ProvenFreeFn =
       std::function<std::uint32_t(const double* const* q, int count, const Eigen::VectorXd& direction, double reach)>;
+  // The callbacks must not check a motion with a CertifiedMotionValidator on their own thread: a
+  // motion check keeps its segment, batch and ranges in per-thread buffers (no allocation per
+  // motion). Threads each check their own motions at once.
   CertifiedMotionValidator(const ompl::base::SpaceInformationPtr& si, CertificateFn certificate,
                            ProvenFreeFn proven_free = nullptr);
   CertifiedMotionValidator(const ompl::base::SpaceInformationPtr& si, FreeDistanceFn free_distance,
