@@ -1,7 +1,8 @@
 // Robot model speed (issue "Robot model"): FK + fast sphere check vs the FCL exact check of the
 // same configurations, and IK, for the Panda in the MotionBenchMaker bookshelf scene.
 // Run: build/release/tests/bench_robot   (needs ../shared/datasets)
-// Environment: SDF_RES (grid cell, default 0.01 m), NO_SELF_TABLES, NO_EXACT_PRIMITIVES.
+// Environment: SDF_RES (grid cell, default 0.01 m), SPHERE_COUNT (most spheres per link, default
+// 12 as bake-robot's --sphere-count), NO_SELF_TABLES, NO_EXACT_PRIMITIVES.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -49,8 +50,10 @@ World& world() {
     o.package_paths.push_back(shared / "panda");
     w.model = tools::read_urdf(shared / "panda/moveit_resources_panda_description/urdf/panda.urdf", o);
     tools::apply_srdf(w.model, shared / "panda/panda_moveit_config/config/panda.srdf");
+    tools::SphereCoverOptions cover;
+    if (const char* n = std::getenv("SPHERE_COUNT")) cover.max_spheres = std::clamp(std::atoi(n), 1, 10000);
     for (std::size_t l = 0; l < w.model.links.size(); ++l)
-      for (const auto& s : tools::cover_with_spheres(w.model.links[l].collision))
+      for (const auto& s : tools::cover_with_spheres(w.model.links[l].collision, cover))
         w.spheres.push_back({int(l), s.center, s.radius});
     w.kin = std::make_unique<runtime::Kinematics>(w.model, "panda_link0", "panda_hand");
     w.kin->set_joint_value("panda_finger_joint1", 0.04);

@@ -86,9 +86,10 @@ TEST(CollisionMbm, FastLayerNeverSaysFreeWhereFclCollidesOnPandaScenes) {
     to_fcl += both_exact.counters().exact_pairs.load();
   }
   // Hull gaps (on by default: link hulls, primitive scenes) settle flagged links and pairs that
-  // are apart without FCL; FCL gets the rest, colliding ones included (measured: 10119 settled by
-  // gaps, 14898 sent to FCL, of 100k).
-  EXPECT_GT(gap_settled, to_fcl / 2) << "hull gaps should settle a large share of the flagged queries";
+  // are apart without FCL; FCL gets the rest, colliding ones included (measured: 5030 settled by
+  // gaps, 14326 sent to FCL, of 100k; with the looser spheres before the shrunk cover, 10119 and
+  // 14898: the tighter spheres now settle the easy ones themselves).
+  EXPECT_GT(gap_settled, to_fcl / 4) << "hull gaps should settle a good share of the flagged queries";
   EXPECT_GT(exact_free, 0);
   // The wrist pairs' tables let the fast layer prove most free configurations free by itself
   // (without them, link5 / link7 spheres overlap in ~80% of configurations and it proved none).

@@ -24,3 +24,25 @@ TEST(SphereCover, EverySamplePointOfEveryLinkIsInsideASphere) {
     }
   }
 }
+
+// A corner tetrahedron's smallest enclosing ball is its long face's circumball (centre (1,1,1)/3,
+// radius sqrt(2/3)), smaller than the ball about its bounding box's centre (sqrt(3)/2): one
+// sphere must come near the former and still hold every sample.
+TEST(SphereCover, OneSphereComesNearTheSmallestEnclosingBall) {
+  Shape tet;
+  tet.type = ShapeType::Mesh;
+  tet.size = Eigen::Vector3d::Ones();
+  tet.mesh.vertices.resize(4, 3);
+  tet.mesh.vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1;
+  tet.mesh.triangles.resize(4, 3);
+  tet.mesh.triangles << 0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3;
+  tools::SphereCoverOptions one;
+  one.max_spheres = 1;
+  one.sample_spacing = 0.02;
+  const std::vector<tools::Sphere> spheres = tools::cover_with_spheres({tet}, one);
+  ASSERT_EQ(spheres.size(), 1u);
+  const double smallest = std::sqrt(2.0 / 3.0);
+  EXPECT_LE(spheres[0].radius - one.sample_spacing, 1.01 * smallest);
+  EXPECT_LT((spheres[0].center - Eigen::Vector3d::Constant(1.0 / 3.0)).norm(), 0.05);
+  for (const auto& p : tools::sample_solid({tet}, 0.01)) ASSERT_LE((p - spheres[0].center).norm(), spheres[0].radius + 1e-9) << p.transpose();
+}

@@ -75,21 +75,59 @@ std::vector<Eigen::Vector3d> sample_solid(const std::vector<Shape>& shapes, doub
 std::vector<Sphere> cover_with_spheres(const std::vector<Shape>& shapes, const SphereCoverOptions& opt) {
   std::vector<Eigen::Vector3d> pts = sample_solid(shapes, opt.sample_spacing);
   if (pts.empty()) return {};
-  // Recursive bisection along the widest axis of each cluster's bounding box until every cluster's
-  // bounding sphere is small enough: deterministic, and balanced along long links.
-  // Recursive bisection along the widest axis of the cluster that over-approximates most, until
-  // every sphere is tight. Tightness: radius minus half the median bounding-box extent (a slice of
-  // a cylinder of radius r has excess sqrt(r^2 + t^2/4) - r, which shrinks as slices thin).
-  struct Cluster { std::vector<int> idx; Eigen::Vector3d center; double radius, excess; Eigen::AlignedBox3d box; };
+  // Recursive bisection of the cluster that over-approximates most, until every sphere is tight.
+  // Tightness: radius minus half the median bounding-box extent (a slice of a cylinder of radius r
+  // has excess sqrt(r^2 + t^2/4) - r, which shrinks as slices thin). Deterministic.
+  struct Cluster {
+    std::vector<int> idx;
+    Eigen::Vector3d center = Eigen::Vector3d::Zero();
+    double radius = 0, excess = 0;
+    Eigen::AlignedBox3d box;
+  };
+  auto farthest = [&](const std::vector<int>& idx, const Eigen::Vector3d& c, int& at) {
+    double r2 = -1;
+    for (int i : idx)
+      if (const double d = (pts[std::size_t(i)] - c).squaredNorm(); d > r2) r2 = d, at = i;
+    return std::sqrt(r2);
+  };
   auto make = [&](std::vector<int> idx) {
     Eigen::AlignedBox3d box;
     for (int i : idx) box.extend(pts[std::size_t(i)]);
     Cluster c{std::move(idx), box.center(), 0, 0, box};
-    for (int i : c.idx) c.radius = std::max(c.radius, (pts[std::size_t(i)] - c.center).norm());
+    int far = 0;
+    c.radius = farthest(c.idx, c.center, far);
     Eigen::Vector3d e = box.sizes();
     std::sort(e.data(), e.data() + 3);
     c.excess = c.radius > opt.max_radius ? c.radius : c.radius - 0.5 * e[1];
     return c;
+  };
+  // The cluster's sphere shrunk toward its smallest enclosing ball: Badoiu-Clarkson steps (the
+  // centre moves 1/(i+2) of the way to the farthest point), the best centre seen kept. The radius
+  // is always the exact farthest distance from the kept centre, so the sphere still covers.
+  auto shrink = [&](Cluster& c) {
+    Eigen::Vector3d at = c.center;
+    int far = 0;
+    farthest(c.idx, at, far);
+    for (int i = 0; i < 64; ++i) {
+      at += (pts[std::size_t(far)] - at) / double(i + 2);
+      if (const double r = farthest(c.idx, at, far); r < c.radius) c.radius = r, c.center = at;
+    }
+  };
+  // Of the three axes, the cut at the box's middle whose two spheres hold the least volume.
+  auto split = [&](const Cluster& c, Cluster& lo_out, Cluster& hi_out) {
+    bool found = false;
+    double best = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double mid = c.box.center()[axis];
+      std::vector<int> lo, hi;
+      for (int i : c.idx) (pts[std::size_t(i)][axis] < mid ? lo : hi).push_back(i);
+      if (!lo.empty() && !hi.empty()) {
+        Cluster a = make(std::move(lo)), b = make(std::move(hi));
+        const double v = std::pow(a.radius, 3) + std::pow(b.radius, 3);
+        if (!found || v < best) found = true, best = v, lo_out = std::move(a), hi_out = std::move(b);
+      }
+    }
+    return found;
   };
   std::vector<int> all(pts.size());
   std::iota(all.begin(), all.end(), 0);
@@ -98,18 +136,17 @@ std::vector<Sphere> cover_with_spheres(const std::vector<Shape>& shapes, const S
     auto worst = std::max_element(clusters.begin(), clusters.end(),
                                   [](const Cluster& a, const Cluster& b) { return a.excess < b.excess; });
     if (worst->excess <= opt.max_excess || worst->idx.size() < 2) break;
-    int axis;
-    worst->box.sizes().maxCoeff(&axis);
-    const double mid = worst->box.center()[axis];
-    std::vector<int> lo, hi;
-    for (int i : worst->idx) (pts[std::size_t(i)][axis] < mid ? lo : hi).push_back(i);
-    if (lo.empty() || hi.empty()) break;
-    *worst = make(std::move(lo));
-    clusters.push_back(make(std::move(hi)));
+    Cluster lo, hi;
+    if (!split(*worst, lo, hi)) break;
+    *worst = std::move(lo);
+    clusters.push_back(std::move(hi));
   }
   std::vector<Sphere> out;
   // Inflate by the sample spacing: any geometry point is within one spacing of a sample.
-  for (const auto& c : clusters) out.push_back({c.center, c.radius + opt.sample_spacing});
+  for (auto& c : clusters) {
+    shrink(c);
+    out.push_back({c.center, c.radius + opt.sample_spacing});
+  }
   return out;
 }
 

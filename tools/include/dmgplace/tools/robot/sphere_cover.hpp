@@ -16,7 +16,7 @@ struct SphereCoverOptions {
   double sample_spacing = 0.005;  // metres between sample points on and inside the geometry
   double max_radius = 0.08;       // split any sphere larger than this
   double max_excess = 0.015;      // and any whose radius exceeds half its median extent by more
-  int max_spheres = 12;
+  int max_spheres = 6;
 };
 
 // Spheres in the shapes' parent frame. Every sample point (surface and interior, at
