@@ -1,8 +1,8 @@
 // Robot model speed (issue "Robot model"): FK + fast sphere check vs the FCL exact check of the
 // same configurations, and IK, for the Panda in the MotionBenchMaker bookshelf scene.
 // Run: build/release/tests/bench_robot   (needs ../shared/datasets)
-// Environment: SDF_RES (grid cell, default 0.01 m), SPHERE_COUNT (most spheres per link, default
-// 12 as bake-robot's --sphere-count), NO_SELF_TABLES, NO_EXACT_PRIMITIVES.
+// Environment: SDF_RES (grid cell, default 0.01 m), SPHERE_COUNT (most spheres per link, as
+// bake-robot's --sphere-count; default its default, 6), NO_SELF_TABLES, NO_EXACT_PRIMITIVES.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
