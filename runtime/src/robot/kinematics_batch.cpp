@@ -29,6 +29,21 @@ inline __attribute__((always_inline)) void sincos_lanes(const double* x, double*
   for (int k = 0; k < N; ++k) fast_sincos_core(x[k], s[k], c[k]);
 }
 
+// The same in floats (fast_sincos_f8: the reduction in doubles, the polynomials in floats); wild
+// lanes take the double answer, rounded.
+// Compiled for AVX2 only (the portable build keeps the double core), so the range test is two
+// vector compares and one mask.
+inline __attribute__((always_inline)) void sincos_lanes_f(const double* x, float* s, float* c) {
+  const lanes::D lim = lanes::splat(1e5);
+  const lanes::M tame = (lanes::abs(lanes::load(x)) < lim) & (lanes::abs(lanes::load(x + 4)) < lim);  // NaN: not
+  if (lanes::bits(tame, true) == 0xF) return fast_sincos_f8(x, s, c);
+  for (int k = 0; k < N; ++k) {
+    double sd, cd;
+    fast_sincos(x[k], sd, cd);
+    s[k] = float(sd), c[k] = float(cd);
+  }
+}
+
 // A joint constant in every lane of T's vector: doubles as an initialiser list, floats as
 // lanes::splatf's shuffle (lanes.hpp: each is the faster form for its kind).
 template <class T>
@@ -37,8 +52,9 @@ DMGPLACE_LANES_INLINE lanes::VectorOf<T> splat_as(double v) {
   else return lanes::splatf(float(v));
 }
 
-// T = double: two vectors of 4 lanes per step. T = float: one vector of all 8 (sin and cos, and
-// the joint values, still computed in doubles and rounded once). Wide: compiled for AVX2.
+// T = double: two vectors of 4 lanes per step. T = float: one vector of all 8 (the joint values
+// in doubles, sin and cos from them by fast_sincos_f8, a prismatic joint's value rounded once).
+// Wide: compiled for AVX2.
 template <class T, bool Wide>
 inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>& plan, const std::vector<int>& roots, int base,
                                                    bool base_is_root, const double* const* q, PoseBatchOf<T>& out) {
@@ -75,9 +91,20 @@ inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>&
     } else {
       for (int k = 0; k < N; ++k) vd[k] = j.slot >= 0 ? j.mult * q[k][j.slot] + j.offset : j.offset;
     }
-    if (j.type == 1) sincos_lanes(vd, sd, cd);
-    if constexpr (!std::is_same_v<T, double>)
-      for (int k = 0; k < N; ++k) vf[k] = T(vd[k]), sf[k] = T(sd[k]), cf[k] = T(cd[k]);
+    if constexpr (std::is_same_v<T, double>) {
+      if (j.type == 1) sincos_lanes(vd, sd, cd);
+    } else if (j.type == 1) {
+      // The portable build keeps the double core, rounded: its float vectors are SSE pairs, and
+      // fast_sincos_f8 there made the float batch about 20% slower.
+      if constexpr (Wide) {
+        sincos_lanes_f(vd, sf, cf);
+      } else {
+        sincos_lanes(vd, sd, cd);
+        for (int k = 0; k < N; ++k) sf[k] = T(sd[k]), cf[k] = T(cd[k]);
+      }
+    } else if (j.type == 2) {
+      for (int k = 0; k < N; ++k) vf[k] = T(vd[k]);
+    }
     const D t0 = splat(j.t[0]), t1 = splat(j.t[1]), t2 = splat(j.t[2]);
     for (int h = 0; h < N; h += W) {
       auto a = [&](int e) __attribute__((always_inline)) { return lanes::load(A[std::size_t(e)].data() + h); };
@@ -207,13 +234,15 @@ void Kinematics::build_batch_plan() {
 }
 
 // Float forward kinematics' error, link by link down the plan (u = 2^-24, a float's unit roundoff;
-// |.| Frobenius norms of error matrices, so a rotation multiplies them by 1). A joint's rotation
-// O + s OK + (1 - c) OKK: constants (elements at most 1) and sin, cos rounded once each (1.5u and
-// u per element), two fused multiply-adds under 2 (2u): 4.5u per element, under 16u in all; a
-// fixed joint's rounded constants under 3u. The child's R = A Rj in floats: |E_child| <= |E_A| +
-// |E_Rj| + 9u (each element three roundings of partial sums under 2). Its translation A t' + t_A:
-// off by |E_A| |t'| from A's error, 5u |t'| from rounding t' and the dots, u |t_child| from the
-// sum. Composing with the base's inverse, when the base is not the root, adds as much again.
+// |.| Frobenius norms of error matrices, so a rotation multiplies them by 1). A revolute joint's
+// rotation O + s OK + (1 - c) OKK (|O| = sqrt 3, |OK| = |OKK| = sqrt 2): the constants rounded
+// (under 6u with |s| <= 1, |1 - c| <= 2), sin and cos off by E = kSincosF8Error each and 1 - c
+// rounded (sqrt 2 (2E + 2u)), two fused multiply-adds rounding sums under 3.2 and 1.8 (5u): under
+// 14u + 3E. (A quarter-turn joint turns two columns in place, c u + s w: less.) A fixed joint's
+// rounded constants: under 3u. The child's R = A Rj in floats: |E_child| <= |E_A| + |E_Rj| + 9u
+// (each element three roundings of partial sums under 2). Its translation A t' + t_A: off by
+// |E_A| |t'| from A's error, 5u |t'| from rounding t' and the dots, u |t_child| from the sum.
+// Composing with the base's inverse, when the base is not the root, adds as much again.
 void Kinematics::bound_float_error() {
   const double u = 0x1p-24;
   const auto& m = *model_;
@@ -223,7 +252,7 @@ void Kinematics::bound_float_error() {
     if (j.slot >= 0) travel += std::abs(j.mult) * std::max(std::abs(lower_[j.slot]), std::abs(upper_[j.slot]));
     const double t = std::hypot(j.t[0], j.t[1], j.t[2]) + (j.type == 2 ? travel : 0.0);
     const auto a = std::size_t(j.parent), c = std::size_t(j.child);
-    rot[c] = rot[a] + (j.type == 0 ? 3 * u : 16 * u) + 9 * u;
+    rot[c] = rot[a] + (j.type == 0 ? 3 * u : (14 + 3 * kSincosF8Error) * u) + 9 * u;
     extent[c] = extent[a] + t;
     trans[c] = trans[a] + rot[a] * t + 5 * u * t + u * extent[c];
   }

@@ -228,6 +228,63 @@ TEST(Kinematics, QuarterTurnJointsEqualTheirPlainProduct) {
   expect_jacobian_matches_finite_differences(k, 30);
 }
 
+// A continuous joint wound far past a turn, or NaN, in some lanes of a batch: the float
+// kinematics' sin and cos leave their core for those (fast_sincos_f8 covers |x| < 1e5). Each lane
+// stays within float_pose_error of link_poses, and a NaN lane stays NaN, on both paths.
+TEST(Kinematics, FloatBatchHandlesWoundAndNanJointsInSomeLanes) {
+  RobotModel m;
+  m.name = "wound";
+  for (int l = 0; l <= 3; ++l) m.links.push_back({"l" + std::to_string(l), {}});
+  for (int j = 0; j < 3; ++j) {
+    Joint jt;
+    jt.name = "j" + std::to_string(j);
+    jt.parent = j;
+    jt.child = j + 1;
+    jt.type = JointType::Continuous;
+    jt.origin.translation() = Eigen::Vector3d(0.3, 0.1 * j, 0.05);
+    jt.origin.linear() = Eigen::AngleAxisd(0.4 * (j + 1), Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+    jt.axis = j == 1 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d(0.6, 0, 0.8);
+    m.joints.push_back(jt);
+  }
+  Kinematics k(m, "l0", "l3");
+  const double bound = k.float_pose_error(0.0);
+  std::vector<Eigen::Isometry3d> poses;
+  for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
+    force_simd_path(path);
+    for (int wild_lane = 0; wild_lane < PoseBatch::kLanes; ++wild_lane) {
+      std::vector<Eigen::VectorXd> qs;
+      const double* ptr[PoseBatch::kLanes];
+      for (int lane = 0; lane < PoseBatch::kLanes; ++lane) {
+        Eigen::VectorXd q = Eigen::Vector3d(0.3 * lane - 1, 2.0 - 0.5 * lane, 0.7 * lane);
+        if (lane == wild_lane) q[lane % 3] = lane % 2 ? 3.5e14 + lane : -2.25e5;
+        if (lane == (wild_lane + 3) % PoseBatch::kLanes) q[1] = std::nan("");
+        qs.push_back(q);
+      }
+      for (int lane = 0; lane < PoseBatch::kLanes; ++lane) ptr[lane] = qs[std::size_t(lane)].data();
+      PoseBatchF floats;
+      k.link_poses_batch(ptr, floats);
+      for (int lane = 0; lane < PoseBatch::kLanes; ++lane) {
+        const bool nan_lane = std::isnan(qs[std::size_t(lane)][1]);
+        if (!nan_lane) k.link_poses(qs[std::size_t(lane)], poses);
+        for (std::size_t l = 2; l <= 3; ++l) {  // past the NaN joint
+          for (int e = 0; e < 12; ++e) {
+            const float got = floats.pose[l][std::size_t(e)][std::size_t(lane)];
+            if (nan_lane) {
+              if (e < 9) {
+                EXPECT_TRUE(std::isnan(got)) << to_string(path) << " lane " << lane << " element " << e;
+              }
+              continue;
+            }
+            const double w = e < 9 ? poses[l].linear()(e / 3, e % 3) : poses[l].translation()[e - 9];
+            EXPECT_NEAR(got, w, bound) << to_string(path) << " wild lane " << wild_lane << " lane " << lane << " element " << e;
+          }
+        }
+      }
+    }
+  }
+  force_simd_path(SimdPath::Avx2);  // back to what the CPU has
+}
+
 TEST(Kinematics, RejectsChainsThatDoNotExist) {
   EXPECT_THROW(Kinematics(planar_arm(), "base", "nope"), Error);
   EXPECT_THROW(Kinematics(planar_arm(), "tool", "base"), Error);
@@ -297,6 +354,39 @@ TEST(FastSincos, AgreesWithLibmToTheLastBits) {
   EXPECT_EQ(s, std::sin(1e9));
   dmgplace::runtime::fast_sincos(std::nan(""), s, c);
   EXPECT_TRUE(std::isnan(s) && std::isnan(c));
+}
+
+// fast_sincos_f8 (the AVX2 float batch kinematics' sin and cos): within kSincosF8Error float
+// roundoffs of libm over many turns and at every quadrant's edges, compiled both with fused
+// multiply-adds (as the AVX2 kinematics run it, where the CPU has them) and without.
+static __attribute__((target("avx2,fma"))) void sincos_f8_fma(const double* x, float* s, float* c) {
+  dmgplace::runtime::fast_sincos_f8(x, s, c);
+}
+static void sincos_f8_plain(const double* x, float* s, float* c) { dmgplace::runtime::fast_sincos_f8(x, s, c); }
+
+TEST(FastSincos, FloatsOfEightStayWithinTheirBound) {
+  using dmgplace::runtime::kSincosF8Error;
+  std::vector<double> x;
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> u(-40, 40);
+  for (int i = 0; i < (1 << 20); ++i) x.push_back(u(rng));
+  for (int k = -160; k <= 160; ++k)
+    for (double d : {-1e-7, -1e-12, 0.0, 1e-12, 1e-7}) x.push_back(k * M_PI / 4 + d);
+  while (x.size() % 8) x.push_back(0.5);
+  const bool fma = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  for (auto* f : {&sincos_f8_plain, &sincos_f8_fma}) {
+    if (f == &sincos_f8_fma && !fma) continue;
+    double worst = 0;
+    for (std::size_t i = 0; i < x.size(); i += 8) {
+      float s[8], c[8];
+      f(&x[i], s, c);
+      for (std::size_t k = 0; k < 8; ++k)
+        worst = std::max({worst, std::abs(s[k] - std::sin(x[i + k])), std::abs(c[k] - std::cos(x[i + k]))});
+    }
+    worst /= 0x1p-24;
+    EXPECT_LE(worst, kSincosF8Error) << (f == &sincos_f8_fma ? "fma" : "plain");
+    EXPECT_GT(worst, 0.5) << "floats are rounded: some lane must be off by half a roundoff";
+  }
 }
 
 // fast_sincos_many (link_poses' joints at once, in SIMD lanes): on both paths, for any count and
