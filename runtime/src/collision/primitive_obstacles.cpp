@@ -49,6 +49,9 @@ PrimitiveObstacles::LanePrimitive PrimitiveObstacles::to_lanes(const Primitive& 
     f.half[r] = float(p.half[r]);
   }
   f.bound_radius = std::nextafter(float(p.bound_radius), std::numeric_limits<float>::infinity());
+  // Exactly upright only: the products left out are then exact zeros (and dz times one).
+  const Eigen::Matrix3d& R = p.to_local;
+  f.upright = R(0, 2) == 0 && R(1, 2) == 0 && R(2, 0) == 0 && R(2, 1) == 0 && R(2, 2) == 1;
   return f;
 }
 

@@ -1286,12 +1286,19 @@ TEST(PrimitiveObstacles, FloatLaneDistancesAreWithinTheirErrorBoundOnBothPaths) 
   int inside = 0, checked = 0;
   double worst = 0;  // largest error seen, as a share of the bound
   for (int count = 1; count <= 13; count += 3)
-    for (const double shift : {0.0, 4.0}) {
+    for (const double shift : {0.0, 4.0, -4.0}) {
       Scene scene = random_primitives(rng, count, 0.3);
       for (auto& o : scene.objects) o.shapes[0].origin.translation().x() += shift;
+      // One round with every other shape upright (turned about z only, as planning scenes'
+      // tables and shelves are; the kernel then skips the products by zero).
+      if (shift < 0)
+        for (std::size_t k = 0; k < scene.objects.size(); k += 2) {
+          const double a = 3 * u(rng), c = std::cos(a), s = std::sin(a);
+          scene.objects[k].shapes[0].origin.linear() << c, -s, 0, s, c, 0, 0, 0, 1;
+        }
       const auto prims = PrimitiveObstacles::from_scene(scene);
       ASSERT_TRUE(prims);
-      const double limit = 1.5 + shift;
+      const double limit = 1.5 + std::abs(shift);
       const double bound = prims->float_error(limit);
       for (int i = 0; i < 400; ++i) {
         alignas(32) float x[W], y[W], z[W], portable[W], avx2[W];

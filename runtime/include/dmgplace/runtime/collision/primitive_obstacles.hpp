@@ -132,6 +132,7 @@ class PrimitiveObstacles {
     float to_local[9][lanes::WF], origin[3][lanes::WF];
     float half[3], bound_radius;
     ShapeType type;
+    bool upright;  // turned about z only (tables, shelves): the rotation takes 4 products, not 9
   };
   static LanePrimitive to_lanes(const Primitive& p);
   // A point (every lane) against one primitive, the formulas of local_distance. A box or
@@ -150,9 +151,14 @@ class PrimitiveObstacles {
       return g;
     }
     auto R = [&](int e) __attribute__((always_inline)) { return lanes::load(s.to_local[e]); };
-    const F px = R(0) * dx + R(1) * dy + R(2) * dz;
-    const F py = R(3) * dx + R(4) * dy + R(5) * dz;
-    const F pz = R(6) * dx + R(7) * dy + R(8) * dz;
+    F px, py, pz;
+    if (s.upright) {
+      px = R(0) * dx + R(1) * dy, py = R(3) * dx + R(4) * dy, pz = dz;
+    } else {
+      px = R(0) * dx + R(1) * dy + R(2) * dz;
+      py = R(3) * dx + R(4) * dy + R(5) * dz;
+      pz = R(6) * dx + R(7) * dy + R(8) * dz;
+    }
     const F oz = lanes::abs(pz) - splatf(s.half[2]);
     if (s.type == ShapeType::Box) {
       const F ox = lanes::abs(px) - splatf(s.half[0]), oy = lanes::abs(py) - splatf(s.half[1]);
