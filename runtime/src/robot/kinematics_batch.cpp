@@ -238,7 +238,9 @@ void Kinematics::build_batch_plan() {
 // rotation O + s OK + (1 - c) OKK (|O| = sqrt 3, |OK| = |OKK| = sqrt 2): the constants rounded
 // (under 6u with |s| <= 1, |1 - c| <= 2), sin and cos off by E = kSincosF8Error each and 1 - c
 // rounded (sqrt 2 (2E + 2u)), two fused multiply-adds rounding sums under 3.2 and 1.8 (5u): under
-// 14u + 3E. (A quarter-turn joint turns two columns in place, c u + s w: less.) A fixed joint's
+// 14u + 3E. (The portable build rounds the two products too, 4.3u more, but its sin and cos are
+// the double core's rounded once, E under u: less in all. A quarter-turn joint turns two columns
+// in place, c u + s w: less.) A fixed joint's
 // rounded constants: under 3u. The child's R = A Rj in floats: |E_child| <= |E_A| + |E_Rj| + 9u
 // (each element three roundings of partial sums under 2). Its translation A t' + t_A: off by
 // |E_A| |t'| from A's error, 5u |t'| from rounding t' and the dots, u |t_child| from the sum.
