@@ -8,15 +8,19 @@
 
 namespace dmgplace::runtime {
 
+namespace sincos_reduction {
+// x = j * pi/2 + y, pi/2 split in two so j * pi/2 is exact for the j used here (fdlibm's split).
+constexpr double kTwoOverPi = 6.36619772367581382433e-01;
+constexpr double kPio2Hi = 1.57079632673412561417e+00, kPio2Lo = 6.07710050650619224932e-11;
+// Rounded to the nearest integer (ties to even, as nearbyint) by adding and removing 1.5 * 2^52,
+// exact below 2^51: no libm call in a scalar build, one add and one subtract per lane in a loop.
+constexpr double kRound = 0x1.8p52;
+}  // namespace sincos_reduction
+
 // The core for |x| < 1e5, without branches (the quadrant picked by selects), so a loop over
 // lanes of it vectorises (Kinematics::link_poses_batch).
 inline __attribute__((always_inline)) void fast_sincos_core(double x, double& s, double& c) {
-  // x = j * pi/2 + y, pi/2 split in two so j * pi/2 is exact for the j used here (fdlibm's split).
-  constexpr double kTwoOverPi = 6.36619772367581382433e-01;
-  constexpr double kPio2Hi = 1.57079632673412561417e+00, kPio2Lo = 6.07710050650619224932e-11;
-  // Rounded to the nearest integer (ties to even, as nearbyint) by adding and removing 1.5 * 2^52,
-  // exact below 2^51: no libm call in a scalar build, one add and one subtract per lane in a loop.
-  constexpr double kRound = 0x1.8p52;
+  using namespace sincos_reduction;
   const double j = (x * kTwoOverPi + kRound) - kRound;
   const double y = (x - j * kPio2Hi) - j * kPio2Lo;
   const double z = y * y;
@@ -69,9 +73,7 @@ DMGPLACE_LANES_INLINE void fast_sincos_f8(const double* x, float* s, float* c) {
   using lanes::splatf;
   typedef float F4 __attribute__((vector_size(4 * sizeof(float))));
   typedef int I4 __attribute__((vector_size(4 * sizeof(int))));
-  constexpr double kTwoOverPi = 6.36619772367581382433e-01;
-  constexpr double kPio2Hi = 1.57079632673412561417e+00, kPio2Lo = 6.07710050650619224932e-11;
-  constexpr double kRound = 0x1.8p52;
+  using namespace sincos_reduction;
   F4 y4[2];
   I4 q4[2];
   for (int h = 0; h < 2; ++h) {
