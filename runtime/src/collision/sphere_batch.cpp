@@ -129,6 +129,9 @@ void SphereFieldChecker::set_lane_bounds() {
   // Forward kinematics in floats adds its own bound, for points as far from their link's origin
   // as any sphere's far side.
   lane_rounding_ = 64.0 * 0x1p-24 * (lane_limit_ + 2.0 * reach_ + 1.0);
+  // |p - from| <= 2 (lane_limit_ + reach_) and |d| <= 2 reach_ there (every point of a body is
+  // within reach_ of its centre).
+  capsule_rounding_ = lanes::kSegmentRounding * 0x1p-24 * (2.0 * lane_limit_ + 4.0 * reach_ + 1.0);
   exact_float_error_ = obstacles_ ? obstacles_->float_error(lane_limit_) : 0.0;
 }
 
@@ -153,23 +156,58 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
   c.kin_->link_poses_batch(in, poses);
   const std::uint32_t all = (1u << count) - 1;
   std::uint32_t alive = all;
-  thread_local std::vector<Xyz> world, centre;
-  thread_local std::vector<char> done;
+  thread_local std::vector<Xyz> world, centre, cap_from, cap_dir;
+  thread_local std::vector<char> done;  // per body: 1 its spheres' centres, 2 its capsule, are in the world
   world.resize(c.spheres_.size());
   centre.resize(c.bodies_.size());
+  cap_from.resize(c.bodies_.size());
+  cap_dir.resize(c.bodies_.size());
   done.assign(c.bodies_.size(), 0);
   const float margin = float(c.lane_margin()), limit = float(c.lane_limit_);
   // A pair's two spheres (or bounding spheres) each carry their own link's pose error.
   const float pair_margin = float(c.lane_margin() + c.kin_->float_pose_error(c.link_reach_));
   auto spheres_of = [&](std::size_t bi) {
-    if (done[bi]) return;
+    if (done[bi] & 1) return;
     const Body& b = c.bodies_[bi];
     const PoseLanes pose(poses.pose[std::size_t(b.link)]);
     for (int i = b.begin; i < b.end; ++i) {
       const LaneSphere& l = c.lane_spheres_[std::size_t(i)];
       transform(pose, lanes::load(l.x), lanes::load(l.y), lanes::load(l.z), world[std::size_t(i)]);
     }
-    done[bi] = 1;
+    done[bi] |= 1;
+  };
+  // A body's capsule in the world: its first end and the segment from it (both ends transformed,
+  // so the segment's ends carry the same pose error as any point of the body).
+  auto capsule_of = [&](std::size_t bi) __attribute__((always_inline)) {
+    if (done[bi] & 2) return;
+    const Capsule& k = c.bodies_[bi].capsule;
+    const PoseLanes pose(poses.pose[std::size_t(c.bodies_[bi].link)]);
+    Xyz to;
+    transform(pose, splatf(float(k.from.x())), splatf(float(k.from.y())), splatf(float(k.from.z())), cap_from[bi]);
+    transform(pose, splatf(float(k.to.x())), splatf(float(k.to.y())), splatf(float(k.to.z())), to);
+    lanes::store(cap_dir[bi].x, lanes::load(to.x) - lanes::load(cap_from[bi].x));
+    lanes::store(cap_dir[bi].y, lanes::load(to.y) - lanes::load(cap_from[bi].y));
+    lanes::store(cap_dir[bi].z, lanes::load(to.z) - lanes::load(cap_from[bi].z));
+    done[bi] |= 2;
+  };
+  // Body bi's capsule in registers, and the lanes where a point is nearer than `reach` to it.
+  const float capsule_margin = float(c.capsule_rounding_);
+  struct CapsuleLanes {
+    F fx, fy, fz, dx, dy, dz, inv_len2;
+    float radius;
+  };
+  auto capsule_lanes = [&](std::size_t bi) __attribute__((always_inline)) {
+    capsule_of(bi);
+    const Xyz &f = cap_from[bi], &d = cap_dir[bi];
+    const Body& b = c.bodies_[bi];
+    return CapsuleLanes{lanes::load(f.x), lanes::load(f.y), lanes::load(f.z), lanes::load(d.x), lanes::load(d.y),
+                        lanes::load(d.z), splatf(float(b.inv_len2)), float(b.capsule.radius) + capsule_margin};
+  };
+  auto near_capsule = [&](const Xyz& p, const CapsuleLanes& k, float reach) __attribute__((always_inline)) {
+    const float r = reach + k.radius;
+    return lanes::bits(lanes::near_segment(lanes::load(p.x), lanes::load(p.y), lanes::load(p.z), k.fx, k.fy, k.fz, k.dx,
+                                           k.dy, k.dz, k.inv_len2, splatf(r * r)),
+                       wide);
   };
   // A scene of primitives is tested exactly, in cache: a body's bounding sphere finds the
   // primitives it may reach, its spheres test only those. Otherwise the distance field.
@@ -242,6 +280,15 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
     }
     if (!near) continue;
     const Body &a = c.bodies_[std::size_t(p.a)], &b = c.bodies_[std::size_t(p.b)];
+    // A long body's capsule against the other's bounding sphere, each way.
+    const float pad = float(c.padding_) + pair_margin + pair_widen;
+    CapsuleLanes kb{};
+    if (b.has_capsule) {
+      kb = capsule_lanes(std::size_t(p.b));
+      near &= near_capsule(ca, kb, float(a.radius) + pad);
+    }
+    if (near && a.has_capsule) near &= near_capsule(cb, capsule_lanes(std::size_t(p.a)), float(b.radius) + pad);
+    if (!near) continue;
     spheres_of(std::size_t(p.a));
     spheres_of(std::size_t(p.b));
     std::uint32_t hit = 0;
@@ -249,8 +296,11 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
     for (int i = a.begin; i < a.end; ++i) {
       const Xyz& wa = world[std::size_t(i)];
       const float ra = float(c.spheres_[std::size_t(i)].radius + c.padding_) + pair_margin + pair_widen;
-      // A sphere clear of b's bounding sphere in every lane still open cannot touch b's spheres.
-      if (!(lanes::bits(overlaps(wa, cb, ra + float(b.radius)), wide) & near & ~hit)) continue;
+      // A sphere clear of b's bounding sphere (or capsule) in every lane still open cannot touch
+      // b's spheres.
+      const std::uint32_t open = near & ~hit;
+      if (!((b.has_capsule ? near_capsule(wa, kb, ra) : lanes::bits(overlaps(wa, cb, ra + float(b.radius)), wide)) & open))
+        continue;
       // The same float sums and squares as ra + r_j in scalars, all lanes at once.
       const F rav = splatf(ra);
       auto touches = [&](int j) __attribute__((always_inline)) {

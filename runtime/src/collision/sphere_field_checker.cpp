@@ -68,6 +68,21 @@ void SphereFieldChecker::build_bodies() {
     b.center = box.center();
     for (int i = b.begin; i < b.end; ++i)
       b.radius = std::max(b.radius, (spheres_[std::size_t(i)].center - b.center).norm() + spheres_[std::size_t(i)].radius);
+    // A capsule only where it is well under the bounding sphere (else its test costs more than it
+    // settles), and inside it, so the lanes' pose error bound covers its ends.
+    std::vector<Eigen::Vector3d> centers;
+    std::vector<double> radii;
+    for (int i = b.begin; i < b.end; ++i) {
+      centers.push_back(spheres_[std::size_t(i)].center);
+      radii.push_back(spheres_[std::size_t(i)].radius);
+    }
+    const auto capsule = bounding_capsule(centers, radii);
+    b.has_capsule = capsule && capsule->radius < 0.8 * b.radius && (capsule->from - b.center).norm() <= b.radius &&
+                    (capsule->to - b.center).norm() <= b.radius;
+    if (b.has_capsule) {
+      b.capsule = *capsule;
+      b.inv_len2 = 1.0 / (capsule->to - capsule->from).squaredNorm();
+    }
     // Reach from each chain joint above: the body's extent in its link frame plus every joint
     // offset on the way up (a prismatic joint's offset grows by its largest travel).
     b.chain.clear();

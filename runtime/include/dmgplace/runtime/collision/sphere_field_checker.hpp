@@ -17,6 +17,7 @@
 #include "dmgplace/runtime/collision/displacement_bound.hpp"
 #include "dmgplace/runtime/collision/node_bound_grid.hpp"
 #include "dmgplace/runtime/collision/primitive_obstacles.hpp"
+#include "dmgplace/runtime/geometry/capsule.hpp"
 #include "dmgplace/runtime/geometry/grid3.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
 
@@ -175,6 +176,11 @@ class SphereFieldChecker {
     int local = 0;           // its spheres in pair_spheres_ (offset)
     Eigen::Vector3d center = Eigen::Vector3d::Zero();
     double radius = 0;
+    // A long body's capsule (geometry/capsule.hpp), kept where it is much thinner than the
+    // bounding sphere: the batch's pair tests try it next. inv_len2: 1 / |to - from|^2.
+    bool has_capsule = false;
+    Capsule capsule;
+    double inv_len2 = 0;
     bool moving = false;
     bool attached = false;
   };
@@ -291,6 +297,9 @@ class SphereFieldChecker {
   // self pair's tests: one per body).
   void set_lane_bounds();
   double lane_limit_ = 0, lane_rounding_ = 0;
+  // A capsule test's own rounding on top (lanes::near_segment), for points and segment ends of
+  // bodies whose centres are within lane_limit_.
+  double capsule_rounding_ = 0;
   // PrimitiveObstacles::float_error for points within lane_limit_: the scalar passes' exact
   // distances in float lanes (Pass::exact_distances) are lower bounds by this much.
   double exact_float_error_ = 0;
