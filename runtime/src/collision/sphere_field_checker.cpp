@@ -68,8 +68,9 @@ void SphereFieldChecker::build_bodies() {
     b.center = box.center();
     for (int i = b.begin; i < b.end; ++i)
       b.radius = std::max(b.radius, (spheres_[std::size_t(i)].center - b.center).norm() + spheres_[std::size_t(i)].radius);
-    // A capsule only where it is well under the bounding sphere (else its test costs more than it
-    // settles), and inside it, so the lanes' pose error bound covers its ends.
+    // A capsule only for three spheres or more, where it is well under the bounding sphere (else
+    // its test costs more than it settles: with two spheres, testing both is as cheap), and
+    // inside it, so the lanes' pose error bound covers its ends.
     std::vector<Eigen::Vector3d> centers;
     std::vector<double> radii;
     for (int i = b.begin; i < b.end; ++i) {
@@ -77,7 +78,7 @@ void SphereFieldChecker::build_bodies() {
       radii.push_back(spheres_[std::size_t(i)].radius);
     }
     const auto capsule = bounding_capsule(centers, radii);
-    b.has_capsule = capsule && capsule->radius < 0.8 * b.radius && (capsule->from - b.center).norm() <= b.radius &&
+    b.has_capsule = capsule && b.end - b.begin >= 3 && capsule->radius < 0.8 * b.radius && (capsule->from - b.center).norm() <= b.radius &&
                     (capsule->to - b.center).norm() <= b.radius;
     if (b.has_capsule) {
       b.capsule = *capsule;
