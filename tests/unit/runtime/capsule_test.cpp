@@ -98,10 +98,9 @@ TEST(Capsule, LaneSegmentTestIsWithinItsRoundingOfTheExactDistance) {
       alignas(32) float p[24], f[24], d[24];
       const Eigen::Vector3d from(coord(rng), coord(rng), coord(rng));
       const Eigen::Vector3d dir = random_unit(rng) * len(rng);
-      // The segment's ends in floats: the exact distance is to the float segment.
+      // The segment in floats, as the lanes get it: the exact distance is to ff + t df.
       const Eigen::Vector3f ff = from.cast<float>(), df = dir.cast<float>();
       double exact[8];
-      // One reach for all lanes: the exact distance of lane 0, nudged up or down by a little.
       std::vector<Eigen::Vector3f> pts;
       for (int k = 0; k < 8; ++k) {
         const Eigen::Vector3d q = k < 4 ? from + dir * (1.5 * side(rng)) + random_unit(rng) * 0.3 * std::abs(side(rng))
@@ -110,8 +109,9 @@ TEST(Capsule, LaneSegmentTestIsWithinItsRoundingOfTheExactDistance) {
       }
       for (int k = 0; k < 8; ++k) {
         for (int a = 0; a < 3; ++a) p[8 * a + k] = pts[std::size_t(k)][a], f[8 * a + k] = ff[a], d[8 * a + k] = df[a];
-        exact[k] = distance_to_segment(pts[std::size_t(k)].cast<double>(), ff.cast<double>(), (ff + df).cast<double>());
+        exact[k] = distance_to_segment(pts[std::size_t(k)].cast<double>(), ff.cast<double>(), ff.cast<double>() + df.cast<double>());
       }
+      // One reach for all lanes: one lane's exact distance, nudged up or down by a little.
       const double reach = exact[round % 8] * (1 + (round % 3 - 1) * 1e-6);
       const float inv = float(1.0 / df.cast<double>().squaredNorm());
       const std::uint32_t bits = test(p, f, d, inv, float(reach * reach));

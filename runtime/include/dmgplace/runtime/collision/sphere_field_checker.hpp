@@ -176,8 +176,9 @@ class SphereFieldChecker {
     int local = 0;           // its spheres in pair_spheres_ (offset)
     Eigen::Vector3d center = Eigen::Vector3d::Zero();
     double radius = 0;
-    // A long body's capsule (geometry/capsule.hpp), kept where it is much thinner than the
-    // bounding sphere: the batch's pair tests try it next. inv_len2: 1 / |to - from|^2.
+    // A long body's capsule (geometry/capsule.hpp), kept for three spheres or more where it is
+    // much thinner than the bounding sphere: the batch's pair tests try it next. inv_len2:
+    // 1 / |to - from|^2.
     bool has_capsule = false;
     Capsule capsule;
     double inv_len2 = 0;
