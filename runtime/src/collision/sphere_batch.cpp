@@ -1,12 +1,11 @@
 // SphereFieldChecker::free_lanes: the fast layer's "proven free" for 8 configurations at once.
 // Every step runs in floats across all 8 lanes (lanes::F, one AVX register): forward kinematics
-// (Kinematics::link_poses_batch into a PoseBatchF), then one body or sphere at a time: centres,
-// bounds, exact primitive distances, pair distances. Every test that can say "free" adds a
-// rounding margin (lane_margin(): the kinematics' own error bound and the steps after it; a pair
-// test adds a second pose error, one per body), so the floats stay conservative. Only the field
-// loads are one
-// per lane. Compiled for AVX2 + FMA and for the portable baseline, chosen at run time
-// (system/simd_dispatch).
+// (Kinematics::frame_poses_batch into a PoseBatchF, the bodies carried into their batch frames),
+// then one body or sphere at a time: centres, bounds, exact primitive distances, pair distances.
+// Every test that can say "free" adds a rounding margin (lane_margin(): the kinematics' own error
+// bound and the steps after it; a pair test adds a second pose error, one per body), so the
+// floats stay conservative. Only the field loads are one per lane. Compiled for AVX2 + FMA and
+// for the portable baseline, chosen at run time (system/simd_dispatch).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -152,8 +151,12 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
                                                                                         const LaneMotion* motion, bool wide) {
   const double* in[N];
   for (int k = 0; k < N; ++k) in[k] = q[k < count ? k : 0];  // idle lanes repeat the first
+  // The bodies in their batch frames (FK then skips the links no chain joint moves) unless a
+  // joint value was set since they were carried there.
+  const BatchBodies& at = c.batch_bodies();
   thread_local PoseBatchF poses;
-  c.kin_->link_poses_batch(in, poses);
+  if (&at == &c.framed_) c.kin_->frame_poses_batch(in, poses);
+  else c.kin_->link_poses_batch(in, poses);
   const std::uint32_t all = (1u << count) - 1;
   std::uint32_t alive = all;
   thread_local std::vector<Xyz> world, centre, cap_from, cap_dir;
@@ -169,9 +172,9 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
   auto spheres_of = [&](std::size_t bi) {
     if (done[bi] & 1) return;
     const Body& b = c.bodies_[bi];
-    const PoseLanes pose(poses.pose[std::size_t(b.link)]);
+    const PoseLanes pose(poses.pose[std::size_t(at.link[bi])]);
     for (int i = b.begin; i < b.end; ++i) {
-      const LaneSphere& l = c.lane_spheres_[std::size_t(i)];
+      const LaneSphere& l = at.spheres[std::size_t(i)];
       transform(pose, lanes::load(l.x), lanes::load(l.y), lanes::load(l.z), world[std::size_t(i)]);
     }
     done[bi] |= 1;
@@ -180,8 +183,8 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
   // so the segment's ends carry the same pose error as any point of the body).
   auto capsule_of = [&](std::size_t bi) __attribute__((always_inline)) {
     if (done[bi] & 2) return;
-    const Capsule& k = c.bodies_[bi].capsule;
-    const PoseLanes pose(poses.pose[std::size_t(c.bodies_[bi].link)]);
+    const Capsule& k = at.capsule[bi];
+    const PoseLanes pose(poses.pose[std::size_t(at.link[bi])]);
     Xyz to;
     transform(pose, splatf(float(k.from.x())), splatf(float(k.from.y())), splatf(float(k.from.z())), cap_from[bi]);
     transform(pose, splatf(float(k.to.x())), splatf(float(k.to.y())), splatf(float(k.to.z())), to);
@@ -201,7 +204,7 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
     const Xyz &f = cap_from[bi], &d = cap_dir[bi];
     const Body& b = c.bodies_[bi];
     return CapsuleLanes{lanes::load(f.x), lanes::load(f.y), lanes::load(f.z), lanes::load(d.x), lanes::load(d.y),
-                        lanes::load(d.z), splatf(float(b.inv_len2)), float(b.capsule.radius) + capsule_margin};
+                        lanes::load(d.z), splatf(float(b.inv_len2)), float(at.capsule[bi].radius) + capsule_margin};
   };
   auto near_capsule = [&](const Xyz& p, const CapsuleLanes& k, float reach) __attribute__((always_inline)) {
     const float r = reach + k.radius;
@@ -229,8 +232,9 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
   lanes::MF in_range = ~lanes::MF{};
   for (std::size_t bi = 0; bi < c.bodies_.size(); ++bi) {
     const Body& b = c.bodies_[bi];
-    transform(PoseLanes(poses.pose[std::size_t(b.link)]), splatf(float(b.center.x())), splatf(float(b.center.y())),
-              splatf(float(b.center.z())), centre[bi]);
+    const Eigen::Vector3d& bc = at.center[bi];
+    transform(PoseLanes(poses.pose[std::size_t(at.link[bi])]), splatf(float(bc.x())), splatf(float(bc.y())),
+              splatf(float(bc.z())), centre[bi]);
     in_range &= within(centre[bi], limit);
     if (!b.moving && !b.attached) continue;
     body_widen = widened(bi);
@@ -304,7 +308,7 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
       // The same float sums and squares as ra + r_j in scalars, all lanes at once.
       const F rav = splatf(ra);
       auto touches = [&](int j) __attribute__((always_inline)) {
-        const F reach = rav + lanes::load(c.lane_spheres_[std::size_t(j)].r);
+        const F reach = rav + lanes::load(at.spheres[std::size_t(j)].r);
         return overlaps(wa, world[std::size_t(j)], reach * reach);
       };
       if (wide) {

@@ -99,15 +99,8 @@ void SphereFieldChecker::build_bodies() {
     }
     reach_ = std::max(reach_, reach);
   }
+  build_batch_bodies();
   set_lane_bounds();
-  lane_spheres_.resize(spheres_.size());
-  for (std::size_t i = 0; i < spheres_.size(); ++i) {
-    LaneSphere& l = lane_spheres_[i];
-    std::fill_n(l.x, PoseBatch::kLanes, float(spheres_[i].center.x()));
-    std::fill_n(l.y, PoseBatch::kLanes, float(spheres_[i].center.y()));
-    std::fill_n(l.z, PoseBatch::kLanes, float(spheres_[i].center.z()));
-    std::fill_n(l.r, PoseBatch::kLanes, float(spheres_[i].radius));
-  }
   pair_spheres_.clear();
   for (auto& b : bodies_) {
     b.local = int(pair_spheres_.size());
@@ -180,6 +173,34 @@ void SphereFieldChecker::build_bodies() {
   for (std::size_t pi = 0; pi < pairs_.size(); ++pi) {
     add_reaches(bodies_.size() + pi, pair_moves_[pi].a);
     add_reaches(bodies_.size() + pi, pair_moves_[pi].b);
+  }
+}
+
+void SphereFieldChecker::build_batch_bodies() {
+  framed_version_ = kin_->plan_version();
+  for (const bool framed : {true, false}) {
+    BatchBodies& out = framed ? framed_ : own_;
+    out = {};
+    out.spheres.resize(spheres_.size());
+    for (const Body& b : bodies_) {
+      const Eigen::Isometry3d T = framed ? kin_->batch_frame_offset(b.link) : Eigen::Isometry3d::Identity();
+      out.link.push_back(framed ? kin_->batch_frame(b.link) : b.link);
+      out.center.push_back(T * b.center);
+      Capsule k = b.capsule;
+      k.from = T * k.from, k.to = T * k.to;
+      out.capsule.push_back(k);
+      // The float poses' error bound must hold for points this far from their frame's origin.
+      link_reach_ = std::max(link_reach_, out.center.back().norm() + b.radius);
+      for (int i = b.begin; i < b.end; ++i) {
+        const formats::LinkSphere& sp = spheres_[std::size_t(i)];
+        const Eigen::Vector3d c = T * sp.center;
+        LaneSphere& l = out.spheres[std::size_t(i)];
+        std::fill_n(l.x, PoseBatch::kLanes, float(c.x()));
+        std::fill_n(l.y, PoseBatch::kLanes, float(c.y()));
+        std::fill_n(l.z, PoseBatch::kLanes, float(c.z()));
+        std::fill_n(l.r, PoseBatch::kLanes, float(sp.radius));
+      }
+    }
   }
 }
 

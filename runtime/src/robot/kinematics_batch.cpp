@@ -231,6 +231,7 @@ void Kinematics::build_batch_plan() {
     for (int c = 0; c < 3; ++c) p.perm[c] = terms.perm[c], p.sign[c] = terms.sign[c];
   }
   bound_float_error();
+  build_batch_frames();
 }
 
 // Float forward kinematics' error, link by link down the plan (u = 2^-24, a float's unit roundoff;
@@ -244,7 +245,10 @@ void Kinematics::build_batch_plan() {
 // rounded constants: under 3u. The child's R = A Rj in floats: |E_child| <= |E_A| + |E_Rj| + 9u
 // (each element three roundings of partial sums under 2). Its translation A t' + t_A: off by
 // |E_A| |t'| from A's error, 5u |t'| from rounding t' and the dots, u |t_child| from the sum.
-// Composing with the base's inverse, when the base is not the root, adds as much again.
+// Composing with the base's inverse, when the base is not the root, adds as much again. The batch
+// frames' plan (frame_poses_batch) composes a subset: a chain joint below links fixed to their
+// parents has their offsets folded into its constants, rounded once, with |t'| no more than the
+// sum of the translations it replaces: the same bound holds.
 void Kinematics::bound_float_error() {
   const double u = 0x1p-24;
   const auto& m = *model_;
@@ -283,6 +287,10 @@ void Kinematics::link_poses_batch(const double* const* q, PoseBatch& out) const 
 
 void Kinematics::link_poses_batch(const double* const* q, PoseBatchF& out) const {
   fk(batch_plan_, roots_, base_, base_is_root_, q, model_->links.size(), out);
+}
+
+void Kinematics::frame_poses_batch(const double* const* q, PoseBatchF& out) const {
+  fk(frame_plan_, roots_, base_, base_is_root_, q, model_->links.size(), out);
 }
 
 }  // namespace dmgplace::runtime

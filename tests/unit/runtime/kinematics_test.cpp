@@ -228,6 +228,101 @@ TEST(Kinematics, QuarterTurnJointsEqualTheirPlainProduct) {
   expect_jacobian_matches_finite_differences(k, 30);
 }
 
+// Batch frames (Kinematics::batch_frame): every link is placed by its frame's float pose from
+// frame_poses_batch and its offset there, within float_pose_error of link_poses (for points that
+// far from the frame's origin), on both paths. Frames are exactly the roots and the links a chain
+// joint moves (with the base at the root; else every link); a set value changes plan_version()
+// and the offsets follow it.
+void expect_frames_place_every_link(const Kinematics& k, std::uint64_t seed) {
+  const auto& m = k.model();
+  for (std::size_t l = 0; l < m.links.size(); ++l) {
+    int parent_joint = -1;
+    for (std::size_t j = 0; j < m.joints.size(); ++j)
+      if (m.joints[j].child == int(l)) parent_joint = int(j);
+    const Joint* pj = parent_joint >= 0 ? &m.joints[std::size_t(parent_joint)] : nullptr;
+    const bool moved = pj && pj->type != JointType::Fixed && (k.chain_slot(parent_joint) >= 0 || (pj->mimic >= 0 && k.chain_slot(pj->mimic) >= 0));
+    const bool root_base = std::none_of(m.joints.begin(), m.joints.end(), [&](const Joint& j) { return j.child == k.base_link(); });
+    if (root_base) EXPECT_EQ(k.batch_frame(int(l)) == int(l), parent_joint < 0 || moved) << "link " << m.links[l].name;
+    else EXPECT_EQ(k.batch_frame(int(l)), int(l)) << "the base is not the root: every link its own frame";
+  }
+  std::mt19937_64 rng(seed);
+  std::vector<Eigen::Isometry3d> poses;
+  for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
+    force_simd_path(path);
+    for (int round = 0; round < 60; ++round) {
+      std::vector<Eigen::VectorXd> qs;
+      const double* ptr[PoseBatch::kLanes];
+      for (int lane = 0; lane < PoseBatch::kLanes; ++lane) qs.push_back(random_q(k, rng));
+      for (int lane = 0; lane < PoseBatch::kLanes; ++lane) ptr[lane] = qs[std::size_t(lane)].data();
+      PoseBatchF frames;
+      k.frame_poses_batch(ptr, frames);
+      for (int lane = 0; lane < PoseBatch::kLanes; ++lane) {
+        k.link_poses(qs[std::size_t(lane)], poses);
+        for (std::size_t l = 0; l < poses.size(); ++l) {
+          const auto& f = frames.pose[std::size_t(k.batch_frame(int(l)))];
+          auto at = [&](int e) { return f[std::size_t(e)][std::size_t(lane)]; };
+          for (int axis = 0; axis < 7; ++axis) {
+            Eigen::Vector3d p = Eigen::Vector3d::Zero();
+            if (axis < 6) p[axis % 3] = axis < 3 ? 0.3 : -0.3;
+            const Eigen::Vector3f in_frame = (k.batch_frame_offset(int(l)) * p).cast<float>();
+            Eigen::Vector3d got;
+            for (int r = 0; r < 3; ++r)
+              got[r] = double(at(3 * r) * in_frame.x() + at(3 * r + 1) * in_frame.y() + at(3 * r + 2) * in_frame.z() + at(9 + r));
+            ASSERT_LE((got - poses[l] * p).norm(), k.float_pose_error(in_frame.cast<double>().norm()))
+                << to_string(path) << " link " << m.links[l].name << " point " << axis;
+          }
+        }
+      }
+    }
+  }
+  force_simd_path(SimdPath::Avx2);  // back to what the CPU has
+}
+
+TEST(Kinematics, BatchFramesPlaceEveryLinkWithinTheFloatBound) {
+  // A chain with fixed links between its joints (one turned by a quarter, one by no quarter), a
+  // joint outside the chain (set), a mimic of a chain joint, and a finger hanging off a fixed hand.
+  RobotModel m;
+  m.name = "frames";
+  for (auto n : {"base", "l1", "adapter", "l2", "bent", "l3", "mimic", "hand", "finger", "wrist"}) m.links.push_back({n, {}});
+  auto joint = [&](const char* name, JointType type, int parent, int child, const Eigen::Vector3d& axis) {
+    Joint j;
+    j.name = name, j.type = type, j.parent = parent, j.child = child, j.axis = axis.normalized();
+    j.lower = type == JointType::Prismatic ? 0.0 : -2.8, j.upper = type == JointType::Prismatic ? 0.04 : 2.8;
+    j.origin.translation() = Eigen::Vector3d(0.05 * child, -0.03, 0.1);
+    m.joints.push_back(j);
+    return std::ref(m.joints.back());
+  };
+  joint("j1", JointType::Revolute, 0, 1, Eigen::Vector3d::UnitZ());
+  joint("fix_a", JointType::Fixed, 1, 2, Eigen::Vector3d::UnitZ()).get().origin.linear() =
+      Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  joint("j2", JointType::Revolute, 2, 3, Eigen::Vector3d::UnitY());
+  joint("fix_b", JointType::Fixed, 3, 4, Eigen::Vector3d::UnitZ()).get().origin.linear() =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  joint("j3", JointType::Revolute, 4, 5, Eigen::Vector3d(0.2, 1, 0.4));
+  joint("follows_j3", JointType::Revolute, 5, 6, Eigen::Vector3d::UnitX()).get().mimic = 4;
+  joint("hand", JointType::Fixed, 5, 7, Eigen::Vector3d::UnitZ()).get().origin.linear() =
+      Eigen::AngleAxisd(-M_PI / 4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  joint("finger", JointType::Prismatic, 7, 8, Eigen::Vector3d::UnitY());
+  joint("j4", JointType::Revolute, 7, 9, Eigen::Vector3d::UnitZ());
+  Kinematics k(m, "base", "wrist");
+  ASSERT_EQ(k.dof(), 4);
+  EXPECT_EQ(k.batch_frame(8), 5) << "the finger rides l3 (through the fixed hand)";
+  EXPECT_EQ(k.batch_frame(4), 3);
+  const std::uint64_t before = k.plan_version();
+  k.set_joint_value("finger", 0.03);
+  EXPECT_NE(k.plan_version(), before);
+  expect_frames_place_every_link(k, 5);
+  k.set_joint_value("finger", 0.01);
+  expect_frames_place_every_link(k, 6);
+  // The built-in arm, its base at the root and not.
+  const auto arm = load(test::source_dir() / "datasets/robots/dmgarm/dmgarm.urdf");
+  for (const char* base : {"dmgarm_link0", "dmgarm_link2"}) {
+    Kinematics a(arm, base, "dmgarm_tcp");
+    a.set_joint_value("dmgarm_finger_joint1", 0.021);
+    expect_frames_place_every_link(a, 7);
+  }
+}
+
 // A continuous joint wound far past a turn, or NaN, in some lanes of a batch: the float
 // kinematics' sin and cos leave their core for those (fast_sincos_f8 covers |x| < 1e5). Each lane
 // stays within float_pose_error of link_poses, and a NaN lane stays NaN, on both paths.

@@ -249,7 +249,22 @@ class SphereFieldChecker {
   struct alignas(32) LaneSphere {
     float x[PoseBatch::kLanes], y[PoseBatch::kLanes], z[PoseBatch::kLanes], r[PoseBatch::kLanes];
   };
-  std::vector<LaneSphere> lane_spheres_;
+  // The bodies as free_lanes places them: per body the link whose batch pose carries it, its
+  // centre and capsule there; per sphere its LaneSphere there. `framed`: each body in its link's
+  // batch frame (Kinematics::batch_frame), so FK skips the links no chain joint moves; valid while
+  // the kinematics' plan_version() is framed_version_. `own`: in the link's own frame, for a
+  // kinematics whose set values changed since (valid for any). Built with the bodies.
+  struct BatchBodies {
+    std::vector<int> link;
+    std::vector<Eigen::Vector3d> center;
+    std::vector<Capsule> capsule;
+    std::vector<LaneSphere> spheres;
+  };
+  BatchBodies framed_, own_;
+  std::uint64_t framed_version_ = 0;
+  // free_lanes' view for the kinematics as they are now.
+  const BatchBodies& batch_bodies() const { return kin_->plan_version() == framed_version_ ? framed_ : own_; }
+  void build_batch_bodies();
   // spheres_ again for pair_contact, per body in its link frame: x, y, z and radius, four arrays of
   // the body's sphere count rounded up to 4 (spare lanes far away, radius 0). Built with the bodies.
   std::vector<double> pair_spheres_;

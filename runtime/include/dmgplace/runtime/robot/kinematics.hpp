@@ -1,4 +1,5 @@
 #pragma once
+#include <cstdint>
 // Forward kinematics of a whole robot tree driven by one serial chain's joints, and the chain tip's
 // geometric Jacobian. Our own Eigen code (no KDL: see docs). Hot-path calls do not allocate once
 // the output containers have their size.
@@ -62,6 +63,17 @@ class Kinematics {
   void link_poses_batch(const double* const* q, PoseBatch& out) const;
   // The same in floats (joint values, sin and cos still in doubles, each rounded once).
   void link_poses_batch(const double* const* q, PoseBatchF& out) const;
+  // Batch frames: a link that no chain joint moves relative to its parent (a flange, a hand, its
+  // fingers at their set values) keeps one pose in the frame of its nearest ancestor that one
+  // does move (or the root): batch_frame(link), at batch_frame_offset(link). frame_poses_batch
+  // computes only the frame links' poses (the others are left as they were), so a caller that
+  // carries its points into their frames skips FK for the rest. Every link is its own frame when
+  // the base is not the model's root. plan_version() changes whenever the offsets may have (a
+  // joint value set; unique across objects): a caller keeping points in frames checks it first.
+  int batch_frame(int link) const { return frame_of_[std::size_t(link)]; }
+  const Eigen::Isometry3d& batch_frame_offset(int link) const { return frame_offset_[std::size_t(link)]; }
+  void frame_poses_batch(const double* const* q, PoseBatchF& out) const;
+  std::uint64_t plan_version() const { return plan_version_; }
   // A bound, in metres, on how far a point within `reach` of its link's origin, placed by a
   // PoseBatchF pose in floats (rotation times point plus translation), can be from where the
   // double poses put it (prismatic joints within their limits; any angle).
@@ -122,6 +134,14 @@ class Kinematics {
  private:
   std::vector<BatchJoint> batch_plan_;
   void build_batch_plan();
+  // The batch frames (batch_frame): per link its frame and its pose there, and batch_plan_'s
+  // joints whose child is a frame, carried to their parent's frame (frame_poses_batch's plan).
+  // Built with batch_plan_.
+  std::vector<int> frame_of_;
+  std::vector<Eigen::Isometry3d> frame_offset_;
+  std::vector<BatchJoint> frame_plan_;
+  std::uint64_t plan_version_ = 0;
+  void build_batch_frames();
   void bound_float_error();
   // float_pose_error's terms, over all links: rotation error (Frobenius), translation error.
   double float_rotation_error_ = 0, float_translation_error_ = 0;
