@@ -320,7 +320,7 @@ void Kinematics::build_batch_frames() {
       continue;
     }
     if (frame_of_[parent] != f.parent) {
-      // A moving joint below fixed links hangs off their frame, its origin carried there.
+      // A chain joint below links it would carry hangs off their frame, its origin carried there.
       const Eigen::Isometry3d& F = frame_offset_[parent];
       const Eigen::Matrix3d R = F.linear();
       f.parent = frame_of_[parent];

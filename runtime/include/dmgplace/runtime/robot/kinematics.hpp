@@ -1,10 +1,10 @@
 #pragma once
-#include <cstdint>
 // Forward kinematics of a whole robot tree driven by one serial chain's joints, and the chain tip's
 // geometric Jacobian. Our own Eigen code (no KDL: see docs). Hot-path calls do not allocate once
 // the output containers have their size.
 #include <Eigen/Geometry>
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
