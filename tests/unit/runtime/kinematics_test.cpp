@@ -233,7 +233,7 @@ TEST(Kinematics, QuarterTurnJointsEqualTheirPlainProduct) {
 // far from the frame's origin), on both paths. Frames are exactly the roots and the links a chain
 // joint moves (with the base at the root; else every link); a set value changes plan_version()
 // and the offsets follow it.
-void expect_frames_place_every_link(const Kinematics& k, std::uint64_t seed) {
+static void expect_frames_place_every_link(const Kinematics& k, std::uint64_t seed) {
   const auto& m = k.model();
   for (std::size_t l = 0; l < m.links.size(); ++l) {
     int parent_joint = -1;
