@@ -17,6 +17,7 @@
 #include "dmgplace/runtime/system/simd_dispatch.hpp"
 #include "fixtures.hpp"
 #include "gap_certificates.hpp"
+#include "lane_batches.hpp"
 #include "test_support.hpp"
 
 using namespace dmgplace;
@@ -65,12 +66,8 @@ struct ShelfWorld {
   ShelfWorld() { kin.set_joint_value("dmgarm_finger_joint1", 0.03); }
 };
 
-Eigen::VectorXd random_q(const Kinematics& k, std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> u(0, 1);
-  Eigen::VectorXd q(k.dof());
-  for (int i = 0; i < k.dof(); ++i) q[i] = k.lower()[i] + u(rng) * (k.upper()[i] - k.lower()[i]);
-  return q;
-}
+using test::batches_on_every_path;
+using test::random_q;
 }  // namespace
 
 // Every form of the fast layer: the field alone; a scene of a few exact primitives, checked by
@@ -135,28 +132,6 @@ TEST_P(FastLayer, NeverSaysFreeWhereExactLayerCollides) {
   RecordProperty("fast_free", fast_free);
   RecordProperty("exact_full", int(full));
   RecordProperty("exact_free", exact_free);
-}
-
-// `rounds` batches of 8 random configurations on each SIMD path (the portable one, then AVX2 where
-// the CPU has it): widen(round, q) may change each configuration, then check(qs, ptr) runs.
-template <class Widen, class Check>
-void batches_on_every_path(const Kinematics& kin, std::uint64_t seed, int rounds, Widen widen, Check check) {
-  std::mt19937_64 rng(seed);
-  for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
-    force_simd_path(path);
-    for (int round = 0; round < rounds; ++round) {
-      std::vector<Eigen::VectorXd> qs;
-      const double* ptr[PoseBatch::kLanes];
-      for (int k = 0; k < PoseBatch::kLanes; ++k) {
-        qs.push_back(random_q(kin, rng));
-        widen(round, qs.back());
-      }
-      for (int k = 0; k < PoseBatch::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
-      check(qs, ptr);
-      if (::testing::Test::HasFatalFailure()) break;  // an ASSERT in check returns from check only
-    }
-  }
-  force_simd_path(SimdPath::Avx2);  // back to what the CPU has
 }
 
 // Issue 20: 8 configurations per call. Batch forward kinematics equals the scalar one, on the
@@ -348,29 +323,24 @@ TEST(Batch, FreeLanesFollowJointsSetAfterTheCheckerWasBuilt) {
   w.kin.set_joint_value("dmgarm_finger_joint1", 0.3);
   const SphereFieldChecker fresh = checker();
   ExactChecker exact(w.kin, w.scene);
-  for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
-    force_simd_path(path);
-    std::mt19937_64 rng(21);
-    int before_free = 0, fresh_free = 0;
-    for (int round = 0; round < 800; ++round) {
-      std::vector<Eigen::VectorXd> qs;
-      const double* ptr[PoseBatch::kLanes];
-      for (int k = 0; k < PoseBatch::kLanes; ++k) qs.push_back(random_q(w.kin, rng));
-      for (int k = 0; k < PoseBatch::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
-      const std::uint32_t a = before.free_lanes(ptr), b = fresh.free_lanes(ptr);
-      before_free += __builtin_popcount(a);
-      fresh_free += __builtin_popcount(b);
-      for (int k = 0; k < PoseBatch::kLanes; ++k) {
-        if (!((a | b) >> k & 1u)) continue;
-        ASSERT_TRUE(exact.is_free(qs[std::size_t(k)])) << to_string(path) << " " << qs[std::size_t(k)].transpose();
-      }
+  int before_free[2] = {0, 0}, fresh_free[2] = {0, 0};  // per path: portable, AVX2
+  batches_on_every_path(w.kin, 21, 800, [&](const std::vector<Eigen::VectorXd>& qs, const double* const* ptr) {
+    const int at = simd_path() == SimdPath::Avx2;
+    const std::uint32_t a = before.free_lanes(ptr), b = fresh.free_lanes(ptr);
+    before_free[at] += __builtin_popcount(a);
+    fresh_free[at] += __builtin_popcount(b);
+    for (int k = 0; k < PoseBatch::kLanes; ++k) {
+      if (!((a | b) >> k & 1u)) continue;
+      ASSERT_TRUE(exact.is_free(qs[std::size_t(k)])) << to_string(simd_path()) << " " << qs[std::size_t(k)].transpose();
     }
-    EXPECT_GT(fresh_free, 1000);
-    EXPECT_GE(before_free, fresh_free * 99 / 100) << to_string(path);
-    EXPECT_GE(fresh_free, before_free * 99 / 100) << to_string(path);
-    std::cout << to_string(path) << ": " << before_free << " free by the checker built before, " << fresh_free << " afresh\n";
+  });
+  for (int at = 0; at < 2; ++at) {
+    EXPECT_GT(fresh_free[at], 1000);
+    EXPECT_GE(before_free[at], fresh_free[at] * 99 / 100) << "path " << at;
+    EXPECT_GE(fresh_free[at], before_free[at] * 99 / 100) << "path " << at;
+    std::cout << (at ? "avx2" : "portable") << ": " << before_free[at] << " free by the checker built before, "
+              << fresh_free[at] << " afresh\n";
   }
-  force_simd_path(SimdPath::Avx2);
 }
 
 // A lane proven along a direction proves every state within its reach: each one sampled 2.5 mrad

@@ -11,6 +11,7 @@
 #include "dmgplace/runtime/robot/kinematics.hpp"
 #include "dmgplace/runtime/system/simd_dispatch.hpp"
 #include "fixtures.hpp"
+#include "lane_batches.hpp"
 #include "test_support.hpp"
 
 using namespace dmgplace;
@@ -39,12 +40,7 @@ RobotModel load(const std::filesystem::path& urdf, const std::filesystem::path& 
   return test::read_robot_model(urdf, {}, packages);
 }
 
-Eigen::VectorXd random_q(const Kinematics& k, std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> u(0, 1);
-  Eigen::VectorXd q(k.dof());
-  for (int i = 0; i < k.dof(); ++i) q[i] = k.lower()[i] + u(rng) * (k.upper()[i] - k.lower()[i]);
-  return q;
-}
+using test::random_q;
 
 void expect_jacobian_matches_finite_differences(const Kinematics& k, int samples) {
   std::mt19937_64 rng(11);
@@ -245,37 +241,28 @@ static void expect_frames_place_every_link(const Kinematics& k, std::uint64_t se
     if (root_base) EXPECT_EQ(k.batch_frame(int(l)) == int(l), parent_joint < 0 || moved) << "link " << m.links[l].name;
     else EXPECT_EQ(k.batch_frame(int(l)), int(l)) << "the base is not the root: every link its own frame";
   }
-  std::mt19937_64 rng(seed);
   std::vector<Eigen::Isometry3d> poses;
-  for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
-    force_simd_path(path);
-    for (int round = 0; round < 60; ++round) {
-      std::vector<Eigen::VectorXd> qs;
-      const double* ptr[PoseBatch::kLanes];
-      for (int lane = 0; lane < PoseBatch::kLanes; ++lane) qs.push_back(random_q(k, rng));
-      for (int lane = 0; lane < PoseBatch::kLanes; ++lane) ptr[lane] = qs[std::size_t(lane)].data();
-      PoseBatchF frames;
-      k.frame_poses_batch(ptr, frames);
-      for (int lane = 0; lane < PoseBatch::kLanes; ++lane) {
-        k.link_poses(qs[std::size_t(lane)], poses);
-        for (std::size_t l = 0; l < poses.size(); ++l) {
-          const auto& f = frames.pose[std::size_t(k.batch_frame(int(l)))];
-          auto at = [&](int e) { return f[std::size_t(e)][std::size_t(lane)]; };
-          for (int axis = 0; axis < 7; ++axis) {
-            Eigen::Vector3d p = Eigen::Vector3d::Zero();
-            if (axis < 6) p[axis % 3] = axis < 3 ? 0.3 : -0.3;
-            const Eigen::Vector3f in_frame = (k.batch_frame_offset(int(l)) * p).cast<float>();
-            Eigen::Vector3d got;
-            for (int r = 0; r < 3; ++r)
-              got[r] = double(at(3 * r) * in_frame.x() + at(3 * r + 1) * in_frame.y() + at(3 * r + 2) * in_frame.z() + at(9 + r));
-            ASSERT_LE((got - poses[l] * p).norm(), k.float_pose_error(in_frame.cast<double>().norm()))
-                << to_string(path) << " link " << m.links[l].name << " point " << axis;
-          }
+  test::batches_on_every_path(k, seed, 60, [&](const std::vector<Eigen::VectorXd>& qs, const double* const* ptr) {
+    PoseBatchF frames;
+    k.frame_poses_batch(ptr, frames);
+    for (int lane = 0; lane < PoseBatch::kLanes; ++lane) {
+      k.link_poses(qs[std::size_t(lane)], poses);
+      for (std::size_t l = 0; l < poses.size(); ++l) {
+        const auto& f = frames.pose[std::size_t(k.batch_frame(int(l)))];
+        auto at = [&](int e) { return f[std::size_t(e)][std::size_t(lane)]; };
+        for (int axis = 0; axis < 7; ++axis) {
+          Eigen::Vector3d p = Eigen::Vector3d::Zero();
+          if (axis < 6) p[axis % 3] = axis < 3 ? 0.3 : -0.3;
+          const Eigen::Vector3f in_frame = (k.batch_frame_offset(int(l)) * p).cast<float>();
+          Eigen::Vector3d got;
+          for (int r = 0; r < 3; ++r)
+            got[r] = double(at(3 * r) * in_frame.x() + at(3 * r + 1) * in_frame.y() + at(3 * r + 2) * in_frame.z() + at(9 + r));
+          ASSERT_LE((got - poses[l] * p).norm(), k.float_pose_error(in_frame.cast<double>().norm()))
+              << to_string(simd_path()) << " link " << m.links[l].name << " point " << axis;
         }
       }
     }
-  }
-  force_simd_path(SimdPath::Avx2);  // back to what the CPU has
+  });
 }
 
 TEST(Kinematics, BatchFramesPlaceEveryLinkWithinTheFloatBound) {
