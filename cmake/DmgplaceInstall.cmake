@@ -4,20 +4,12 @@ include(CMakePackageConfigHelpers)
 set(DMGPLACE_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/dmgplace)
 set(inc ${CMAKE_INSTALL_INCLUDEDIR}/dmgplace)
 
-# Public headers. formats: the artifact API, all of it. runtime: the embedding API
-# (dmgplace/runtime.hpp) and the plain types it uses; the planner's own headers, which name OMPL
-# types, stay in the source tree. tools: the offline API but the benchmark baseline.
-install(DIRECTORY formats/include/dmgplace/formats DESTINATION ${inc})
-install(FILES runtime/include/dmgplace/runtime.hpp DESTINATION ${inc})
-install(FILES runtime/include/dmgplace/runtime/types.hpp DESTINATION ${inc}/runtime)
-install(FILES runtime/include/dmgplace/runtime/placement/placement_query.hpp
-              runtime/include/dmgplace/runtime/placement/placement_result.hpp DESTINATION ${inc}/runtime/placement)
-install(DIRECTORY runtime/include/dmgplace/runtime/grasp DESTINATION ${inc}/runtime)
-install(FILES runtime/include/dmgplace/runtime/robot/kinematics.hpp DESTINATION ${inc}/runtime/robot)
-install(FILES runtime/include/dmgplace/runtime/system/available_cpus.hpp DESTINATION ${inc}/runtime/system)
-install(DIRECTORY tools/include/dmgplace/tools DESTINATION ${inc}
-        PATTERN "arm_problem.hpp" EXCLUDE    # bench-mbm's problems: the planner internals it names are not installed
-        PATTERN "yaml_file.hpp" EXCLUDE)     # yaml-cpp types
+# Public headers: each library's include/ folder, all of it (internal/ is never installed). formats:
+# the artifact API; runtime: the embedding API (dmgplace/runtime.hpp) and the plain types it uses,
+# no OMPL, FCL or Embree type; tools: the offline API.
+foreach(lib formats runtime tools)
+  install(DIRECTORY ${lib}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+endforeach()
 install(DIRECTORY ${PROJECT_BINARY_DIR}/include/dmgplace DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})  # export.hpp
 
 # Libraries. Helper INTERFACE targets (system include paths, absolute library paths) go along so

@@ -7,8 +7,11 @@ function(dmgplace_library target short)
   string(TOUPPER ${short} upper)
   generate_export_header(${target} BASE_NAME DMGPLACE_${upper}
     EXPORT_FILE_NAME ${PROJECT_BINARY_DIR}/include/dmgplace/${short}/export.hpp)
+  # include/ is what is installed, all of it; internal/ (same dmgplace/<library>/ paths) is for
+  # the build tree only: the libraries, the CLI, the tests and the benchmarks.
   target_include_directories(${target} PUBLIC
     $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+    $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/internal>
     $<BUILD_INTERFACE:${PROJECT_BINARY_DIR}/include>
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   set_target_properties(${target} PROPERTIES POSITION_INDEPENDENT_CODE ON EXPORT_NAME ${short}

@@ -42,6 +42,17 @@ Eigen::MatrixXd path_array(const runtime::JointPath& path) {
   return m;
 }
 
+// A timed trajectory as numpy arrays: time (N,), positions, velocities, accelerations (N, dof).
+py::dict trajectory_dict(const runtime::Trajectory& t) {
+  py::dict d;
+  d["time"] = Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(t.time.data(), Eigen::Index(t.time.size())));
+  d["positions"] = path_array(t.positions);
+  d["velocities"] = path_array(t.velocities);
+  d["accelerations"] = path_array(t.accelerations);
+  d["duration"] = t.duration();
+  return d;
+}
+
 py::dict action_dict(const runtime::InHandAction& a) {
   py::dict d;
   d["type"] = a.type == runtime::GraspMove::Translation ? "push" : "rotate";
@@ -71,6 +82,9 @@ py::dict solution_dict(const runtime::PlacementSolution& s) {
   d["in_hand"] = actions;
   d["path"] = path_array(s.path);
   d["retreat"] = path_array(s.retreat);
+  d["release_opening"] = s.release_opening;
+  d["trajectory"] = trajectory_dict(s.trajectory);
+  d["retreat_trajectory"] = trajectory_dict(s.retreat_trajectory);
   return d;
 }
 
@@ -87,6 +101,8 @@ py::dict result_dict(const runtime::PlacementResult& r) {
   for (const auto& s : r.improvements) imp.append(solution_dict(s));
   d["improvements"] = imp;
   d["best"] = r.solved() ? py::object(solution_dict(r.best())) : py::none();
+  // The in-hand actions are not planned for a pusher: say so wherever there are some.
+  if (r.solved() && !r.best().in_hand.empty()) d["in_hand_execution"] = runtime::kInHandExecutionNote;
   d["samples"] = r.counters.samples;
   d["goals"] = r.counters.goals;
   return d;
@@ -226,23 +242,33 @@ PYBIND11_MODULE(dmgplace, m) {
   m.def(
       "plan_motion",
       [](const World& w, const Eigen::VectorXd& start, const Eigen::VectorXd& goal, const py::object& grasp,
-         double time_limit, std::uint64_t seed, double resolution) {
-        std::optional<Eigen::Isometry3d> g;
-        if (!grasp.is_none()) g = pose_from(grasp, "grasp");
+         double time_limit, std::uint64_t seed, double resolution, double velocity_scaling, double acceleration_scaling) {
+        MotionQuery q;
+        q.start = start;
+        q.goal = goal;
+        if (!grasp.is_none()) q.grasp = pose_from(grasp, "grasp");
+        q.time_limit = time_limit;
+        q.seed = seed;
+        q.resolution = resolution;
+        q.timing.velocity_scaling = velocity_scaling;
+        q.timing.acceleration_scaling = acceleration_scaling;
         MotionResult r;
         {
           py::gil_scoped_release release;
-          r = plan_motion(w, start, goal, g, time_limit, seed, resolution);
+          r = plan_motion(w, q);
         }
         py::dict d;
         d["solved"] = r.solved;
         d["path"] = path_array(r.path);
+        d["trajectory"] = trajectory_dict(r.trajectory);
         d["seconds"] = r.seconds;
         d["reason"] = r.reason;
         return d;
       },
       py::arg("world"), py::arg("start"), py::arg("goal"), py::arg("grasp") = py::none(), py::arg("time_limit") = 1.0,
-      py::arg("seed") = 1, py::arg("resolution") = 0.05, "An arm motion, empty-handed or holding the object at `grasp`");
+      py::arg("seed") = 1, py::arg("resolution") = 0.05, py::arg("velocity_scaling") = 1.0,
+      py::arg("acceleration_scaling") = 1.0,
+      "An arm motion, empty-handed or holding the object at `grasp`, and its timed trajectory");
 
   m.def(
       "inspect",

@@ -87,6 +87,9 @@ void save_robot(RobotArtifact a, const std::filesystem::path& path) {
   w.write_strings("joints/names", joint_names);
   w.write("joints/indices", std::span<const std::int32_t>(ints), {m.joints.size(), 4});
   w.write("joints/values", std::span<const double>(reals), {m.joints.size(), std::size_t(kJointReals)});
+  std::vector<double> accelerations;
+  for (const auto& j : m.joints) accelerations.push_back(j.acceleration);
+  w.write("joints/acceleration", std::span<const double>(accelerations), {m.joints.size()});
   w.write("allowed_pairs", std::span<const std::int32_t>(pairs), {m.allowed_pairs.size(), 2});
   std::vector<std::int32_t> sphere_link;
   std::vector<double> sphere_values;
@@ -131,6 +134,7 @@ RobotArtifact read_robot_unchecked(const std::filesystem::path& path) {
   const long nj = long(joint_names.size());
   auto ints = r.read_i32("joints/indices", {nj, 4});
   auto reals = r.read_f64("joints/values", {nj, kJointReals});
+  auto accelerations = r.read_f64("joints/acceleration", {nj});
   for (long i = 0; i < nj; ++i) {
     Joint j;
     j.name = joint_names[std::size_t(i)];
@@ -143,6 +147,7 @@ RobotArtifact read_robot_unchecked(const std::filesystem::path& path) {
     j.origin = pose_from_array(v, r.file(), "joints/values row " + std::to_string(i) + " origin");
     j.axis = Eigen::Vector3d(v[7], v[8], v[9]);
     j.lower = v[10]; j.upper = v[11]; j.velocity = v[12]; j.mimic_multiplier = v[13]; j.mimic_offset = v[14];
+    j.acceleration = accelerations.data[std::size_t(i)];
     m.joints.push_back(j);
   }
   auto sphere_link = r.read_i32("links/sphere_link", {-1});
@@ -177,6 +182,7 @@ std::vector<std::string> check_robot(const RobotArtifact& a) {
         p.push_back(el + ": joint limits invalid (lower > upper or not finite)");
     }
     if (!std::isfinite(j.velocity) || j.velocity < 0) p.push_back(el + ": velocity limit must be finite and >= 0");
+    if (!std::isfinite(j.acceleration) || j.acceleration < 0) p.push_back(el + ": acceleration limit must be finite and >= 0");
     if (j.mimic < -1 || j.mimic >= int(m.joints.size()) || j.mimic == int(i)) p.push_back(el + ": mimic joint index invalid");
     if (j.mimic >= 0 && (!std::isfinite(j.mimic_multiplier) || !std::isfinite(j.mimic_offset)))
       p.push_back(el + ": mimic multiplier and offset must be finite");

@@ -59,6 +59,12 @@ def test_placement_equals_the_cli_for_the_same_query_and_seed(artifacts, world):
     assert got["best"]["objective"] == pytest.approx(expected["best"]["objective"], abs=1e-12)
     assert got["best"]["grasp_state"] == expected["best"]["grasp"]["state"]
     assert len(got["improvements"]) == len(expected["improvements"])
+    # The timed trajectory is the CLI's (trajectory.json), as numpy arrays.
+    timed = json.loads((out / "trajectory.json").read_text())["approach"]
+    np.testing.assert_allclose(got["best"]["trajectory"]["positions"], np.array(timed["positions"]), atol=1e-12)
+    assert got["best"]["trajectory"]["duration"] == pytest.approx(expected["best"]["duration"], abs=1e-12)
+    # In-hand actions, when there are any, come with the statement that no pusher was planned.
+    assert ("in_hand_execution" in got) == bool(got["best"]["in_hand"]) == ("in_hand_execution" in expected)
 
 
 def test_the_callback_fires_for_every_improvement_in_order(artifacts, world):
@@ -162,6 +168,25 @@ def test_reachable_grasps_and_arm_motion(world):
     np.testing.assert_allclose(m["path"][0], start)
     np.testing.assert_allclose(m["path"][-1], goal)
     assert world.tcp_pose(start).shape == (4, 4)
+
+
+def test_arm_motion_is_timed_within_the_limits(world):
+    start = np.array([0, -0.785, 0, -2.356, 0, 1.571, 0.785])
+    goal = start + np.array([0.3, 0.1, 0, 0.1, 0, 0, 0])
+    full = dmgplace.plan_motion(world, start, goal, time_limit=5)
+    half = dmgplace.plan_motion(world, start, goal, time_limit=5, velocity_scaling=0.5, acceleration_scaling=0.25)
+    for m in (full, half):
+        t = m["trajectory"]
+        assert t["time"].ndim == 1 and t["positions"].shape == (len(t["time"]), world.dof)
+        assert np.all(np.diff(t["time"]) > 0)
+        np.testing.assert_allclose(t["positions"][0], start, atol=1e-9)
+        np.testing.assert_allclose(t["positions"][-1], goal, atol=1e-9)
+        np.testing.assert_allclose(t["velocities"][[0, -1]], 0, atol=1e-9)
+    # Slower limits take longer (the same seed plans the same path).
+    np.testing.assert_allclose(full["path"], half["path"])
+    assert half["trajectory"]["duration"] > 1.5 * full["trajectory"]["duration"]
+    with pytest.raises(dmgplace.Error, match="velocity_scaling"):
+        dmgplace.plan_motion(world, start, goal, velocity_scaling=0)
 
 
 def test_inspect_gives_the_header_as_a_dict(artifacts):

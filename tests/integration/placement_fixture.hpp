@@ -35,8 +35,9 @@ class PlacementFixture : public ::testing::Test {
     const fs::path data = source_dir() / "datasets";
     const fs::path d = dir_->path();
     ASSERT_EQ(cli({"make-objects", "--out", d}), 0);
-    ASSERT_EQ(cli({"bake-robot", data / "robots/dmgarm/dmgarm.urdf", "--srdf", data / "robots/dmgarm/dmgarm.srdf", "--arm",
-                   "dmgarm_link0:dmgarm_tcp", "--out", d / "arm.h5"}),
+    ASSERT_EQ(cli({"bake-robot", data / "robots/dmgarm/dmgarm.urdf", "--srdf", data / "robots/dmgarm/dmgarm.srdf",
+                   "--joint-limits", data / "robots/dmgarm/joint_limits.yaml", "--arm", "dmgarm_link0:dmgarm_tcp", "--out",
+                   d / "arm.h5"}),
               0);
     ASSERT_EQ(cli({"bake-object", d / "bottle.stl", "--mass", "0.15", "--out", d / "bottle.h5"}), 0);
     const std::string volume = builtin_volume("cabinet");

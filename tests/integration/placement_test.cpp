@@ -74,7 +74,7 @@ TEST_F(Placement, EveryPublishedSolutionIsStableFreeAndImproving) {
     if (!s.retreat.empty()) {
       Eigen::Isometry3d up = s.pose;
       up.translation().z() += qr.options.lift;
-      const ExactChecker released = world_->released_exact(up);
+      const ExactChecker released = world_->released_exact(up, s.release_opening);
       for (std::size_t i = 1; i < s.retreat.size(); ++i)
         ASSERT_TRUE(released.segment_free(vec(s.retreat[i - 1]), vec(s.retreat[i]), qr.options.motion_resolution)) << "retreat " << i;
     }
@@ -103,7 +103,43 @@ TEST_F(Placement, EveryPublishedSolutionIsStableFreeAndImproving) {
     // The retreat leaves from the placement configuration.
     ASSERT_FALSE(s.retreat.empty());
     EXPECT_LT((vec(s.retreat.front()) - vec(s.path.back())).norm(), 1e-9);
+    // ... and is a motion back to the retreat configuration (q0 here).
+    EXPECT_LT((vec(s.retreat.back()) - qr.q0).norm(), 1e-9);
   }
+}
+
+// The retreat motion goes where the query says; a retreat configuration that cannot be one is
+// refused naming the query and the element.
+TEST_F(Placement, RetreatEndsAtTheQueriedConfigurationAndBadOnesAreRefused) {
+  PlacementQuery qr = query(side_grasp());
+  Eigen::VectorXd safe(7);
+  safe << 0.3, -0.5, 0, -2.0, 0, 1.6, 0.785;
+  qr.retreat_configuration = safe;
+  const PlacementResult r = solve(qr, 1500, true);
+  ASSERT_TRUE(r.solved()) << r.reason;
+  const PlacementSolution& s = r.best();
+  EXPECT_LT((vec(s.retreat.back()) - safe).norm(), 1e-9);
+  Eigen::Isometry3d up = s.pose;
+  up.translation().z() += qr.options.lift;
+  const ExactChecker released = world_->released_exact(up, s.release_opening);
+  for (std::size_t i = 1; i < s.retreat.size(); ++i)
+    ASSERT_TRUE(released.segment_free(vec(s.retreat[i - 1]), vec(s.retreat[i]), qr.options.motion_resolution)) << "retreat " << i;
+
+  qr.source = "q.yaml";
+  auto refusal = [&](const Eigen::VectorXd& q) {
+    PlacementQuery bad = qr;
+    bad.retreat_configuration = q;
+    return test::error_of([&] { PlacementPlanner p(*world_, bad); });
+  };
+  Eigen::VectorXd wide = safe;
+  wide[3] = 5;
+  EXPECT_NE(refusal(wide).find("q.yaml: retreat_configuration: outside the joint limits"), std::string::npos) << refusal(wide);
+  Eigen::VectorXd nan = safe;
+  nan[0] = std::nan("");
+  EXPECT_NE(refusal(nan).find("not finite"), std::string::npos);
+  EXPECT_NE(refusal(safe.head(6)).find("has 6 values"), std::string::npos);
+  qr.options.retreat_time = 0;
+  EXPECT_NE(test::error_of([&] { PlacementPlanner p(*world_, qr); }).find("options.retreat_time"), std::string::npos);
 }
 
 TEST_F(Placement, SameSeedOneThreadGivesIdenticalResults) {
@@ -133,6 +169,7 @@ TEST_F(Placement, TwoQueriesAtOnceOnOneWorldGetWhatEachGetsAlone) {
     qr.seed = seed;
     return solve(qr, 150);
   };
+  const ScopedSimdPath restore_simd;  // forced paths end with the test
   for (int round = 0; round < 4; ++round) {
     // Both SIMD paths (a CPU without AVX2 runs the portable one).
     force_simd_path(round % 2 ? SimdPath::Portable : SimdPath::Avx2);
@@ -151,7 +188,6 @@ TEST_F(Placement, TwoQueriesAtOnceOnOneWorldGetWhatEachGetsAlone) {
       EXPECT_EQ(alone[i].counters.goals, together[i].counters.goals);
     }
   }
-  force_simd_path(SimdPath::Avx2);  // back to what the CPU has
 }
 
 TEST_F(Placement, ImpossibleQueriesEndWithAReason) {

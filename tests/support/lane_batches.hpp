@@ -26,6 +26,7 @@ template <class Widen, class Check>
 void batches_on_every_path(const runtime::Kinematics& kin, std::uint64_t seed, int rounds, Widen widen, Check check) {
   using runtime::SimdPath;
   std::mt19937_64 rng(seed);
+  const runtime::ScopedSimdPath restore_simd;  // forced paths end with the test
   for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
     runtime::force_simd_path(path);
     for (int round = 0; round < rounds; ++round) {
@@ -40,7 +41,6 @@ void batches_on_every_path(const runtime::Kinematics& kin, std::uint64_t seed, i
       if (::testing::Test::HasFatalFailure()) break;  // an ASSERT in check returns from check only
     }
   }
-  runtime::force_simd_path(SimdPath::Avx2);  // back to what the CPU has
 }
 
 // batches_on_every_path with the configurations as drawn.

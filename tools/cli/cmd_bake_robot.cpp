@@ -18,6 +18,8 @@ namespace dmgplace::cli {
 OptionTable BakeRobotArgs::options() {
   return {
       {"--srdf", "srdf", &srdf, 0, 0, "", "SRDF with disabled collision pairs (without one they are computed)"},
+      {"--joint-limits", "joint_limits", &joint_limits, 0, 0, "",
+       "MoveIt joint_limits.yaml: velocity and acceleration limits for timed trajectories (default: URDF velocities, 1 rad/s^2)"},
       {"--fixed-joints", "fixed_joints", &fixed_joints, 0, 0, "",
        "name=value,... joints outside the chain (another arm, a torso) frozen there (rad or m); default: their URDF zero"},
       {"--write-srdf", "", &write_srdf, 0, 0, "", "Without --srdf: write the computed disabled pairs as an SRDF to review"},
@@ -50,6 +52,7 @@ int run_bake_robot(const BakeRobotArgs& a_in) {
   tools::RobotBakeOptions o;
   o.urdf = a.urdf;
   o.srdf = a.srdf;
+  o.joint_limits = a.joint_limits;
   for (const auto& p : a.package_paths) o.package_paths.emplace_back(p);
   o.arm_base = a.arm.substr(0, colon);
   o.arm_tip = a.arm.substr(colon + 1);
@@ -84,7 +87,9 @@ int run_bake_robot(const BakeRobotArgs& a_in) {
     throw Error("--write-srdf", "", "writes the pairs computed without an SRDF; --srdf " + a.srdf + " was given");
   o.self_tables.progress = progress_line();  // on a terminal: the tables take seconds to minutes
   tools::AllowedCollisions decided;
-  formats::RobotArtifact robot = tools::bake_robot(o, &decided);
+  std::vector<std::string> notes;
+  formats::RobotArtifact robot = tools::bake_robot(o, &decided, &notes);
+  for (const auto& n : notes) log_info(a.joint_limits + ": " + n);
   if (a.srdf.empty()) {
     // Say what was decided (stderr: stdout may carry --json).
     std::ostringstream m;
@@ -102,6 +107,7 @@ int run_bake_robot(const BakeRobotArgs& a_in) {
   }
   std::vector<std::filesystem::path> inputs{a.urdf};
   if (!a.srdf.empty()) inputs.emplace_back(a.srdf);
+  if (!a.joint_limits.empty()) inputs.emplace_back(a.joint_limits);
   robot.header = make_header(params, inputs, log.files());
   formats::save_robot(std::move(robot), a.out);
   report_written(a.out, a.json, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());

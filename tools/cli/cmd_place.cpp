@@ -9,7 +9,7 @@
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/formats/object_artifact.hpp"
 #include "dmgplace/formats/robot_artifact.hpp"
-#include "dmgplace/runtime/placement/placement_planner.hpp"
+#include "dmgplace/runtime.hpp"
 #include "dmgplace/tools/placement/placement_report.hpp"
 
 namespace dmgplace::cli {
@@ -27,18 +27,17 @@ int run_place(const PlaceArgs& a) {
   const auto t_load = std::chrono::steady_clock::now();
   auto robot = formats::load_robot(q.robot);
   const auto joints = tools::world_joint_values(q, robot.model);
-  runtime::PlacementWorld world(std::move(robot), formats::load_object(q.object), formats::load_environment(q.environment),
-                                q.query.g0_opening, joints);
-  q.query.q0 = tools::resolve_start(q, world.kin());
+  const auto world = World::from_artifacts(std::move(robot), formats::load_object(q.object),
+                                           formats::load_environment(q.environment), q.query.g0_opening, joints);
+  q.query.q0 = tools::resolve_start(q, world->kinematics());
   const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
   std::ostringstream loaded;
   loaded << "loaded " << q.robot.filename().string() << ", " << q.object.filename().string() << ", "
          << q.environment.filename().string() << " in " << load_s << " s; variant " << runtime::to_string(q.query.variant)
          << ", seed " << q.query.seed << ", " << q.time_limit << " s";
   log_info(loaded.str());
-  runtime::PlacementPlanner planner(world, q.query);
-  const auto timer = runtime::stop_after_seconds(q.time_limit);
-  const auto rounds = a.iterations > 0 ? runtime::stop_after_iterations(a.iterations) : runtime::PlacementPlanner::Stop();
+  const auto timer = stop_after_seconds(q.time_limit);
+  const auto rounds = a.iterations > 0 ? stop_after_iterations(a.iterations) : StopCondition();
   const auto deadline = [&] { return (rounds && rounds()) || timer(); };
   // Progress on stderr every few seconds; improvements on stdout as they come.
   auto last = std::chrono::steady_clock::now();
@@ -50,7 +49,7 @@ int run_place(const PlaceArgs& a) {
     }
     return deadline();
   };
-  const auto result = planner.run(stop, [&](const runtime::PlacementSolution& s) {
+  const auto result = place(*world, q.query, stop, [&](const runtime::PlacementSolution& s) {
     std::cout << tools::solution_line(s) << std::endl;
   });
   if (result.solved()) {
@@ -66,13 +65,18 @@ int run_place(const PlaceArgs& a) {
                         : "rotate " + std::to_string(act.angle * 180 / M_PI) + " deg")
                 << " (state " << act.from_state << " -> " << act.to_state << ")\n";
     }
+    std::cout << "  trajectory " << b.trajectory.duration() << " s to the placement, retreat " << b.retreat_trajectory.duration()
+              << " s\n";
+    if (!b.in_hand.empty())
+      std::cout << "  the in-hand actions need a second arm or a fixture to push the object: not planned for execution\n";
   } else {
     std::cout << "no solution: " << result.reason << "\n";
   }
   const std::filesystem::path out = a.out.empty() ? std::filesystem::path("place-" + q.path.stem().string()) : std::filesystem::path(a.out);
-  tools::write_placement_result(out, q, result, world.kin());
-  if (a.json) std::cout << tools::result_json(q, result, world.kin());
-  log_info("wrote " + (out / "result.json").string() + ", trace.csv, path.csv");
+  tools::write_placement_result(out, q, result, world->kinematics(), tools::parse_trajectory_format(a.trajectory_format, "--trajectory-format"));
+  if (a.json) std::cout << tools::result_json(q, result, world->kinematics());
+  log_info("wrote " + (out / "result.json").string() + ", trace.csv, path.csv, trajectory.json" +
+           (a.trajectory_format == "moveit" ? ", trajectory_approach.yaml, trajectory_retreat.yaml" : ""));
   return result.solved() ? 0 : 3;
 }
 

@@ -11,7 +11,7 @@
 #include "dmgplace/formats/object_artifact.hpp"
 #include "dmgplace/formats/robot_artifact.hpp"
 #include "dmgplace/formats/stale_inputs.hpp"
-#include "dmgplace/runtime/placement/placement_world.hpp"
+#include "dmgplace/runtime.hpp"
 
 namespace dmgplace::cli {
 namespace {
@@ -48,9 +48,8 @@ SetCheck check_set(const std::vector<std::string>& files) {
     if (!by_schema.count(kind)) c.errors.push_back(std::string("--set: no ") + kind + " artifact among the files");
   if (!c.errors.empty()) return c;
   try {
-    const runtime::PlacementWorld world(formats::load_robot(by_schema["dmgplace.robot"]), formats::load_object(by_schema["dmgplace.object"]),
-                                        formats::load_environment(by_schema["dmgplace.environment"]));
-    c.warnings = world.fit().warnings;
+    const auto world = World::load(by_schema["dmgplace.robot"], by_schema["dmgplace.object"], by_schema["dmgplace.environment"]);
+    c.warnings = world->fit_warnings();
   } catch (const std::exception& e) {
     c.errors.push_back(e.what());
   }

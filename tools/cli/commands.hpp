@@ -67,6 +67,7 @@ int run_bake_env(const BakeEnvArgs& a);
 
 struct BakeRobotArgs {
   std::string urdf, srdf, arm, out;
+  std::string joint_limits;         // MoveIt joint_limits.yaml
   bool json = false;
   std::string tcp_text;             // TCP pose on the tip: x,y,z,qx,qy,qz,qw
   std::vector<std::string> package_paths;
@@ -84,6 +85,8 @@ int run_bake_robot(const BakeRobotArgs& a);
 struct PlanArgs {
   std::string scene, request, robot, out;
   double time_limit = 10, resolution = 0.01, sdf_resolution = 0.02;
+  double velocity_scaling = 1, acceleration_scaling = 1;
+  std::string trajectory_format = "json";  // json or moveit
   std::uint64_t seed = 1;
 };
 int run_plan(const PlanArgs& a);
@@ -108,6 +111,7 @@ struct PlaceArgs {
   std::string variant;  // empty: the query's
   bool json = false;
   bool allow_outside = false;  // artifact paths may leave the artifact folder
+  std::string trajectory_format = "json";  // json or moveit
 };
 int run_place(const PlaceArgs& a);
 

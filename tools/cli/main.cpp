@@ -92,6 +92,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0L, 1000000000L));
   c_place->add_option("--variant", place.variant, "full, random-grasp or no-regrasp (overrides the query's)");
   c_place->add_flag("--json", place.json, "Also print result.json to stdout");
+  c_place->add_option("--trajectory-format", place.trajectory_format,
+                      "json: trajectory.json; moveit: also trajectory_approach.yaml and trajectory_retreat.yaml (trajectory_msgs/JointTrajectory)")
+      ->check(CLI::IsMember({"json", "moveit"}));
 
   ExperimentArgs experiment;
   auto* c_exp = app.add_subcommand("experiment", "Run a grid of placement problems x variants x seeds (resumable)");
@@ -146,7 +149,14 @@ int main(int argc, char** argv) {
   c_plan->add_option("--resolution", plan.resolution, "Motion check step in radians")->check(CLI::Range(1e-4, 1.0));
   c_plan->add_option("--sdf-resolution", plan.sdf_resolution, "Workspace distance grid cell (m)")->check(CLI::Range(1e-3, 1.0));
   c_plan->add_option("--seed", plan.seed, "Random seed");
-  c_plan->add_option("--out", plan.out, "Write the path as JSON");
+  c_plan->add_option("--out", plan.out, "Write the path and its timed trajectory as JSON");
+  c_plan->add_option("--velocity-scaling", plan.velocity_scaling, "Fraction of the joints' velocity limits for the trajectory")
+      ->check(CLI::Range(1e-6, 1.0));
+  c_plan->add_option("--acceleration-scaling", plan.acceleration_scaling, "Fraction of the joints' acceleration limits")
+      ->check(CLI::Range(1e-6, 1.0));
+  c_plan->add_option("--trajectory-format", plan.trajectory_format,
+                     "moveit: also write OUT's stem + .trajectory.yaml (trajectory_msgs/JointTrajectory)")
+      ->check(CLI::IsMember({"json", "moveit"}));
 
   BenchMbmArgs bench_mbm;
   auto* c_bench = app.add_subcommand("bench-mbm", "Run MotionBenchMaker problem folders with ours and stock OMPL RRTConnect+FCL");

@@ -32,9 +32,13 @@
 #include <string>
 #include <vector>
 
+#include "dmgplace/formats/environment_artifact.hpp"
 #include "dmgplace/formats/error.hpp"
+#include "dmgplace/formats/object_artifact.hpp"
+#include "dmgplace/formats/robot_artifact.hpp"
 #include "dmgplace/runtime/export.hpp"
 #include "dmgplace/runtime/grasp/reachable_grasps.hpp"
+#include "dmgplace/runtime/motion/trajectory.hpp"
 #include "dmgplace/runtime/placement/placement_query.hpp"
 #include "dmgplace/runtime/placement/placement_result.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
@@ -55,6 +59,11 @@ class DMGPLACE_RUNTIME_EXPORT World {
   static std::shared_ptr<const World> load(const std::filesystem::path& robot, const std::filesystem::path& object,
                                            const std::filesystem::path& environment, double finger_opening = -1,
                                            const std::map<std::string, double>& joint_values = {});
+  // The same from artifacts already read (formats::load_*, which check them), e.g. to look at
+  // the robot's joints before choosing `joint_values`.
+  static std::shared_ptr<const World> from_artifacts(formats::RobotArtifact robot, formats::ObjectArtifact object,
+                                                     formats::EnvironmentArtifact environment, double finger_opening = -1,
+                                                     const std::map<std::string, double>& joint_values = {});
   ~World();
   World(const World&) = delete;
   World& operator=(const World&) = delete;
@@ -65,10 +74,12 @@ class DMGPLACE_RUNTIME_EXPORT World {
   Eigen::VectorXd upper_limits() const;
   Eigen::Isometry3d tcp_pose(const Eigen::VectorXd& q) const;  // forward kinematics of the chain's tip
   const runtime::Kinematics& kinematics() const;               // the arm chain (read-only)
-  // In-tree users (the CLI) reach the planner's own world; not needed to embed.
-  const runtime::PlacementWorld& placement_world() const;
+  // How the three artifacts fit together: warnings only (what does not fit is refused by load):
+  // `dmgplace validate --set` prints them.
+  const std::vector<std::string>& fit_warnings() const;
 
  private:
+  friend struct WorldAccess;  // the API's own functions reach the planner's world
   World();
   struct Impl;
   std::unique_ptr<Impl> impl_;
@@ -86,19 +97,28 @@ DMGPLACE_RUNTIME_EXPORT runtime::PlacementResult place(const World& world, const
 // first, with the actions to each (ReachableGrasps::actions_to).
 DMGPLACE_RUNTIME_EXPORT runtime::ReachableGrasps reachable_grasps(const World& world, const Eigen::Isometry3d& g0, double opening = -1);
 
-struct MotionResult {
-  bool solved = false;
-  runtime::JointPath path;  // start ... goal, every segment free at `resolution`
-  double seconds = 0;
-  std::string reason;       // why not, when not solved
+// An arm motion query: from `start` to `goal` through the world's environment, holding the
+// object at `grasp` (TCP in the object frame) or empty-handed.
+struct MotionQuery {
+  Eigen::VectorXd start, goal;              // arm chain joints, within limits
+  std::optional<Eigen::Isometry3d> grasp;   // empty: empty-handed
+  double time_limit = 1.0;                  // s, [0, 1e6]
+  std::uint64_t seed = 1;
+  double resolution = 0.05;                 // joint-space collision check step (rad), [1e-4, 1]
+  runtime::TimingOptions timing;            // the returned path's timing (velocity/acceleration scaling)
 };
 
-// An arm motion from `start` to `goal` through the world's environment, holding the object at
-// `grasp` (TCP in the object frame) or empty-handed. Bidirectional RRT-Connect with the two-layer
-// collision checker, shortcut; `resolution` is the joint-space checking step (rad).
-DMGPLACE_RUNTIME_EXPORT MotionResult plan_motion(const World& world, const Eigen::VectorXd& start, const Eigen::VectorXd& goal,
-                         const std::optional<Eigen::Isometry3d>& grasp, double time_limit, std::uint64_t seed = 1,
-                         double resolution = 0.05);
+struct MotionResult {
+  bool solved = false;
+  runtime::JointPath path;        // start ... goal, every segment free at `resolution`
+  runtime::Trajectory trajectory; // `path` timed under the arm's limits (query.timing)
+  double seconds = 0;             // planning and timing
+  std::string reason;             // why not, when not solved
+};
+
+// Bidirectional RRT-Connect with the two-layer collision checker, shortcut, then timed
+// (runtime/motion/trajectory.hpp). dmgplace::Error naming the field when the query is malformed.
+DMGPLACE_RUNTIME_EXPORT MotionResult plan_motion(const World& world, const MotionQuery& query);
 
 // Stop conditions.
 DMGPLACE_RUNTIME_EXPORT StopCondition stop_after_seconds(double seconds);

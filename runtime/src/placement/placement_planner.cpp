@@ -11,16 +11,29 @@
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/runtime/grasp/held_grasp.hpp"
 #include "dmgplace/runtime/motion/arm_space.hpp"
+#include "dmgplace/runtime/motion/arm_timing.hpp"
 #include "dmgplace/runtime/motion/segment_check.hpp"
 #include "dmgplace/runtime/motion/multi_grasp_planner.hpp"
 #include "dmgplace/runtime/placement/goal_validator.hpp"
 #include "dmgplace/runtime/placement/local_optimizer.hpp"
 #include "dmgplace/runtime/placement/retreat.hpp"
+#include "dmgplace/runtime/placement/retreat_motion.hpp"
 
 namespace dmgplace::runtime {
 namespace {
 using Clock = std::chrono::steady_clock;
 constexpr int kAnyActions = std::numeric_limits<int>::max();
+
+// A ball holding every vertex: its box's centre and the farthest vertex from it.
+std::pair<Eigen::Vector3d, double> bounding_ball(const TriMesh& mesh) {
+  Eigen::AlignedBox3d box;
+  for (Eigen::Index i = 0; i < mesh.vertices.rows(); ++i) box.extend(Eigen::Vector3d(mesh.vertices.row(i).transpose()));
+  const Eigen::Vector3d c = box.isEmpty() ? Eigen::Vector3d(Eigen::Vector3d::Zero()) : Eigen::Vector3d(box.center());
+  double r = 0;
+  for (Eigen::Index i = 0; i < mesh.vertices.rows(); ++i)
+    r = std::max(r, (Eigen::Vector3d(mesh.vertices.row(i).transpose()) - c).norm());
+  return {c, r};
+}
 }  // namespace
 
 PlacementPlanner::Stop stop_after_seconds(double seconds) {
@@ -56,6 +69,14 @@ PlacementPlanner::PlacementPlanner(const PlacementWorld& world, PlacementQuery q
   if (query_.volume && (query_.volume->isEmpty() || !query_.volume->min().allFinite() || !query_.volume->max().allFinite()))
     throw Error(query_.source, "volume", "empty or not finite (need xmin <= xmax, ...)");
   check_placement_options(query_.options, query_.source);
+  if (const auto& r = query_.retreat_configuration) {
+    const std::string el = "retreat_configuration";
+    if (r->size() != kin.dof())
+      throw Error(query_.source, el, "has " + std::to_string(r->size()) + " values, the arm has " + std::to_string(kin.dof()) + " joints");
+    if (!r->allFinite()) throw Error(query_.source, el, "not finite (NaN or infinity)");
+    if (!kin.within_limits(*r, 1e-6)) throw Error(query_.source, el, "outside the joint limits");
+    if (!world.exact().is_free(*r)) throw Error(query_.source, el, "in collision: " + world.exact().check(*r).contact);
+  }
 }
 
 PlacementPlanner::~PlacementPlanner() = default;
@@ -87,6 +108,9 @@ struct PlacementPlanner::Run {
   double last_trace = -1;
   PlacementResult result;
   long planner_calls = 0, paths = 0, paths_rejected = 0, retreat_failures = 0, iterations = 0;
+  std::map<double, std::unique_ptr<TwoLayerChecker>> retreat_arms;  // the empty-handed arm per release opening
+  std::pair<Eigen::Vector3d, double> object_ball = bounding_ball(world.object().mesh);  // object frame
+  long retreat_plans = 0;
 
   Run(const PlacementWorld& w, const PlacementQuery& query) : world(w), q(query), o(query.options), rng(query.seed) {}
 
@@ -272,25 +296,69 @@ struct PlacementPlanner::Run {
       JointPath path = gp.found.path;
       path.insert(path.end(), opt.steps.begin(), opt.steps.begin() + k);
       PlacementSolution sol;
-      if (o.check_retreat) {
-        Eigen::Isometry3d up = pose;
-        up.translation().z() += o.lift;
-        const ExactChecker released = world.released_exact(up);
-        const Eigen::VectorXd q_place = vec(path.back());
-        // Back along the approach first; where the arm cannot do that (it folds into itself or
-        // the scene), straight up: the fingers are open and leave the object either way.
-        const Eigen::Vector3d back = -world.kin().tip_pose(q_place).linear().col(2);
-        Retreat r = plan_retreat(world.kin(), released, q_place, back, o.retreat_distance, o.motion_resolution);
-        if (!r.ok && back.z() < 0.99) r = plan_retreat(world.kin(), released, q_place, Eigen::Vector3d::UnitZ(), o.retreat_distance, o.motion_resolution);
-        if (!r.ok) {
-          ++retreat_failures;
-          continue;
-        }
-        sol.retreat = std::move(r.path);
+      if (o.check_retreat && !plan_whole_retreat(pose, path, grasp.opening, sol)) {
+        ++retreat_failures;
+        continue;
       }
       publish(std::move(sol), goal, pose, value, std::move(path), std::move(actions), cb);
       return;
     }
+  }
+
+  // The retreat from the placement at the end of `path` (the object at `pose`, held at
+  // `grasp_opening`): release, withdraw until clear, then the motion to the retreat
+  // configuration. Fills sol.retreat and sol.release_opening; false when there is none.
+  bool plan_whole_retreat(const Eigen::Isometry3d& pose, const JointPath& path, double grasp_opening, PlacementSolution& sol) {
+    const auto vec = [](const std::vector<double>& v) { return Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size())); };
+    Eigen::Isometry3d up = pose;
+    up.translation().z() += o.lift;
+    const double opening = std::min(world.object().dmg.gripper.max_opening, grasp_opening + 2 * o.release_clearance);
+    const ExactChecker released = world.released_exact(up, opening);
+    const Eigen::VectorXd q_place = vec(path.back());
+    // Back along the approach first; where the arm cannot do that (it folds into itself or the
+    // scene), straight up: the fingers are open and leave the object either way.
+    const Eigen::Vector3d back = -world.kin().tip_pose(q_place).linear().col(2);
+    const ExactChecker placed = world.placed_exact(up, opening);
+    const ValidityFn clear = [&placed](const Eigen::VectorXd& x) { return placed.is_free(x); };
+    Retreat r = plan_retreat(world.kin(), released, q_place, back, o.retreat_distance, o.motion_resolution, clear);
+    if (!r.ok && back.z() < 0.99)
+      r = plan_retreat(world.kin(), released, q_place, Eigen::Vector3d::UnitZ(), o.retreat_distance, o.motion_resolution, clear);
+    if (!r.ok) return false;
+    const JointPath motion = retreat_motion(placed, opening, up, vec(r.path.back()), path);
+    if (motion.empty()) return false;
+    sol.release_opening = opening;
+    sol.retreat = std::move(r.path);
+    sol.retreat.insert(sol.retreat.end(), motion.begin() + 1, motion.end());
+    return true;
+  }
+
+  // The arm motion from the withdrawn hand to the retreat configuration, the object placed at
+  // `object_pose`: the approach (q0 ... placement) retraced where it is free, else planned.
+  // Empty when none was found within the budget.
+  JointPath retreat_motion(const ExactChecker& placed, double opening, const Eigen::Isometry3d& object_pose,
+                           const Eigen::VectorXd& from, const JointPath& approach) {
+    auto& arm = retreat_arms[opening];
+    if (!arm) arm = std::make_unique<TwoLayerChecker>(world.arm_checker(nullptr, opening));
+    RetreatScene scene;
+    scene.kin = &world.kin_at(opening);
+    scene.arm = arm.get();
+    scene.placed = &placed;
+    scene.spheres = &world.robot().spheres;
+    scene.object_center = object_pose * object_ball.first;
+    scene.object_radius = object_ball.second;
+    RetreatBudget budget;
+    budget.resolution = o.motion_resolution;
+    budget.iterations = o.retreat_iterations;
+    budget.seconds = o.retreat_time;
+    budget.seed = q.seed + std::uint64_t(++retreat_plans);
+    const Eigen::VectorXd& target = q.retreat_configuration ? *q.retreat_configuration : q.q0;
+    JointPath back = retrace_approach(scene, from, approach, o.motion_resolution);
+    if (!back.empty() && target != q.q0) {
+      const JointPath rest = plan_retreat_motion(scene, q.q0, target, budget);
+      if (rest.empty()) back.clear();
+      else back.insert(back.end(), rest.begin() + 1, rest.end());
+    }
+    return back.empty() ? plan_retreat_motion(scene, from, target, budget) : back;
   }
 
   void publish(PlacementSolution sol, const Goal& goal, const Eigen::Isometry3d& pose, double value, JointPath path,
@@ -307,6 +375,9 @@ struct PlacementPlanner::Run {
     sol.grasp_cost = grasp.cost;
     sol.in_hand = std::move(actions);
     sol.path = std::move(path);
+    const TimingOptions timing{o.velocity_scaling, o.acceleration_scaling};
+    sol.trajectory = time_arm_path(world.kin(), sol.path, timing);
+    sol.retreat_trajectory = time_arm_path(world.kin(), sol.retreat, timing);
     sol.time = elapsed();
     sol.counters = counters();
     result.improvements.push_back(std::move(sol));

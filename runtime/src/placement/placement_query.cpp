@@ -61,9 +61,14 @@ const std::vector<PlacementOptionSpec>& placement_option_specs() {
       {"local_step", &O::local_step, 1e-6, 1, "initial local-optimisation step (m; rad for theta)"},
       {"local_min_step", &O::local_min_step, 1e-9, 1, "local optimisation stops below this step"},
       {"local_iterations", &O::local_iterations, 0, 100000, "local optimisation steps"},
-      {"check_retreat", &O::check_retreat, 0, 0, "require a free straight retreat after release"},
-      {"retreat_distance", &O::retreat_distance, 0, 1, "retreat length along -approach (m)"},
+      {"check_retreat", &O::check_retreat, 0, 0, "require a retreat after release: withdraw, then a motion to the retreat configuration"},
+      {"release_clearance", &O::release_clearance, 0, 0.1, "the fingers open this far beyond the grasp's opening, each, to let go (m)"},
+      {"retreat_distance", &O::retreat_distance, 0, 1, "longest straight withdrawal of the open hand before the retreat motion (m)"},
+      {"retreat_iterations", &O::retreat_iterations, 1, 10000000, "retreat motion: planner iterations per placement"},
+      {"retreat_time", &O::retreat_time, 1e-3, 1000, "retreat motion: seconds per placement at most"},
       {"tie_tolerance", &O::tie_tolerance, 0, 1, "objective values this close count as equal"},
+      {"velocity_scaling", &O::velocity_scaling, 1e-6, 1, "timed trajectories: fraction of the joints' velocity limits"},
+      {"acceleration_scaling", &O::acceleration_scaling, 1e-6, 1, "timed trajectories: fraction of the joints' acceleration limits"},
   };
   return specs;
 }

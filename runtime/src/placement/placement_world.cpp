@@ -179,8 +179,10 @@ TwoLayerChecker PlacementWorld::grasp_checker(const Eigen::Isometry3d& tcp_in_ob
                          std::move(counters));
 }
 
-TwoLayerChecker PlacementWorld::arm_checker(std::shared_ptr<CheckCounters> counters) const {
-  return TwoLayerChecker(*fast_, *exact_, std::move(counters));
+TwoLayerChecker PlacementWorld::arm_checker(std::shared_ptr<CheckCounters> counters, double opening) const {
+  if (opening < 0) return TwoLayerChecker(*fast_, *exact_, std::move(counters));
+  const Kinematics& kin = kin_at(opening);
+  return TwoLayerChecker(fast_->with_kinematics(kin), exact_->with_kinematics(kin), std::move(counters));
 }
 
 ExactChecker PlacementWorld::grasp_exact(const Eigen::Isometry3d& tcp_in_object, double opening) const {
@@ -188,8 +190,12 @@ ExactChecker PlacementWorld::grasp_exact(const Eigen::Isometry3d& tcp_in_object,
       .with_attached(*object_mesh_, kin_->tip_link(), tcp_in_object.inverse(), hand_.fingers);
 }
 
-ExactChecker PlacementWorld::released_exact(const Eigen::Isometry3d& object_pose) const {
-  return exact_->with_attached(*object_mesh_, kin_->base_link(), object_pose, hand_.fingers);
+ExactChecker PlacementWorld::released_exact(const Eigen::Isometry3d& object_pose, double opening) const {
+  return exact_->with_kinematics(kin_at(opening)).with_attached(*object_mesh_, kin_->base_link(), object_pose, hand_.fingers);
+}
+
+ExactChecker PlacementWorld::placed_exact(const Eigen::Isometry3d& object_pose, double opening) const {
+  return exact_->with_kinematics(kin_at(opening)).with_attached(*object_mesh_, kin_->base_link(), object_pose, {});
 }
 
 bool PlacementWorld::hand_free(const Eigen::Isometry3d& tcp_world, double opening) const {

@@ -9,11 +9,15 @@
 namespace dmgplace::runtime {
 
 Retreat plan_retreat(const Kinematics& kin, const ExactChecker& released, const Eigen::VectorXd& q_place,
-                     const Eigen::Vector3d& direction, double distance, double resolution) {
+                     const Eigen::Vector3d& direction, double distance, double resolution, const ValidityFn& clear) {
   Retreat out;
   out.path.push_back(std::vector<double>(q_place.data(), q_place.data() + q_place.size()));
   if (!released.is_free(q_place)) {
     out.reason = "the hand collides with the placed object or the scene at release: " + released.check(q_place).contact;
+    return out;
+  }
+  if (clear && clear(q_place)) {  // the open hand already lets go of the object: no withdrawal needed
+    out.ok = true;
     return out;
   }
   IkOptions opt;
@@ -38,8 +42,13 @@ Retreat plan_retreat(const Kinematics& kin, const ExactChecker& released, const 
     }
     q = r.q;
     out.path.push_back(std::vector<double>(q.data(), q.data() + q.size()));
+    if (clear && clear(q)) {
+      out.ok = true;
+      return out;
+    }
   }
-  out.ok = true;
+  out.ok = !clear;
+  if (!out.ok) out.reason = "the hand still touches the object after withdrawing " + std::to_string(distance) + " m";
   return out;
 }
 

@@ -53,7 +53,7 @@ RobotArtifact sample_robot() {
   m.links[2].collision.push_back(mesh);
   Joint j1;
   j1.name = "j1"; j1.type = JointType::Revolute; j1.parent = 0; j1.child = 1;
-  j1.lower = -2; j1.upper = 2; j1.velocity = 1;
+  j1.lower = -2; j1.upper = 2; j1.velocity = 1; j1.acceleration = 2.5;
   j1.origin.translation() = Eigen::Vector3d(0, 0, 0.2);
   Joint j2 = j1;
   j2.name = "j2"; j2.type = JointType::Prismatic; j2.parent = 1; j2.child = 2; j2.mimic = 0; j2.mimic_multiplier = 0.5;
@@ -139,6 +139,8 @@ TEST(RobotArtifact, RoundTripKeepsTreeShapesAndPairs) {
   EXPECT_EQ(m.joints[1].type, JointType::Prismatic);
   EXPECT_EQ(m.joints[1].mimic, 0);
   EXPECT_DOUBLE_EQ(m.joints[1].mimic_multiplier, 0.5);
+  EXPECT_DOUBLE_EQ(m.joints[0].velocity, 1);
+  EXPECT_DOUBLE_EQ(m.joints[0].acceleration, 2.5);
   EXPECT_TRUE(m.joints[0].origin.isApprox(sample_robot().model.joints[0].origin));
   EXPECT_EQ(m.links[2].collision.at(0).mesh.triangles, unit_cube().triangles);
   EXPECT_EQ(m.links[2].collision.at(0).hull, unit_cube().triangles);
@@ -379,6 +381,9 @@ TEST(LoadGate, RobotsThatValidateRejectsAreNotLoaded) {
   auto velocity = sample_robot();
   velocity.model.joints[0].velocity = std::nan("");
   expect_robot_refused(velocity, "velocity limit");
+  auto acceleration = sample_robot();
+  acceleration.model.joints[0].acceleration = -1;
+  expect_robot_refused(acceleration, "acceleration limit");
   auto multiplier = sample_robot();
   multiplier.model.joints[1].mimic_multiplier = std::nan("");
   expect_robot_refused(multiplier, "mimic multiplier");

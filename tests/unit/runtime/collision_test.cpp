@@ -219,6 +219,7 @@ TEST(Batch, FreeLanesAreFreeForTheScalarLayerAndFclAndMostAreProven) {
   primitives.set_exact_obstacles(PrimitiveObstacles::from_scene(w.scene));
   ASSERT_TRUE(primitives.free_lanes(std::array<const double*, 1>{w.kin.lower().data()}.data(), 1) <= 1u);
   ExactChecker exact(w.kin, w.scene);
+  const ScopedSimdPath restore_simd;  // forced paths end with the test
   for (const SphereFieldChecker* checker : std::initializer_list<const SphereFieldChecker*>{&fast, &held, &primitives})
     for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
       force_simd_path(path);
@@ -247,7 +248,6 @@ TEST(Batch, FreeLanesAreFreeForTheScalarLayerAndFclAndMostAreProven) {
       EXPECT_GT(scalar_free, 100);
       EXPECT_GE(batch_free, scalar_free * 9 / 10) << "the batch proves " << batch_free << " of " << scalar_free;
     }
-  force_simd_path(SimdPath::Avx2);
 }
 
 // The batch works in floats, forward kinematics included: its rounding margin must hold exactly where
@@ -262,6 +262,7 @@ TEST(Batch, FloatLanesStayConservativeAtTheEdgeOfTheScene) {
   SphereFieldChecker checker(w.kin, w.arm.spheres, w.sdf, 0.3);
   checker.set_self_tables(test::self_distance_tables(w.kin, w.arm.spheres));
   checker.set_exact_obstacles(PrimitiveObstacles::from_scene(w.scene));
+  const ScopedSimdPath restore_simd;  // forced paths end with the test
   for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
     force_simd_path(path);
     std::mt19937_64 rng(5);
@@ -282,7 +283,6 @@ TEST(Batch, FloatLanesStayConservativeAtTheEdgeOfTheScene) {
       ASSERT_EQ(checker.free_lanes(ptr), 0u) << "the batch said free just past the scene's edge";
     }
   }
-  force_simd_path(SimdPath::Avx2);
 }
 
 // The float margin is the kinematics' as they are when a batch runs: setting a joint outside the
@@ -419,6 +419,7 @@ TEST(Batch, LanesAlongADirectionProveEveryStateWithinTheirReach) {
   const AlongCheckers c(true);
   const ShelfWorld& w = c.w;
   int near_misses = 0;
+  const ScopedSimdPath restore_simd;  // forced paths end with the test
   for (const SphereFieldChecker* checker : c.all())
     for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
       force_simd_path(path);
@@ -448,7 +449,6 @@ TEST(Batch, LanesAlongADirectionProveEveryStateWithinTheirReach) {
       }
       EXPECT_GT(proven, 60) << to_string(path);
     }
-  force_simd_path(SimdPath::Avx2);
   EXPECT_GT(near_misses, 10) << "no lane was free alone and blocked within reach: the test cannot tell";
   RecordProperty("near_misses", near_misses);
 }
@@ -536,6 +536,7 @@ TEST(Batch, MotionBoundsCoverEveryPointOfEachBodyAndPair) {
 TEST(Batch, LanesHeadingForACollisionAreNotProvenPastIt) {
   const AlongCheckers c(true);
   const ShelfWorld& w = c.w;
+  const ScopedSimdPath restore_simd;  // forced paths end with the test
   for (const SphereFieldChecker* checker : c.all())
     for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
       force_simd_path(path);
@@ -572,7 +573,6 @@ TEST(Batch, LanesHeadingForACollisionAreNotProvenPastIt) {
       EXPECT_GE(cases, 20) << to_string(path);
       EXPECT_GT(free_alone, 3) << to_string(path) << ": the lanes are not free alone, the test cannot tell";
     }
-  force_simd_path(SimdPath::Avx2);
 }
 
 TEST(Collision, HomePoseIsFreeAndObstaclesAtTheHandAreCaught) {
@@ -680,6 +680,7 @@ TEST(Collision, FlaggedSelfPairsAreThoseWhoseSpheresOverlap) {
     return false;
   };
   std::vector<Eigen::Isometry3d> poses;
+  const ScopedSimdPath restore_simd;  // forced paths end with the test
   for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
     force_simd_path(path);
     std::mt19937_64 rng(21);
@@ -722,7 +723,6 @@ TEST(Collision, FlaggedSelfPairsAreThoseWhoseSpheresOverlap) {
     EXPECT_GT(proven, 0);
     EXPECT_LT(overflow, 300);
   }
-  force_simd_path(SimdPath::Avx2);
 }
 
 TEST(Collision, HeldObjectIsCheckedAndMayTouchTheFingers) {
@@ -1264,6 +1264,7 @@ TEST(PrimitiveObstacles, DistanceIsTheNearestShapesOnBothPaths) {
   std::mt19937_64 rng(9);
   std::uniform_real_distribution<double> u(-1, 1);
   const Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  const ScopedSimdPath restore_simd;  // forced paths end with the test
   for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
     force_simd_path(path);
     EXPECT_EQ(PrimitiveObstacles::from_scene(Scene{})->distance(origin), std::numeric_limits<double>::infinity());
@@ -1287,7 +1288,6 @@ TEST(PrimitiveObstacles, DistanceIsTheNearestShapesOnBothPaths) {
       ++checked;
     }
   }
-  force_simd_path(SimdPath::Avx2);
   EXPECT_GT(inside, 100);
   RecordProperty("checked", checked);
 }
@@ -1302,6 +1302,7 @@ TEST(PrimitiveObstacles, FloatLaneDistancesAreWithinTheirErrorBoundOnBothPaths) 
   constexpr int W = lanes::WF;
   int inside = 0, checked = 0;
   double worst = 0;  // largest error seen, as a share of the bound
+  const ScopedSimdPath restore_simd;  // forced paths end with the test
   for (int count = 1; count <= 13; count += 3)
     for (const double shift : {0.0, 4.0, -4.0}) {
       Scene scene = random_primitives(rng, count, 0.3);
@@ -1343,7 +1344,6 @@ TEST(PrimitiveObstacles, FloatLaneDistancesAreWithinTheirErrorBoundOnBothPaths) 
         }
       }
     }
-  force_simd_path(SimdPath::Avx2);
   EXPECT_GT(inside, 200);
   EXPECT_GT(worst, 0.0);  // floats do round: a path in doubles would not be this kernel
   RecordProperty("checked", checked);

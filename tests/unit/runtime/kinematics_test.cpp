@@ -179,6 +179,7 @@ TEST(Kinematics, QuarterTurnJointsEqualTheirPlainProduct) {
   Kinematics k(m, "l0", "l" + std::to_string(nj));
   ASSERT_EQ(k.dof(), nj - 1);
   std::vector<Eigen::Isometry3d> poses;
+  const ScopedSimdPath restore_simd;  // forced paths end with the test
   for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
     force_simd_path(path);
     for (int round = 0; round < 40; ++round) {
@@ -220,7 +221,6 @@ TEST(Kinematics, QuarterTurnJointsEqualTheirPlainProduct) {
       }
     }
   }
-  force_simd_path(SimdPath::Avx2);  // back to what the CPU has
   expect_jacobian_matches_finite_differences(k, 30);
 }
 
@@ -331,6 +331,7 @@ TEST(Kinematics, FloatBatchHandlesWoundAndNanJointsInSomeLanes) {
   Kinematics k(m, "l0", "l3");
   const double bound = k.float_pose_error(0.0);
   std::vector<Eigen::Isometry3d> poses;
+  const ScopedSimdPath restore_simd;  // forced paths end with the test
   for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
     force_simd_path(path);
     for (int wild_lane = 0; wild_lane < PoseBatch::kLanes; ++wild_lane) {
@@ -364,7 +365,6 @@ TEST(Kinematics, FloatBatchHandlesWoundAndNanJointsInSomeLanes) {
       }
     }
   }
-  force_simd_path(SimdPath::Avx2);  // back to what the CPU has
 }
 
 TEST(Kinematics, RejectsChainsThatDoNotExist) {
@@ -478,6 +478,7 @@ TEST(FastSincos, ManyAtOnceEqualsOneAtATimeOnBothPaths) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-7, 7);
   int wild_rounds = 0;
+  const ScopedSimdPath restore_simd;  // forced paths end with the test
   for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
     force_simd_path(path);
     for (int n = 0; n <= 40; ++n) {
@@ -501,6 +502,5 @@ TEST(FastSincos, ManyAtOnceEqualsOneAtATimeOnBothPaths) {
       }
     }
   }
-  force_simd_path(SimdPath::Avx2);  // back to what the CPU has
   EXPECT_GT(wild_rounds, 10);
 }

@@ -22,7 +22,7 @@ double squared(const double* a, const double* b, std::size_t dim) {
 // (and right at it), for uniform points and for points in tight clusters (an RRT's tree along a
 // corridor), on the portable and the AVX2 scan: equal distances, so a tie may name either point.
 TEST(NearestStates, IsTheBruteForceNearestOnBothSidesOfTheSwitchToGnat) {
-  const SimdPath was = dmgplace::runtime::simd_path();
+  const dmgplace::runtime::ScopedSimdPath restore_simd;  // forced paths end with the test
   for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2})
   for (const bool clustered : {false, true}) {
     dmgplace::runtime::force_simd_path(path);  // Avx2 stays portable on a CPU without it
@@ -56,7 +56,6 @@ TEST(NearestStates, IsTheBruteForceNearestOnBothSidesOfTheSwitchToGnat) {
     }
     EXPECT_GT(checked, 500);
   }
-  dmgplace::runtime::force_simd_path(was);
 }
 
 TEST(NearestStates, RefusesAnEmptySetAndNoDimensions) {

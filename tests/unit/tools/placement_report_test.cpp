@@ -44,7 +44,7 @@ TEST(PlacementReport, FailedWriteOnAFullTmpfsRemovesItsTemporaryFile) {
   disk.fill();
   EXPECT_THAT(test::error_of([&] { write_placement_result(out, PlacementQueryFile{}, no_solution("second"), kin); }),
               AllOf(HasSubstr((out / "trace.csv").string()), HasSubstr("write failed (disk full")));
-  EXPECT_THAT(names_in(out), UnorderedElementsAre("result.json", "trace.csv", "path.csv"));
+  EXPECT_THAT(names_in(out), UnorderedElementsAre("result.json", "trace.csv", "path.csv", "trajectory.json"));
   EXPECT_EQ(test::read_text(out / "result.json"), before);
 }
 

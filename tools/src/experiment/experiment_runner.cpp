@@ -13,7 +13,7 @@
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/formats/object_artifact.hpp"
 #include "dmgplace/formats/robot_artifact.hpp"
-#include "dmgplace/runtime/placement/placement_planner.hpp"
+#include "dmgplace/runtime.hpp"
 #include "dmgplace/tools/experiment/experiment_results.hpp"
 #include "dmgplace/tools/placement/placement_report.hpp"
 
@@ -30,7 +30,7 @@ struct Task {
 // Worlds are read-only once built: runs of the same artifacts share one.
 class WorldCache {
  public:
-  std::shared_ptr<const runtime::PlacementWorld> get(const PlacementQueryFile& q) {
+  std::shared_ptr<const World> get(const PlacementQueryFile& q) {
     std::string key = q.robot.string() + "|" + q.object.string() + "|" + q.environment.string() + "|" +
                       std::to_string(q.query.g0_opening);
     for (const auto& [name, value] : q.start_named) key += "|" + name + "=" + std::to_string(value);
@@ -39,15 +39,15 @@ class WorldCache {
     if (!w) {
       auto robot = formats::load_robot(q.robot);
       const auto joints = world_joint_values(q, robot.model);
-      w = std::make_shared<const runtime::PlacementWorld>(std::move(robot), formats::load_object(q.object),
-                                                          formats::load_environment(q.environment), q.query.g0_opening, joints);
+      w = World::from_artifacts(std::move(robot), formats::load_object(q.object), formats::load_environment(q.environment),
+                                q.query.g0_opening, joints);
     }
     return w;
   }
 
  private:
   std::mutex mutex_;
-  std::map<std::string, std::shared_ptr<const runtime::PlacementWorld>> worlds_;
+  std::map<std::string, std::shared_ptr<const World>> worlds_;
 };
 
 std::string clock_text(double s) {
@@ -93,10 +93,10 @@ ExperimentTotals run_experiment(const ExperimentSpec& spec, const ExperimentOpti
         if (spec.threads) q.query.options.threads = *spec.threads;  // else the query's own (0: deterministic)
         q.time_limit = limit;
         const auto world = worlds.get(q);
-        q.query.q0 = resolve_start(q, world->kin());
-        runtime::PlacementPlanner planner(*world, q.query);
-        const auto result = planner.run(runtime::stop_after_seconds(limit));
-        write_placement_result(run_folder(o.out, t.problem->name, runtime::to_string(t.variant), t.seed), q, result, world->kin());
+        q.query.q0 = resolve_start(q, world->kinematics());
+        const auto result = place(*world, q.query, stop_after_seconds(limit));
+        write_placement_result(run_folder(o.out, t.problem->name, runtime::to_string(t.variant), t.seed), q, result,
+                               world->kinematics());
         solved += result.solved();
       } catch (const std::exception& e) {
         std::lock_guard<std::mutex> lock(out_mutex);

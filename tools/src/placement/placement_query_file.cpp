@@ -143,7 +143,7 @@ PlacementQueryFile read_placement_query(const std::filesystem::path& path, const
   const YAML::Node root = load_yaml_file(path);
   if (!root.IsMap()) throw Error(file, "", "expected a map (robot, object, environment, start, initial_grasp, ...)");
   require_known_keys(root, {"robot", "object", "environment", "start", "initial_grasp", "volume", "objective", "time_limit", "seed",
-                            "variant", "options"},
+                            "variant", "options", "retreat_configuration"},
                      file, "");
   PlacementQueryFile f;
   f.path = path;
@@ -195,6 +195,12 @@ PlacementQueryFile read_placement_query(const std::filesystem::path& path, const
       f.query.variant = *v;
     }
     if (root["options"]) read_options(root["options"], f.query.options, file);
+    if (const YAML::Node r = root["retreat_configuration"]) {
+      if (!r.IsSequence() || r.size() == 0) throw Error(file, "retreat_configuration", "expected a list of the arm's joint values");
+      Eigen::VectorXd q(Eigen::Index(r.size()));
+      for (std::size_t i = 0; i < r.size(); ++i) q[Eigen::Index(i)] = real(r[i], file, "retreat_configuration[" + std::to_string(i) + "]");
+      f.query.retreat_configuration = q;
+    }
   } catch (const YAML::Exception& e) {
     throw Error(file, e.mark.is_null() ? "" : "line " + std::to_string(e.mark.line + 1), std::string("malformed query: ") + e.msg);
   }

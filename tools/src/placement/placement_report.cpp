@@ -75,6 +75,9 @@ ordered_json solution_json(const PlacementSolution& s) {
   j["in_hand"] = actions;
   j["path"] = s.path;
   j["retreat"] = s.retreat;
+  j["release_opening"] = s.release_opening;
+  j["duration"] = s.trajectory.duration();  // timed trajectories: trajectory.json
+  j["retreat_duration"] = s.retreat_trajectory.duration();
   j["counters"] = counters_json(s.counters);
   return j;
 }
@@ -119,7 +122,10 @@ std::string result_json(const PlacementQueryFile& q, const runtime::PlacementRes
   j["snap_distance"] = r.snap_distance;
   j["initial_opening"] = r.initial_opening;
   j["counters"] = counters_json(r.counters);
-  if (r.solved()) j["best"] = solution_json(r.best());
+  if (r.solved()) {
+    j["best"] = solution_json(r.best());
+    if (!r.best().in_hand.empty()) j["in_hand_execution"] = {{"planned", false}, {"note", runtime::kInHandExecutionNote}};
+  }
   ordered_json imp = ordered_json::array();
   for (const auto& s : r.improvements) {
     ordered_json x = solution_json(s);
@@ -132,7 +138,7 @@ std::string result_json(const PlacementQueryFile& q, const runtime::PlacementRes
 }
 
 void write_placement_result(const std::filesystem::path& dir, const PlacementQueryFile& q, const runtime::PlacementResult& r,
-                            const runtime::Kinematics& kin) {
+                            const runtime::Kinematics& kin, TrajectoryFormat format) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw Error(dir.string(), "", "cannot create the output folder: " + ec.message());
@@ -158,6 +164,16 @@ void write_placement_result(const std::filesystem::path& dir, const PlacementQue
       }
   }
   formats::write_file_atomically(dir / "path.csv", path.str());
+  const runtime::Trajectory none;
+  const runtime::Trajectory& approach = r.solved() ? r.best().trajectory : none;
+  const runtime::Trajectory& retreat = r.solved() ? r.best().retreat_trajectory : none;
+  formats::write_file_atomically(dir / "trajectory.json",
+                                 "{\"joint_names\": " + nlohmann::json(kin.joint_names()).dump() + ",\n\"approach\": " +
+                                     trajectory_json_text(approach) + ",\n\"retreat\": " + trajectory_json_text(retreat) + "}\n");
+  if (format == TrajectoryFormat::MoveIt) {
+    formats::write_file_atomically(dir / "trajectory_approach.yaml", moveit_trajectory_yaml(approach, kin.joint_names()));
+    formats::write_file_atomically(dir / "trajectory_retreat.yaml", moveit_trajectory_yaml(retreat, kin.joint_names()));
+  }
   // Last: result.json marks the run complete (a resumed experiment skips runs that have it).
   formats::write_file_atomically(dir / "result.json", result_json(q, r, kin));
 }

@@ -4,6 +4,7 @@
 
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
+#include "dmgplace/tools/io/joint_limits_reader.hpp"
 #include "dmgplace/tools/io/urdf_reader.hpp"
 
 namespace dmgplace::tools {
@@ -39,12 +40,16 @@ void freeze_joints(RobotModel& m, const std::vector<std::pair<std::string, doubl
 }
 }  // namespace
 
-formats::RobotArtifact bake_robot(const RobotBakeOptions& o, AllowedCollisions* decided) {
+formats::RobotArtifact bake_robot(const RobotBakeOptions& o, AllowedCollisions* decided, std::vector<std::string>* notes) {
   UrdfOptions urdf;
   urdf.package_paths = o.package_paths;
   formats::RobotArtifact robot;
   robot.model = read_urdf(o.urdf, urdf);
   if (!o.srdf.empty()) apply_srdf(robot.model, o.srdf);
+  if (!o.joint_limits.empty()) {
+    const JointLimitsFile read = apply_joint_limits(robot.model, o.joint_limits);
+    if (notes) notes->insert(notes->end(), read.notes.begin(), read.notes.end());
+  }
   std::string tip = o.arm_tip;
   if (o.tcp) {
     auto& m = robot.model;

@@ -14,7 +14,7 @@
 namespace dmgplace::formats {
 
 inline constexpr const char* kRobotSchema = "dmgplace.robot";
-inline constexpr int kRobotSchemaVersion = 4;  // 3: self-distance tables; 4: convex hulls of mesh shapes
+inline constexpr int kRobotSchemaVersion = 5;  // 3: self-distance tables; 4: convex hulls of mesh shapes; 5: acceleration limits
 
 // One sphere of the fast collision model, in its link's frame.
 struct LinkSphere {

@@ -23,6 +23,7 @@ struct Joint {
   Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  // child frame in parent frame at q = 0
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();           // unit, in the joint frame
   double lower = 0, upper = 0, velocity = 0;
+  double acceleration = 0;  // max |q''| (joint_limits.yaml); 0: not given, timing uses its default
   int mimic = -1;  // joint index this one follows: q = multiplier * q_mimic + offset
   double mimic_multiplier = 1, mimic_offset = 0;
 };

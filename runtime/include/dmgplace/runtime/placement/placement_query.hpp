@@ -54,9 +54,21 @@ struct PlacementOptions {
   double local_min_step = 0.0005;
   int local_iterations = 100;
   // Beyond the paper.
+  // The retreat after release: the fingers open by release_clearance each beyond the grasp's
+  // opening (at most the gripper's maximum), the open hand withdraws along -approach (else up)
+  // until it clears the object, at most retreat_distance, then an arm motion to the query's
+  // retreat_configuration (q0 when unset) with the object an obstacle. A placement without one
+  // within the budget (retreat_iterations planner iterations, at most retreat_time s) is dropped.
   bool check_retreat = true;
-  double retreat_distance = 0.08;  // withdraw the gripper this far along -approach after release (m)
+  double release_clearance = 0.01;  // m per finger
+  double retreat_distance = 0.08;  // m
+  int retreat_iterations = 5000;
+  double retreat_time = 1.0;       // s
   double tie_tolerance = 1e-4;     // objective values this close count as equal: fewer in-hand actions win
+  // Timed trajectories of every path returned: fractions of the robot's velocity and
+  // acceleration limits (MoveIt's scaling factors).
+  double velocity_scaling = 1.0;
+  double acceleration_scaling = 1.0;
 };
 
 // One line per option: its name in query files, where it lives, its range and what it means. The
@@ -79,6 +91,7 @@ struct PlacementQuery {
   Eigen::Isometry3d g0 = Eigen::Isometry3d::Identity();  // initial grasp: TCP pose in the object frame
   double g0_opening = -1;                               // m; < 0: the grasp graph's own
   std::optional<Eigen::AlignedBox3d> volume;            // target volume; unset: the environment's
+  std::optional<Eigen::VectorXd> retreat_configuration; // where the arm retreats to; unset: q0
   std::vector<ObjectiveTerm> objective{ObjectiveTerm{}};
   PlacementVariant variant = PlacementVariant::Full;
   std::uint64_t seed = 1;

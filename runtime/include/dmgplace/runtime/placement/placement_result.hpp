@@ -7,9 +7,17 @@
 #include <vector>
 
 #include "dmgplace/runtime/grasp/reachable_grasps.hpp"
+#include "dmgplace/runtime/motion/trajectory.hpp"
 #include "dmgplace/runtime/types.hpp"
 
 namespace dmgplace::runtime {
+
+// Said wherever a solution's in-hand actions are reported: the pushes are planned in the object
+// (the DMG), not for a robot that performs them.
+inline constexpr const char* kInHandExecutionNote =
+    "the in-hand actions are the DMG's pushes and rotations of the object in the closed gripper; they need a second "
+    "arm or a fixture to push the object (as the paper executes them), which dmgplace does not plan: no pusher "
+    "trajectory is given";
 
 struct PlacementCounters {
   long iterations = 0;        // outer loop rounds
@@ -41,7 +49,10 @@ struct PlacementSolution {
   double grasp_cost = 0;                // in-hand path cost from g0
   std::vector<InHandAction> in_hand;    // g0 -> g*
   JointPath path;     // q0 ... placement configuration (object held `lift` above its resting pose)
-  JointPath retreat;  // placement configuration ... hand withdrawn (empty when not checked)
+  JointPath retreat;  // placement configuration ... retreat configuration (empty when not checked)
+  double release_opening = 0;     // m: the fingers open this far to let go (the retreat is checked so)
+  Trajectory trajectory;          // `path` timed under the arm's limits (options' scaling)
+  Trajectory retreat_trajectory;  // `retreat` timed the same way (empty when it is)
   double time = 0;    // seconds since run() started
   PlacementCounters counters;
 };

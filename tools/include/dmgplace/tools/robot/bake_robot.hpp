@@ -16,6 +16,7 @@ namespace dmgplace::tools {
 
 struct RobotBakeOptions {
   std::filesystem::path urdf, srdf;  // srdf may be empty
+  std::filesystem::path joint_limits;  // MoveIt joint_limits.yaml (may be empty): velocity/acceleration limits
   std::vector<std::filesystem::path> package_paths;
   std::string arm_base, arm_tip;
   // When set, a link "<arm_tip>_tcp" fixed to the tip at this pose (the gripper's tool centre
@@ -32,7 +33,8 @@ struct RobotBakeOptions {
 
 // The artifact without its header (the caller records parameters and input hashes). Without an
 // SRDF the allowed-collision pairs are computed (allowed_collisions.hpp) and, when `decided` is
-// given, returned there.
-formats::RobotArtifact bake_robot(const RobotBakeOptions& options, AllowedCollisions* decided = nullptr);
+// given, returned there. `notes` (optional) gets what an input held that the bake does not use.
+formats::RobotArtifact bake_robot(const RobotBakeOptions& options, AllowedCollisions* decided = nullptr,
+                                  std::vector<std::string>* notes = nullptr);
 
 }  // namespace dmgplace::tools

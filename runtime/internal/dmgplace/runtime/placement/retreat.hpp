@@ -3,8 +3,10 @@
 // With the object left at its placement (an obstacle now, fingers allowed to touch it), the TCP
 // withdraws in a straight line along `direction` (base frame: the planner tries back along the
 // approach axis, then straight up), orientation kept; every segment is checked exactly at the
-// segment checker's states.
+// segment checker's states. With `clear`, the withdrawal ends at the first step where clear(q)
+// holds (the hand no longer touches the object); from there retreat_motion.hpp plans the rest.
 #include "dmgplace/runtime/collision/exact_checker.hpp"
+#include "dmgplace/runtime/motion/segment_check.hpp"
 #include "dmgplace/runtime/types.hpp"
 
 namespace dmgplace::runtime {
@@ -16,6 +18,7 @@ struct Retreat {
 };
 
 Retreat plan_retreat(const Kinematics& kin, const ExactChecker& released, const Eigen::VectorXd& q_place,
-                     const Eigen::Vector3d& direction, double distance, double resolution);
+                     const Eigen::Vector3d& direction, double distance, double resolution,
+                     const ValidityFn& clear = nullptr);
 
 }  // namespace dmgplace::runtime

@@ -60,12 +60,17 @@ class PlacementWorld {
   // checked against each other (their relative pose is the grasp's, fixed).
   TwoLayerChecker grasp_checker(const Eigen::Isometry3d& tcp_in_object, double opening,
                                 std::shared_ptr<CheckCounters> counters) const;
-  // Both layers for the arm alone, empty-handed.
-  TwoLayerChecker arm_checker(std::shared_ptr<CheckCounters> counters) const;
+  // Both layers for the arm alone, empty-handed, the fingers at `opening` (< 0: as kin() has them).
+  TwoLayerChecker arm_checker(std::shared_ptr<CheckCounters> counters, double opening = -1) const;
   // Exact, with the object also checked against the hand's non-finger links: the grasp itself.
   ExactChecker grasp_exact(const Eigen::Isometry3d& tcp_in_object, double opening) const;
-  // The object released at `object_pose` (world), the arm free to move around it.
-  ExactChecker released_exact(const Eigen::Isometry3d& object_pose) const;
+  // The object released at `object_pose` (world), the arm free to move around it: the fingers may
+  // touch it (released_exact), or nothing may (placed_exact: the hand has let go and withdrawn).
+  // The fingers at `opening` (< 0: as kin() has them).
+  ExactChecker released_exact(const Eigen::Isometry3d& object_pose, double opening = -1) const;
+  ExactChecker placed_exact(const Eigen::Isometry3d& object_pose, double opening = -1) const;
+  // The kinematics with the fingers at `opening` (< 0: kin()); lives as long as the world.
+  const Kinematics& kin_at(double opening) const;
   // Hand-only exact test at a TCP pose (no arm, no IK): the grasp filter of Algorithm 3. Exact
   // because the hand works close to the support, where conservative spheres would reject it.
   // Fingers at `opening` (< 0: as the world's kinematics has them).
@@ -93,7 +98,6 @@ class PlacementWorld {
     std::vector<std::pair<int, Eigen::Isometry3d>> hand;
   };
   const FingerSetting& fingers_at(double opening) const;  // opening >= 0
-  const Kinematics& kin_at(double opening) const;          // < 0: kin()
   void set_fingers(Kinematics& kin, double opening) const;
   void set_robot_joints(const std::map<std::string, double>& values, const std::string& file);
   std::vector<std::pair<int, Eigen::Isometry3d>> hand_in_tcp(const Kinematics& kin) const;

@@ -1,0 +1,70 @@
+#pragma once
+// Per-joint velocity and acceleration limits as seen along a BlendedPath, in the phase plane
+// (s, u) with u = s_dot^2 (Kunz & Stilman 2012): joint velocities are f'(s) s_dot and joint
+// accelerations f'(s) s_ddot + f''(s) u. Working in u keeps a step of constant s_ddot linear
+// in s.
+//
+// The phase plane is built on limits shrunk by `margin` (a relative amount): steps of constant
+// s_ddot between knots only match the true bounds at their ends, and the margin is the room the
+// step's interior may drift into. within_limits() checks the true limits.
+#include <Eigen/Core>
+#include <utility>
+
+#include "blended_path.hpp"
+
+namespace dmgplace::runtime::detail {
+
+// The path accelerations s_ddot every joint allows at one state; empty when lo > hi (above the
+// acceleration limit curve).
+struct AccelRange {
+  double lo, hi;
+};
+
+class PhaseLimits {
+ public:
+  PhaseLimits(const BlendedPath& path, const Eigen::VectorXd& max_velocity, const Eigen::VectorXd& max_acceleration,
+              double margin);
+
+  const BlendedPath& path() const { return path_; }
+
+  // The limit curve at s on `piece`: the largest u both the velocity limits and the acceleration
+  // limits (some s_ddot fits every joint) allow. Infinite only where nothing binds, never on a path.
+  double max_u(int piece, double s) const;
+  // The velocity limits' part of it: the velocity limit curve.
+  double velocity_max_u(int piece, double s) const;
+  // Its slope d(max_u)/ds from the left (side < 0), the right (side > 0) or both (side == 0),
+  // measured within `piece`; of the velocity limit curve alone if `velocity_only`.
+  double max_u_slope(int piece, double s, int side, bool velocity_only = false) const;
+  // The s_ddot range on the limit curve just left (side < 0) or right (side > 0) of s, or at s
+  // (side == 0). At a joint turn the turning joint's bound is ill-conditioned at s itself (its
+  // velocity factor is ~0), and each side has its own value.
+  AccelRange side_accel_range(int piece, double s, int side) const;
+  AccelRange accel_range(int piece, double s, double u) const { return reach_range(piece, s, u, 0); }
+  // The s_ddot `a` that keep every joint within its acceleration limit at s when the speed there
+  // is reached by holding `a` from elsewhere: u = u_from + 2 a k (k = +h at the far end of a step
+  // forward over h, -h at the far end of a step back). Each joint's acceleration is linear in a.
+  AccelRange reach_range(int piece, double s, double u_from, double k) const;
+  // Moving at (s, u) on `piece` with s_ddot = a keeps every joint within its limits (the true
+  // ones, or the shrunk ones the phase plane is built on), up to a relative 1e-9 for rounding.
+  bool within_limits(int piece, double s, double u, double a, bool shrunk = false) const;
+  // The same for the whole step (s0, u0) - (s1, u1) at s_ddot a on `piece`, against the true
+  // limits: each joint's acceleration and squared velocity along the step are fitted by the
+  // parabola through their values at its ends and middle, and the parabola's extremum checked.
+  bool step_within_limits(int piece, double s0, double u0, double s1, double u1, double a) const;
+
+ private:
+  std::pair<double, double> slope_interval(int piece, double s, int side) const;
+  void load(int piece, double s) const;
+  double loaded_velocity_max_u() const;
+  double loaded_max_u() const;
+
+  const BlendedPath& path_;
+  Eigen::VectorXd vmax_, amax_;       // true limits
+  Eigen::VectorXd veff_, aeff_;       // shrunk by the margin
+  mutable Eigen::VectorXd dq_, ddq_;  // f', f'' at the last loaded point
+  mutable int loaded_piece_ = -1;
+  mutable double loaded_s_ = 0;
+  mutable Eigen::Matrix<double, Eigen::Dynamic, 3> acc_, vel2_;  // step_within_limits' scratch
+};
+
+}  // namespace dmgplace::runtime::detail
