@@ -16,7 +16,8 @@ void write_grid(H5Writer& w, const std::string& group, const FieldGrid& g, bool 
   w.write(group + "/grid", std::span<const double>(spec), {6});
   std::vector<std::size_t> dims = {std::size_t(g.dims[2]), std::size_t(g.dims[1]), std::size_t(g.dims[0])};
   if (g.values.empty()) dims = {0, 0, 0};
-  w.write(group + "/values", std::span<const float>(g.values), dims);
+  // Read whole on every load: contiguous and uncompressed, so loading is one copy, no inflate.
+  w.write_contiguous(group + "/values", std::span<const float>(g.values), dims);
 }
 
 FieldGrid read_grid(const H5Reader& r, const std::string& group, bool* is_signed) {

@@ -110,7 +110,7 @@ void H5Writer::discard() noexcept {
 }
 
 void H5Writer::write_raw(const std::string& name, const void* data, long type, std::size_t elem_size,
-                         std::vector<std::size_t> dims) {
+                         std::vector<std::size_t> dims, bool chunked) {
   const std::string file = target_.string();
   if (file_ < 0) throw Error(file, name, "writer already closed");
   if (dims.empty()) throw Error(file, name, "dataset needs at least one dimension");
@@ -121,7 +121,7 @@ void H5Writer::write_raw(const std::string& name, const void* data, long type, s
   Handle lcpl = Handle(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
   H5Pset_create_intermediate_group(lcpl.get(), 1);
   Handle dcpl = Handle(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
-  if (count > 0) {
+  if (count > 0 && chunked) {
     // Chunks of about 256 KiB along the first dimension.
     std::vector<hsize_t> chunk = hd;
     std::size_t row_bytes = elem_size;
@@ -140,6 +140,9 @@ void H5Writer::write_raw(const std::string& name, const void* data, long type, s
   detail::write_string_attribute(ds.get(), "sha256", sha256_hex(data, count * elem_size), file);
 }
 
+void H5Writer::write_contiguous(const std::string& n, std::span<const float> d, std::vector<std::size_t> dims) {
+  write_raw(n, d.data(), H5T_NATIVE_FLOAT, sizeof(float), std::move(dims), false);
+}
 void H5Writer::write(const std::string& n, std::span<const double> d, std::vector<std::size_t> dims) {
   write_raw(n, d.data(), H5T_NATIVE_DOUBLE, sizeof(double), std::move(dims));
 }

@@ -28,7 +28,9 @@ void expect_executable(const Trajectory& t, const JointPath& path, const JointLi
     EXPECT_NEAR(t.velocities.back()[j], 0, 1e-9);
   }
   for (std::size_t k = 0; k < t.time.size(); ++k) {
-    if (k) EXPECT_GT(t.time[k], t.time[k - 1]);
+    if (k) {
+      EXPECT_GT(t.time[k], t.time[k - 1]);
+    }
     for (std::size_t j = 0; j < path.front().size(); ++j) {
       EXPECT_LE(std::abs(t.velocities[k][j]), limits.velocity[j] * scaling * (1 + 1e-6) + 1e-9) << "sample " << k;
       EXPECT_LE(std::abs(t.accelerations[k][j]), limits.acceleration[j] * scaling * (1 + 1e-6) + 1e-9) << "sample " << k;

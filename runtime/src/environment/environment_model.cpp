@@ -6,12 +6,7 @@
 namespace dmgplace::runtime {
 namespace {
 
-Grid3 take_grid(formats::FieldGrid&& f) {
-  Grid3 g(f.origin, f.resolution, f.dims);
-  if (f.values.size() != g.values().size()) throw std::invalid_argument("field values do not match its dimensions");
-  g.values() = std::move(f.values);
-  return g;
-}
+Grid3 take_grid(formats::FieldGrid&& f) { return Grid3(f.origin, f.resolution, f.dims, std::move(f.values)); }
 
 }  // namespace
 

@@ -24,6 +24,12 @@ ArtifactHeader header(const std::string& schema = "dmgplace.test", int version =
   return h;
 }
 
+std::vector<float> field_values() {
+  std::vector<float> f(6000);
+  for (std::size_t i = 0; i < f.size(); ++i) f[i] = float(std::cos(0.01 * double(i)));
+  return f;
+}
+
 void write_sample(const fs::path& p, double offset = 0) {
   H5Writer w(p, header());
   std::vector<double> v(3000);
@@ -33,6 +39,7 @@ void write_sample(const fs::path& p, double offset = 0) {
   w.write("g/sub/idx", std::span<const std::int32_t>(idx), {2, 3});
   w.write("empty", std::span<const double>(), {0, 3});
   w.write_strings("names", {"alpha", "", "gamma"});
+  w.write_contiguous("g/field", std::span<const float>(field_values()), {10, 20, 30});
   w.commit();
 }
 
@@ -65,8 +72,9 @@ TEST(H5IO, RoundTripKeepsHeaderValuesAndShapes) {
   EXPECT_EQ(idx(1, 2), 6);
   EXPECT_EQ(r.read_f64("empty", {-1, 3}).rows(), 0u);
   EXPECT_EQ(r.read_strings("names"), (std::vector<std::string>{"alpha", "", "gamma"}));
+  EXPECT_EQ(r.read_f32("g/field", {10, 20, 30}).data, field_values());  // the contiguous, unfiltered layout
   EXPECT_TRUE(r.verify_all_checksums().empty());
-  EXPECT_EQ(r.dataset_names(), (std::vector<std::string>{"empty", "g/sub/idx", "g/values", "names"}));
+  EXPECT_EQ(r.dataset_names(), (std::vector<std::string>{"empty", "g/field", "g/sub/idx", "g/values", "names"}));
 }
 
 TEST(H5IO, ShapeTypeAndMissingDatasetErrorsNameFileAndDataset) {
@@ -147,6 +155,8 @@ TEST(H5IO, AnyFlippedByteIsDetectedOrHarmless) {
       auto v = r.read_f64("g/values", {1000, 3});
       auto idx = r.read_i32("g/sub/idx", {2, 3});
       auto names = r.read_strings("names");
+      // The contiguous dataset has no Fletcher32: its SHA-256 alone must catch a flipped byte.
+      auto field = r.read_f32("g/field", {10, 20, 30});
       if (r.header().schema != "dmgplace.test" || r.header().schema_version != 3) throw dmgplace::Error("header changed");
       if (r.header().parameters_json != R"({"a":1})" || r.header().inputs.size() != 2 ||
           r.header().inputs[0].path != "in/a.stl")
@@ -154,6 +164,7 @@ TEST(H5IO, AnyFlippedByteIsDetectedOrHarmless) {
       for (std::size_t i = 0; i < v.data.size(); ++i) ASSERT_DOUBLE_EQ(v.data[i], std::sin(double(i))) << "byte " << pos;
       ASSERT_EQ(idx(1, 2), 6) << "byte " << pos;
       ASSERT_EQ(names.size(), 3u) << "byte " << pos;
+      ASSERT_EQ(field.data, field_values()) << "byte " << pos;
       ++harmless;
     } catch (const dmgplace::Error& e) {
       ++detected;

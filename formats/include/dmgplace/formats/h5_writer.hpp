@@ -21,6 +21,9 @@ class H5Writer {
 
   // Datasets are chunked with shuffle + deflate + Fletcher32 and carry a SHA-256 of their bytes.
   // `name` is a path such as "mesh/vertices"; groups are created as needed.
+  // write_contiguous: one uncompressed block (no chunks, no filters: HDF5 reads it with one
+  // copy), for large arrays read on every load; the SHA-256 still guards it.
+  void write_contiguous(const std::string& name, std::span<const float> data, std::vector<std::size_t> dims);
   void write(const std::string& name, std::span<const double> data, std::vector<std::size_t> dims);
   void write(const std::string& name, std::span<const float> data, std::vector<std::size_t> dims);
   void write(const std::string& name, std::span<const std::int32_t> data, std::vector<std::size_t> dims);
@@ -36,7 +39,7 @@ class H5Writer {
 
  private:
   void write_raw(const std::string& name, const void* data, long type, std::size_t elem_size,
-                 std::vector<std::size_t> dims);
+                 std::vector<std::size_t> dims, bool chunked = true);
   void discard() noexcept;
   std::filesystem::path target_, temp_;
   long file_ = -1;  // hid_t, kept opaque so HDF5 headers stay out of ours

@@ -11,6 +11,8 @@ class Grid3 {
  public:
   Grid3() = default;
   Grid3(const Eigen::Vector3d& origin, double resolution, const std::array<int, 3>& dims, float fill = 0.f);
+  // Takes `values` (x fastest, then y, then z) as they are: no fill, no copy.
+  Grid3(const Eigen::Vector3d& origin, double resolution, const std::array<int, 3>& dims, std::vector<float>&& values);
 
   const Eigen::Vector3d& origin() const { return origin_; }
   double resolution() const { return resolution_; }
