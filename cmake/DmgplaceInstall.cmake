@@ -14,9 +14,9 @@ install(DIRECTORY ${PROJECT_BINARY_DIR}/include/dmgplace DESTINATION ${CMAKE_INS
 
 # Libraries. Helper INTERFACE targets (system include paths, absolute library paths) go along so
 # that a static build's link dependencies resolve in the consumer.
-set_target_properties(dmgplace_formats dmgplace_runtime dmgplace_tools PROPERTIES INSTALL_RPATH "$ORIGIN")
+set_target_properties(dmgplace_formats dmgplace_runtime dmgplace_query dmgplace_tools PROPERTIES INSTALL_RPATH "$ORIGIN")
 set_target_properties(dmgplace PROPERTIES INSTALL_RPATH "$ORIGIN/../${CMAKE_INSTALL_LIBDIR}")
-install(TARGETS dmgplace_formats dmgplace_runtime dmgplace_hdf5 dmgplace_ompl EXPORT dmgplaceTargets
+install(TARGETS dmgplace_formats dmgplace_runtime dmgplace_query dmgplace_hdf5 dmgplace_ompl EXPORT dmgplaceTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS dmgplace_tools dmgplace_pcl dmgplace_urdfdom EXPORT dmgplaceToolsTargets
