@@ -114,16 +114,38 @@ Eigen::VectorXd BlendedPath::position(int i, double s) const {
   return p.origin + p.radius * std::sin(t) * p.tangent - 2 * p.radius * half_sin * half_sin * p.outward;
 }
 
-void BlendedPath::derivatives(int i, double s, Eigen::VectorXd& dq, Eigen::VectorXd& ddq) const {
+void BlendedPath::position(int i, double s, double* q) const {
   const PathPiece& p = piece(i);
+  const double sigma = std::clamp(s - p.start, 0.0, p.length);
+  const Eigen::Index n = p.origin.size();
   if (!p.is_arc()) {
-    dq = p.tangent;
-    ddq.setZero(p.tangent.size());
+    for (Eigen::Index j = 0; j < n; ++j) q[j] = p.origin[j] + sigma * p.tangent[j];
     return;
   }
+  const double t = sigma / p.radius, half_sin = std::sin(t / 2);
+  const double along = p.radius * std::sin(t), inward = 2 * p.radius * half_sin * half_sin;
+  for (Eigen::Index j = 0; j < n; ++j) q[j] = p.origin[j] + along * p.tangent[j] - inward * p.outward[j];
+}
+
+void BlendedPath::derivatives(int i, double s, Eigen::VectorXd& dq, Eigen::VectorXd& ddq) const {
+  dq.resize(dimension()), ddq.resize(dimension());
+  derivatives(i, s, dq.data(), ddq.data());
+}
+
+void BlendedPath::derivatives(int i, double s, double* dq, double* ddq) const {
+  const PathPiece& p = piece(i);
+  const Eigen::Index n = p.tangent.size();
+  const double* tangent = p.tangent.data();
+  if (!p.is_arc()) {
+    for (Eigen::Index j = 0; j < n; ++j) dq[j] = tangent[j], ddq[j] = 0.0;
+    return;
+  }
+  const double* outward = p.outward.data();
   const double t = std::clamp(s - p.start, 0.0, p.length) / p.radius, c = std::cos(t), sn = std::sin(t);
-  dq = c * p.tangent - sn * p.outward;
-  ddq = -(c * p.outward + sn * p.tangent) / p.radius;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    dq[j] = c * tangent[j] - sn * outward[j];
+    ddq[j] = -(c * outward[j] + sn * tangent[j]) / p.radius;
+  }
 }
 
 std::vector<Eigen::VectorXd> distinct_waypoints(const JointPath& path, double tolerance) {

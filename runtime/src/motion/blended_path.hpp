@@ -44,7 +44,12 @@ class BlendedPath {
   // f(s), and f'(s), f''(s) into dq, ddq (sized by the caller's first call), on piece `i` with s
   // clamped into it: at a boundary, the piece chosen decides which side's curvature is used.
   Eigen::VectorXd position(int i, double s) const;
+  void position(int i, double s, double* q) const;  // into an array of the path's dimension
   void derivatives(int i, double s, Eigen::VectorXd& dq, Eigen::VectorXd& ddq) const;
+  // The same into caller-owned arrays of the path's dimension (no allocation: the phase plane
+  // evaluates them tens of thousands of times per profile).
+  void derivatives(int i, double s, double* dq, double* ddq) const;
+  Eigen::Index dimension() const { return pieces_.front().tangent.size(); }
 
  private:
   void add_arc(const Eigen::VectorXd& corner, const Eigen::VectorXd& in, const Eigen::VectorXd& out, double angle,

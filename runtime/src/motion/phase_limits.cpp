@@ -16,6 +16,12 @@ constexpr double kRounding = 1e-9;
 
 // |g| <= bound on [0, 1] for the parabola through g(0) = g0, g(1/2) = gm, g(1) = g1.
 bool parabola_within(double g0, double gm, double g1, double bound) {
+  // Through nodes 0, 1/2, 1 a parabola stays within 1.25 times its largest node value (the
+  // nodes' Lebesgue constant); 1.3 also covers the rounding of the extremum computed below, so
+  // these shortcuts give the same answer as the full test.
+  const double largest = std::max({std::abs(g0), std::abs(gm), std::abs(g1)});
+  if (largest > bound) return false;
+  if (1.3 * largest <= bound) return true;
   const double b = -3 * g0 + 4 * gm - g1, c = 2 * g0 - 4 * gm + 2 * g1;
   double hi = std::max({g0, gm, g1}), lo = std::min({g0, gm, g1});
   if (c != 0) {
@@ -33,51 +39,66 @@ bool parabola_within(double g0, double gm, double g1, double bound) {
 PhaseLimits::PhaseLimits(const BlendedPath& path, const Eigen::VectorXd& max_velocity,
                          const Eigen::VectorXd& max_acceleration, double margin)
     : path_(path),
+      n_(max_velocity.size()),
       vmax_(max_velocity),
       amax_(max_acceleration),
       veff_(max_velocity * (1 - margin)),
-      aeff_(max_acceleration * (1 - margin)) {}
-
-void PhaseLimits::load(int piece, double s) const {
-  if (piece == loaded_piece_ && s == loaded_s_) return;  // the integration asks about one state repeatedly
-  path_.derivatives(piece, s, dq_, ddq_);
-  loaded_piece_ = piece, loaded_s_ = s;
+      aeff_(max_acceleration * (1 - margin)),
+      cache_store_(std::size_t(2 * kCached * n_)),
+      acc_(std::size_t(3 * n_)),
+      vel2_(std::size_t(3 * n_)) {
+  for (int i = 0; i < kCached; ++i) {
+    cache_[i].dq = cache_store_.data() + 2 * i * n_;
+    cache_[i].ddq = cache_[i].dq + n_;
+  }
 }
 
-double PhaseLimits::loaded_velocity_max_u() const {
+PhaseLimits::Point& PhaseLimits::load(int piece, double s) const {
+  for (Point& p : cache_)
+    if (p.s == s && p.piece == piece) return p;
+  Point& p = cache_[cache_next_];
+  cache_next_ = (cache_next_ + 1) % kCached;
+  path_.derivatives(piece, s, p.dq, p.ddq);
+  p.piece = piece, p.s = s;
+  p.curved = std::any_of(p.ddq, p.ddq + n_, [](double x) { return x != 0.0; });
+  p.has_max_u = p.has_velocity_max_u = false;
+  return p;
+}
+
+double PhaseLimits::velocity_max_u(Point& p) const {
+  if (p.has_velocity_max_u) return p.velocity_max_u;
   double u = kInf;
-  for (Eigen::Index j = 0; j < dq_.size(); ++j) {
-    const double d = std::abs(dq_[j]);
+  for (Eigen::Index j = 0; j < n_; ++j) {
+    const double d = std::abs(p.dq[j]);
     if (d > kStill) u = std::min(u, (veff_[j] / d) * (veff_[j] / d));
   }
-  return u;
+  p.has_velocity_max_u = true;
+  return p.velocity_max_u = u;
 }
 
-double PhaseLimits::loaded_max_u() const {
-  const Eigen::Index n = dq_.size();
-  double u = loaded_velocity_max_u();
-  if (ddq_.isZero(0.0)) return u;  // a line: any speed leaves some s_ddot
-  // Joints i and j each allow an interval of s_ddot; both are non-empty and, in one dimension,
-  // all intervals share a point iff every pair does. Pair (i, j) overlaps iff
-  // u |ddq_i dq_j - ddq_j dq_i| <= a_i |dq_j| + a_j |dq_i| (a joint at rest, dq_i = 0, gives
-  // u |ddq_i| <= a_i through any partner).
-  for (Eigen::Index i = 0; i < n; ++i)
-    for (Eigen::Index j = i + 1; j < n; ++j) {
-      const double den = std::abs(ddq_[i] * dq_[j] - ddq_[j] * dq_[i]);
-      if (den > 0) u = std::min(u, (aeff_[i] * std::abs(dq_[j]) + aeff_[j] * std::abs(dq_[i])) / den);
+double PhaseLimits::max_u(Point& p) const {
+  if (p.has_max_u) return p.max_u;
+  double u = velocity_max_u(p);
+  // On a line any speed leaves some s_ddot. Otherwise joints i and j each allow an interval of
+  // s_ddot; both are non-empty and, in one dimension, all intervals share a point iff every pair
+  // does. Pair (i, j) overlaps iff u |ddq_i dq_j - ddq_j dq_i| <= a_i |dq_j| + a_j |dq_i| (a
+  // joint at rest, dq_i = 0, gives u |ddq_i| <= a_i through any partner).
+  const double *dq = p.dq, *ddq = p.ddq;
+  for (Eigen::Index i = 0; p.curved && i < n_; ++i)
+    for (Eigen::Index j = i + 1; j < n_; ++j) {
+      const double den = std::abs(ddq[i] * dq[j] - ddq[j] * dq[i]);
+      const double num = aeff_[i] * std::abs(dq[j]) + aeff_[j] * std::abs(dq[i]);
+      // Divides only where the quotient may be below u: the product's rounding is far below the
+      // 1e-12 allowance, so the minimum is the same as dividing every pair.
+      if (den > 0 && num <= u * den * (1 + 1e-12)) u = std::min(u, num / den);
     }
-  return u;
+  p.has_max_u = true;
+  return p.max_u = u;
 }
 
-double PhaseLimits::max_u(int piece, double s) const {
-  load(piece, s);
-  return loaded_max_u();
-}
+double PhaseLimits::max_u(int piece, double s) const { return max_u(load(piece, s)); }
 
-double PhaseLimits::velocity_max_u(int piece, double s) const {
-  load(piece, s);
-  return loaded_velocity_max_u();
-}
+double PhaseLimits::velocity_max_u(int piece, double s) const { return velocity_max_u(load(piece, s)); }
 
 // The difference quotient's ends around s: one-sided (side != 0) or central, within the piece,
 // not straddling a corner of the curve (a joint turn) other than s itself.
@@ -114,50 +135,58 @@ AccelRange PhaseLimits::side_accel_range(int piece, double s, int side) const {
 }
 
 AccelRange PhaseLimits::reach_range(int piece, double s, double u_from, double k) const {
-  load(piece, s);
-  AccelRange r{-kInf, kInf};
+  return {reach_min(piece, s, u_from, k), reach_max(piece, s, u_from, k)};
+}
+
+double PhaseLimits::reach_bound(int piece, double s, double u_from, double k, bool upper) const {
+  const Point& p = load(piece, s);
+  double bound = upper ? kInf : -kInf;
   // Joint j: dq_j a + ddq_j (u_from + 2 a k) in [-a_j, a_j], a_j with half the rounding allowance
   // within_limits grants: near a joint turn (dq_j ~ 0) the bound's own rounding error is
   // amplified by 1 / dq_j, and the allowance absorbs it.
-  for (Eigen::Index j = 0; j < dq_.size(); ++j) {
-    const double c = dq_[j] + 2 * k * ddq_[j], offset = ddq_[j] * u_from, limit = aeff_[j] * (1 + 0.5 * kRounding);
+  for (Eigen::Index j = 0; j < n_; ++j) {
+    const double c = p.dq[j] + 2 * k * p.ddq[j], offset = p.ddq[j] * u_from, limit = aeff_[j] * (1 + 0.5 * kRounding);
     if (std::abs(c) <= kStill) {
-      if (k != 0 && std::abs(offset) > limit) r.lo = kInf, r.hi = -kInf;  // no a fits
+      if (k != 0 && std::abs(offset) > limit) return upper ? -kInf : kInf;  // no a fits
       continue;
     }
-    double lo = (-limit - offset) / c, hi = (limit - offset) / c;
-    if (c < 0) std::swap(lo, hi);
-    r.lo = std::max(r.lo, lo), r.hi = std::min(r.hi, hi);
+    // Dividing by c < 0 swaps which end of [-a_j, a_j] bounds a from above.
+    const double a = ((upper == (c > 0)) ? limit : -limit) - offset;
+    bound = upper ? std::min(bound, a / c) : std::max(bound, a / c);
   }
-  if (k > 0) r.lo = std::max(r.lo, -u_from / (2 * k));  // the speed reached stays real
-  if (k < 0) r.hi = std::min(r.hi, u_from / (-2 * k));
-  return r;
+  if (!upper && k > 0) bound = std::max(bound, -u_from / (2 * k));  // the speed reached stays real
+  if (upper && k < 0) bound = std::min(bound, u_from / (-2 * k));
+  return bound;
 }
 
 bool PhaseLimits::within_limits(int piece, double s, double u, double a, bool shrunk) const {
-  load(piece, s);
-  const Eigen::VectorXd& vmax = shrunk ? veff_ : vmax_;
-  const Eigen::VectorXd& amax = shrunk ? aeff_ : amax_;
+  const Point& p = load(piece, s);
+  const double* vmax = shrunk ? veff_.data() : vmax_.data();
+  const double* amax = shrunk ? aeff_.data() : amax_.data();
   const double sd = std::sqrt(std::max(u, 0.0));
-  for (Eigen::Index j = 0; j < dq_.size(); ++j) {
-    if (std::abs(dq_[j]) * sd > vmax[j] * (1 + kRounding)) return false;
-    if (std::abs(dq_[j] * a + ddq_[j] * u) > amax[j] * (1 + kRounding)) return false;
+  for (Eigen::Index j = 0; j < n_; ++j) {
+    if (std::abs(p.dq[j]) * sd > vmax[j] * (1 + kRounding)) return false;
+    if (std::abs(p.dq[j] * a + p.ddq[j] * u) > amax[j] * (1 + kRounding)) return false;
   }
   return true;
 }
 
 bool PhaseLimits::step_within_limits(int piece, double s0, double u0, double s1, double u1, double a) const {
   const double s[3] = {s0, 0.5 * (s0 + s1), s1}, u[3] = {u0, 0.5 * (u0 + u1), u1};
-  acc_.resize(dq_.size(), 3), vel2_.resize(dq_.size(), 3);
   for (int k = 0; k < 3; ++k) {
-    load(piece, s[k]);
-    acc_.col(k) = dq_ * a + ddq_ * u[k];
-    vel2_.col(k) = dq_.cwiseAbs2() * std::max(u[k], 0.0);
+    const Point& p = load(piece, s[k]);
+    const double u_real = std::max(u[k], 0.0);
+    for (Eigen::Index j = 0; j < n_; ++j) {
+      acc_[std::size_t(3 * j + k)] = p.dq[j] * a + p.ddq[j] * u[k];
+      vel2_[std::size_t(3 * j + k)] = p.dq[j] * p.dq[j] * u_real;
+    }
   }
-  for (Eigen::Index j = 0; j < dq_.size(); ++j)
-    if (!parabola_within(acc_(j, 0), acc_(j, 1), acc_(j, 2), amax_[j] * (1 + kRounding)) ||
-        !parabola_within(vel2_(j, 0), vel2_(j, 1), vel2_(j, 2), vmax_[j] * vmax_[j] * (1 + 2 * kRounding)))
+  for (Eigen::Index j = 0; j < n_; ++j) {
+    const double *acc = &acc_[std::size_t(3 * j)], *vel2 = &vel2_[std::size_t(3 * j)];
+    if (!parabola_within(acc[0], acc[1], acc[2], amax_[j] * (1 + kRounding)) ||
+        !parabola_within(vel2[0], vel2[1], vel2[2], vmax_[j] * vmax_[j] * (1 + 2 * kRounding)))
       return false;
+  }
   return true;
 }
 

@@ -9,6 +9,7 @@
 // step's interior may drift into. within_limits() checks the true limits.
 #include <Eigen/Core>
 #include <utility>
+#include <vector>
 
 #include "blended_path.hpp"
 
@@ -24,6 +25,8 @@ class PhaseLimits {
  public:
   PhaseLimits(const BlendedPath& path, const Eigen::VectorXd& max_velocity, const Eigen::VectorXd& max_acceleration,
               double margin);
+  PhaseLimits(const PhaseLimits&) = delete;  // the cache points into its own storage
+  PhaseLimits& operator=(const PhaseLimits&) = delete;
 
   const BlendedPath& path() const { return path_; }
 
@@ -44,6 +47,16 @@ class PhaseLimits {
   // is reached by holding `a` from elsewhere: u = u_from + 2 a k (k = +h at the far end of a step
   // forward over h, -h at the far end of a step back). Each joint's acceleration is linear in a.
   AccelRange reach_range(int piece, double s, double u_from, double k) const;
+  // Its upper or lower end alone (the integration needs one side only), at half the divisions.
+  double reach_bound(int piece, double s, double u_from, double k, bool upper) const;
+  double reach_max(int piece, double s, double u_from, double k) const {
+    return reach_bound(piece, s, u_from, k, true);
+  }
+  double reach_min(int piece, double s, double u_from, double k) const {
+    return reach_bound(piece, s, u_from, k, false);
+  }
+  double accel_max(int piece, double s, double u) const { return reach_max(piece, s, u, 0); }
+  double accel_min(int piece, double s, double u) const { return reach_min(piece, s, u, 0); }
   // Moving at (s, u) on `piece` with s_ddot = a keeps every joint within its limits (the true
   // ones, or the shrunk ones the phase plane is built on), up to a relative 1e-9 for rounding.
   bool within_limits(int piece, double s, double u, double a, bool shrunk = false) const;
@@ -53,18 +66,33 @@ class PhaseLimits {
   bool step_within_limits(int piece, double s0, double u0, double s1, double u1, double a) const;
 
  private:
+  // One evaluated state of the path: f', f'' there and, once asked for, its limit curves. The
+  // integration revisits a handful of points (a step's ends and middle) many times over.
+  struct Point {
+    int piece = -1;
+    double s = 0;
+    bool curved = false;  // f'' != 0 (an arc)
+    bool has_max_u = false, has_velocity_max_u = false;
+    double max_u = 0, velocity_max_u = 0;
+    double* dq = nullptr;  // into cache_store_
+    double* ddq = nullptr;
+  };
+  static constexpr int kCached = 4;
+
   std::pair<double, double> slope_interval(int piece, double s, int side) const;
-  void load(int piece, double s) const;
-  double loaded_velocity_max_u() const;
-  double loaded_max_u() const;
+  // Valid until the next kCached loads of other points.
+  Point& load(int piece, double s) const;
+  double velocity_max_u(Point& p) const;
+  double max_u(Point& p) const;
 
   const BlendedPath& path_;
+  const Eigen::Index n_;
   Eigen::VectorXd vmax_, amax_;       // true limits
   Eigen::VectorXd veff_, aeff_;       // shrunk by the margin
-  mutable Eigen::VectorXd dq_, ddq_;  // f', f'' at the last loaded point
-  mutable int loaded_piece_ = -1;
-  mutable double loaded_s_ = 0;
-  mutable Eigen::Matrix<double, Eigen::Dynamic, 3> acc_, vel2_;  // step_within_limits' scratch
+  mutable Point cache_[kCached];
+  mutable std::vector<double> cache_store_;  // f', f'' of each cached point
+  mutable int cache_next_ = 0;               // the slot the next miss replaces
+  mutable std::vector<double> acc_, vel2_;   // step_within_limits' scratch: 3 values per joint
 };
 
 }  // namespace dmgplace::runtime::detail

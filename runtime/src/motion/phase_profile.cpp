@@ -65,8 +65,8 @@ class ProfileBuilder {
     double v = u;
     for (double under = 1e-8; under < 0.3; under *= 4) {
       v = u * (1 - under);
-      const Step fwd = accel_step(right, s, v, lim_.accel_range(right, s, v).hi, std::min(s + ahead, path_.length()));
-      const Step bwd = brake_step(left, s, v, lim_.accel_range(left, s, v).lo, std::max(s - back, 0.0));
+      const Step fwd = accel_step(right, s, v, lim_.accel_max(right, s, v), std::min(s + ahead, path_.length()));
+      const Step bwd = brake_step(left, s, v, lim_.accel_min(left, s, v), std::max(s - back, 0.0));
       if (check(right, s, v, fwd.s, fwd.u, fwd.a) == Check::ok &&
           check(left, bwd.s, bwd.u, s, v, bwd.a, true) == Check::ok)
         break;
@@ -143,14 +143,14 @@ class ProfileBuilder {
 
   // A step to s1 at the largest s_ddot both of its ends allow.
   Step accel_step(int p, double s0, double u0, double hi0, double s1) const {
-    const double h = s1 - s0, a = std::min(hi0, lim_.reach_range(p, s1, u0, h).hi);
+    const double h = s1 - s0, a = std::min(hi0, lim_.reach_max(p, s1, u0, h));
     return {s1, std::max(0.0, u0 + 2 * a * h), a};
   }
 
   // One step at the largest s_ddot, cut short where it would leave the limits. False when no
   // step is possible: the profile is on the limit curve and cannot stay under it.
   bool accelerate(int p, double s0, double u0, double target) {
-    const double hi0 = lim_.accel_range(p, s0, u0).hi;
+    const double hi0 = lim_.accel_max(p, s0, u0);
     double s1 = target;
     if (hi0 < 0) s1 = std::min(s1, s0 + 0.25 * u0 / -hi0);  // slowing down: u stays above u0 / 2
     for (int i = 0; i < kMaxHalvings; ++i) {
@@ -183,7 +183,7 @@ class ProfileBuilder {
   // faster than the path may accelerate (integrate under it instead); `blocked` where it falls
   // faster than the path may brake, or runs above the acceleration limit curve.
   Follow follow(int p, double s0, double u0, double target) {
-    if (0.5 * lim_.max_u_slope(p, s0, +1, true) > lim_.accel_range(p, s0, u0).hi) return Follow::leave;
+    if (0.5 * lim_.max_u_slope(p, s0, +1, true) > lim_.accel_max(p, s0, u0)) return Follow::leave;
     Step st{target, u0, 0};  // the last step tried
     double s1 = target;
     for (int i = 0; i < kMaxHalvings && s1 - s0 > tiny_; ++i) {
@@ -194,7 +194,7 @@ class ProfileBuilder {
     }
     // Even the shortest step fails: where the path's largest acceleration falls below what the
     // curve needs (a tangency of the two, a point the slope test above just misses) leave it.
-    return st.a > lim_.accel_range(p, st.s, st.u).hi ? Follow::leave : Follow::blocked;
+    return st.a > lim_.accel_max(p, st.s, st.u) ? Follow::leave : Follow::blocked;
   }
 
   void push(const Step& st) {
@@ -204,7 +204,7 @@ class ProfileBuilder {
 
   // A step back from (s1, u1) to s0 at the smallest s_ddot both ends allow.
   Step brake_step(int p, double s1, double u1, double lo1, double s0) const {
-    const double h = s1 - s0, a = std::max(lo1, lim_.reach_range(p, s0, u1, -h).lo);
+    const double h = s1 - s0, a = std::max(lo1, lim_.reach_min(p, s0, u1, -h));
     return {s0, std::max(0.0, u1 - 2 * a * h), a};
   }
 
@@ -217,7 +217,7 @@ class ProfileBuilder {
       const double s1 = back.back().s, u1 = back.back().u;
       if (s1 <= 0) fail("a braking curve reached the path's start without meeting the profile");
       const int p = path_.piece_before(s1);
-      const double lo1 = lim_.accel_range(p, s1, u1).lo;
+      const double lo1 = lim_.accel_min(p, s1, u1);
       double s0 = step_target(p, s1, -1);
       if (lo1 > 0) s0 = std::max(s0, s1 - 0.25 * u1 / lo1);  // u falls going back: stays above u1 / 2
       for (int i = 0;; ++i) {

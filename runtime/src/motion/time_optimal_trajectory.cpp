@@ -97,12 +97,15 @@ void sample(const TimedPart& part, double t, Trajectory& out, std::size_t row) {
   const double sd0 = std::sqrt(k0.u), sd = std::max(0.0, sd0 + k0.a * tau);
   const double s = std::clamp(k0.s + sd0 * tau + 0.5 * k0.a * tau * tau, k0.s, k1.s);
   const int piece = part.path.piece_after(0.5 * (k0.s + k1.s));  // an interval lies in one piece
-  Eigen::VectorXd dq, ddq;
-  part.path.derivatives(piece, s, dq, ddq);
-  const Eigen::VectorXd q = part.path.position(piece, s), v = dq * sd, a = dq * k0.a + ddq * (sd * sd);
-  out.positions[row].assign(q.data(), q.data() + q.size());
-  out.velocities[row].assign(v.data(), v.data() + v.size());
-  out.accelerations[row].assign(a.data(), a.data() + a.size());
+  const std::size_t n = std::size_t(part.path.dimension());
+  std::vector<double>&q = out.positions[row], &v = out.velocities[row], &a = out.accelerations[row];
+  q.resize(n), v.resize(n), a.resize(n);
+  part.path.position(piece, s, q.data());
+  part.path.derivatives(piece, s, v.data(), a.data());  // f', f'' first, scaled in place
+  for (std::size_t j = 0; j < n; ++j) {
+    const double dq = v[j], ddq = a[j];
+    v[j] = dq * sd, a[j] = dq * k0.a + ddq * (sd * sd);
+  }
 }
 
 Trajectory at_rest(const std::vector<double>& q) {
@@ -121,6 +124,7 @@ Trajectory sample_parts(const std::vector<TimedPart>& parts, const JointPath& pa
   // end is dropped rather than kept as a near-duplicate time.
   const std::size_t regular = std::max<std::size_t>(1, std::size_t(std::ceil(duration / period - 1e-6)));
   Trajectory out;
+  out.time.reserve(regular + 1);
   for (std::size_t k = 0; k < regular; ++k) out.time.push_back(double(k) * period);
   out.time.push_back(duration);
   out.positions.resize(out.time.size());
