@@ -177,10 +177,10 @@ PYBIND11_MODULE(dmgplace, m) {
       .def_static(
           "load",
           [](const std::filesystem::path& robot, const std::filesystem::path& object, const std::filesystem::path& env,
-             double finger_opening, const std::map<std::string, double>& joint_values) {
+             std::optional<double> finger_opening, const std::map<std::string, double>& joint_values) {
             return std::const_pointer_cast<World>(World::load(robot, object, env, finger_opening, joint_values));
           },
-          py::arg("robot"), py::arg("object"), py::arg("environment"), py::arg("finger_opening") = -1.0,
+          py::arg("robot"), py::arg("object"), py::arg("environment"), py::arg("finger_opening") = py::none(),
           py::arg("joint_values") = std::map<std::string, double>{},
           py::call_guard<py::gil_scoped_release>())
       .def_property_readonly("dof", &World::dof)
@@ -220,7 +220,7 @@ PYBIND11_MODULE(dmgplace, m) {
 
   m.def(
       "reachable_grasps",
-      [](const World& w, const py::object& g0, double opening) {
+      [](const World& w, const py::object& g0, std::optional<double> opening) {
         const auto r = reachable_grasps(w, pose_from(g0, "g0"), opening);
         py::list grasps;
         for (const auto& g : r.grasps) {
@@ -237,7 +237,7 @@ PYBIND11_MODULE(dmgplace, m) {
         out["grasps"] = grasps;
         return out;
       },
-      py::arg("world"), py::arg("g0"), py::arg("opening") = -1.0, "G(g0): grasps reachable in-hand, cheapest first");
+      py::arg("world"), py::arg("g0"), py::arg("opening") = py::none(), "G(g0): grasps reachable in-hand, cheapest first");
 
   m.def(
       "plan_motion",

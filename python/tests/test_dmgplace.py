@@ -161,6 +161,9 @@ def test_reachable_grasps_and_arm_motion(world):
     assert g["initial_state"] >= 0 and g["grasps"][0]["state"] == g["initial_state"]
     costs = [x["cost"] for x in g["grasps"]]
     assert costs == sorted(costs)
+    # An opening is a width or unset (None), never a -1 meaning "unset".
+    with pytest.raises(dmgplace.Error, match="opening"):
+        dmgplace.reachable_grasps(world, [0, 0, 0.0175, 1, 0, 0, 0], opening=-1)
     start = np.array([0, -0.785, 0, -2.356, 0, 1.571, 0.785])
     goal = start + np.array([0.3, 0.1, 0, 0.1, 0, 0, 0])
     m = dmgplace.plan_motion(world, start, goal, time_limit=5)

@@ -53,16 +53,18 @@ class PlacementWorld;
 class DMGPLACE_RUNTIME_EXPORT World {
  public:
   // Loads the three artifacts through the semantic gate (dmgplace::Error naming the file when one
-  // is unsound) and builds every structure queries share. `finger_opening` (m, < 0: the gripper's
+  // is unsound) and builds every structure queries share. `finger_opening` (m, unset: the gripper's
   // maximum) is the finger joints' setting for the whole world; `joint_values` sets joints outside
   // the arm chain (another arm, a torso) by name, refusing names that are no such joint.
   static std::shared_ptr<const World> load(const std::filesystem::path& robot, const std::filesystem::path& object,
-                                           const std::filesystem::path& environment, double finger_opening = -1,
+                                           const std::filesystem::path& environment,
+                                           std::optional<double> finger_opening = std::nullopt,
                                            const std::map<std::string, double>& joint_values = {});
   // The same from artifacts already read (formats::load_*, which check them), e.g. to look at
   // the robot's joints before choosing `joint_values`.
   static std::shared_ptr<const World> from_artifacts(formats::RobotArtifact robot, formats::ObjectArtifact object,
-                                                     formats::EnvironmentArtifact environment, double finger_opening = -1,
+                                                     formats::EnvironmentArtifact environment,
+                                                     std::optional<double> finger_opening = std::nullopt,
                                                      const std::map<std::string, double>& joint_values = {});
   ~World();
   World(const World&) = delete;
@@ -95,7 +97,8 @@ DMGPLACE_RUNTIME_EXPORT runtime::PlacementResult place(const World& world, const
 
 // G(g0): every grasp reachable in-hand from the initial TCP pose `g0` (object frame), cheapest
 // first, with the actions to each (ReachableGrasps::actions_to).
-DMGPLACE_RUNTIME_EXPORT runtime::ReachableGrasps reachable_grasps(const World& world, const Eigen::Isometry3d& g0, double opening = -1);
+DMGPLACE_RUNTIME_EXPORT runtime::ReachableGrasps reachable_grasps(const World& world, const Eigen::Isometry3d& g0,
+                                                                 std::optional<double> opening = std::nullopt);
 
 // An arm motion query: from `start` to `goal` through the world's environment, holding the
 // object at `grasp` (TCP in the object frame) or empty-handed.

@@ -4,6 +4,7 @@
 #include <ompl/base/ScopedState.h>
 
 #include <chrono>
+#include <cmath>
 
 #include "dmgplace/formats/environment_artifact.hpp"
 #include "dmgplace/formats/object_artifact.hpp"
@@ -32,18 +33,20 @@ World::World() : impl_(std::make_unique<Impl>()) {}
 World::~World() = default;
 
 std::shared_ptr<const World> World::load(const std::filesystem::path& robot, const std::filesystem::path& object,
-                                         const std::filesystem::path& environment, double finger_opening,
+                                         const std::filesystem::path& environment, std::optional<double> finger_opening,
                                          const std::map<std::string, double>& joint_values) {
   return from_artifacts(formats::load_robot(robot), formats::load_object(object), formats::load_environment(environment),
                         finger_opening, joint_values);
 }
 
 std::shared_ptr<const World> World::from_artifacts(formats::RobotArtifact robot, formats::ObjectArtifact object,
-                                                   formats::EnvironmentArtifact environment, double finger_opening,
+                                                   formats::EnvironmentArtifact environment, std::optional<double> finger_opening,
                                                    const std::map<std::string, double>& joint_values) {
+  if (finger_opening && !(std::isfinite(*finger_opening) && *finger_opening >= 0))
+    throw Error("World::load", "finger_opening", "must be finite and >= 0 (m)");
   std::shared_ptr<World> w(new World());
   w->impl_->world = std::make_unique<runtime::PlacementWorld>(std::move(robot), std::move(object), std::move(environment),
-                                                              finger_opening, joint_values);
+                                                              finger_opening.value_or(-1), joint_values);
   return w;
 }
 
@@ -68,9 +71,10 @@ runtime::PlacementResult place(const World& world, const runtime::PlacementQuery
   return planner.run(stop, on_solution);
 }
 
-runtime::ReachableGrasps reachable_grasps(const World& world, const Eigen::Isometry3d& g0, double opening) {
+runtime::ReachableGrasps reachable_grasps(const World& world, const Eigen::Isometry3d& g0, std::optional<double> opening) {
   if (!g0.matrix().allFinite()) throw Error("reachable_grasps", "g0", "not finite");
-  return runtime::reachable_grasps(planner_world(world).grasp_graph(), g0, opening);
+  if (opening && !(std::isfinite(*opening) && *opening > 0)) throw Error("reachable_grasps", "opening", "must be finite and > 0 (m)");
+  return runtime::reachable_grasps(planner_world(world).grasp_graph(), g0, opening.value_or(-1));
 }
 
 namespace {

@@ -56,6 +56,8 @@ PlacementPlanner::PlacementPlanner(const PlacementWorld& world, PlacementQuery q
   if (!query_.q0.allFinite()) throw Error(query_.source, "q0", "not finite (NaN or infinity)");
   if (!kin.within_limits(query_.q0, 1e-6)) throw Error(query_.source, "q0", "outside the joint limits");
   if (!query_.g0.matrix().allFinite()) throw Error(query_.source, "initial_grasp", "not finite");
+  if (query_.g0_opening && !(std::isfinite(*query_.g0_opening) && *query_.g0_opening > 0))
+    throw Error(query_.source, "initial_grasp.opening", "must be finite and > 0 (m)");
   {
     // The TCP sits between the pads, so a held object's surface is within half the opening of it.
     const auto& gripper = world.object().dmg.gripper;
@@ -166,7 +168,7 @@ struct PlacementPlanner::Run {
   // (the closing line misses the mesh) the opening of the DMG state g0 snaps to.
   double initial_opening() const {
     const double max_opening = world.object().dmg.gripper.max_opening;
-    if (q.g0_opening >= 0) return std::min(q.g0_opening, max_opening);
+    if (q.g0_opening) return std::min(*q.g0_opening, max_opening);
     if (const auto w = grasp_width(world.object().mesh, q.g0)) return std::min(*w, max_opening);
     return world.grasp_graph().opening(reach.initial_state);
   }
@@ -178,7 +180,7 @@ struct PlacementPlanner::Run {
     objective = std::make_unique<Objective>(q.objective, world.env(), world.object(), world.object_spheres().centers);
     if (space->face_count() == 0) return "the object has no stable placement face";
     if (space->region_count() == 0) return "no placement region inside the target volume";
-    reach = reachable_grasps(world.grasp_graph(), q.g0, q.g0_opening);
+    reach = reachable_grasps(world.grasp_graph(), q.g0, q.g0_opening.value_or(-1));
     if (reach.initial_state < 0 || reach.grasps.empty()) return "the object's DMG has no grasp to start from";
     // Grasp 0 is g0 exactly as held (its pose and opening), not the DMG state it snaps to; the
     // in-hand sequences to every other grasp start from that state.

@@ -32,7 +32,7 @@ class WorldCache {
  public:
   std::shared_ptr<const World> get(const PlacementQueryFile& q) {
     std::string key = q.robot.string() + "|" + q.object.string() + "|" + q.environment.string() + "|" +
-                      std::to_string(q.query.g0_opening);
+                      (q.query.g0_opening ? std::to_string(*q.query.g0_opening) : std::string("-"));
     for (const auto& [name, value] : q.start_named) key += "|" + name + "=" + std::to_string(value);
     std::lock_guard<std::mutex> lock(mutex_);
     auto& w = worlds_[key];

@@ -89,7 +89,7 @@ void check_placement_options(const PlacementOptions& o, const std::string& sourc
 struct PlacementQuery {
   Eigen::VectorXd q0;                                   // arm chain joints, the kinematics' order
   Eigen::Isometry3d g0 = Eigen::Isometry3d::Identity();  // initial grasp: TCP pose in the object frame
-  double g0_opening = -1;                               // m; < 0: the grasp graph's own
+  std::optional<double> g0_opening;                     // m; unset: the grasp graph's own
   std::optional<Eigen::AlignedBox3d> volume;            // target volume; unset: the environment's
   std::optional<Eigen::VectorXd> retreat_configuration; // where the arm retreats to; unset: q0
   std::vector<ObjectiveTerm> objective{ObjectiveTerm{}};
