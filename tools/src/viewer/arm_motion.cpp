@@ -24,14 +24,26 @@ bool below(const RobotModel& m, int link, int ancestor) {
   return false;
 }
 
-// Finger joints: movable, outside the chain, not mimicking, below the tip (as PlacementWorld does).
+// The topmost link fixed to `link`: the hand that carries the TCP frame (and the fingers).
+int rigid_root(const RobotModel& m, int link) {
+  for (int guard = 0; guard <= int(m.links.size()); ++guard) {
+    auto it = std::find_if(m.joints.begin(), m.joints.end(), [&](const Joint& j) { return j.child == link; });
+    if (it == m.joints.end() || it->type != JointType::Fixed) return link;
+    link = it->parent;
+  }
+  return link;
+}
+
+// Finger joints: movable, outside the chain, not mimicking, on the hand that carries the tip (as
+// PlacementWorld does: the TCP is often a leaf beside the fingers, not above them).
 std::vector<const Joint*> finger_joints(const runtime::Kinematics& kin) {
   const auto& m = kin.model();
+  const int hand = rigid_root(m, kin.tip_link());
   std::vector<const Joint*> out;
   for (const auto& j : m.joints) {
     const auto& names = kin.joint_names();
     if (j.type == JointType::Fixed || j.mimic >= 0 || std::find(names.begin(), names.end(), j.name) != names.end()) continue;
-    if (below(m, j.child, kin.tip_link())) out.push_back(&j);
+    if (below(m, j.child, hand)) out.push_back(&j);
   }
   return out;
 }
@@ -82,7 +94,7 @@ ArmMotion sample_arm_motion(const ViewResult& r, const formats::RobotArtifact& r
   sweep(r.path, r.opening, nullptr);
   if (!r.retreat.empty()) {
     m.retreat_frame = m.frames;
-    sweep(r.retreat, open_width, &r.pose);
+    sweep(r.retreat, r.release_opening > 0 ? r.release_opening : open_width, &r.pose);
   }
   return m;
 }

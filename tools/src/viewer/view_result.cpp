@@ -136,6 +136,7 @@ ViewResult read_view_result(const std::filesystem::path& result_dir, const std::
   v.pose = r.pose(j, "/best/pose");
   v.grasp = r.pose(j, "/best/grasp/pose");
   v.opening = r.number(j, "/best/grasp/opening");
+  if (j["best"].contains("release_opening")) v.release_opening = r.number(j, "/best/release_opening");
   for (std::size_t i = 0; i < r.at(j, "/best/in_hand").size(); ++i)
     v.in_hand.push_back(read_step(r, j, "/best/in_hand/" + std::to_string(i)));
   v.path = r.joint_path(j, "/best/path", v.joint_names.size());

@@ -21,7 +21,8 @@ struct ArmMotion {
 
 // Joint steps of at most `max_step` rad between frames (coarser when that would exceed
 // `max_frames`). Unsolved results give one frame at the start. Fingers are set to half the grasp
-// opening while holding and to half of `open_width` otherwise. Throws dmgplace::Error (naming the
+// opening while holding, to half the result's release opening during the retreat (`open_width`
+// where the result has none) and to half of `open_width` otherwise. Throws dmgplace::Error (naming the
 // result file) when the result's joints are not the robot's arm chain.
 ArmMotion sample_arm_motion(const ViewResult& r, const formats::RobotArtifact& robot, double open_width,
                             double max_step = 0.04, int max_frames = 2400);

@@ -36,6 +36,7 @@ struct ViewResult {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();   // object resting pose, world
   Eigen::Isometry3d grasp = Eigen::Isometry3d::Identity();  // TCP in the object frame
   double opening = 0;
+  double release_opening = 0;  // how far the fingers open to let go; 0: not in the result (older ones)
   std::vector<InHandStep> in_hand;
   std::vector<Eigen::VectorXd> path, retreat;
   std::vector<Improvement> improvements;
