@@ -1,6 +1,7 @@
 #include "dmgplace/formats/artifact_kind.hpp"
 #include <algorithm>
 
+#include "dataset_check.hpp"
 #include "dmgplace/formats/environment_artifact.hpp"
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/formats/h5_reader.hpp"
@@ -38,7 +39,7 @@ std::vector<std::string> validate_artifact(const std::filesystem::path& path) {
   if (schema == kObjectSchema) more = validate_kind(path, read_object_unchecked, check_object);
   else if (schema == kEnvironmentSchema) more = validate_kind(path, read_environment_unchecked, check_environment);
   else if (schema == kRobotSchema) more = validate_kind(path, read_robot_unchecked, check_robot);
-  else if (schema == "dmgplace.dataset") more = {};  // `batch-collect`'s table: its checksums are all there is to check
+  else if (schema == kDatasetSchema) more = detail::check_dataset(path);
   else more = {path.string() + ": schema: unknown artifact kind '" + schema + "'"};
   // A checksum failure also makes loading fail: report each message once.
   for (auto& m : more)

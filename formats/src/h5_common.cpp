@@ -1,6 +1,7 @@
 #include "h5_common.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <mutex>
 #include <vector>
 
@@ -26,6 +27,26 @@ std::string hdf5_error_text() {
       &text);
   H5Eclear2(H5E_DEFAULT);
   return text;
+}
+
+bool is_valid_utf8(std::string_view s) {
+  std::size_t i = 0;
+  while (i < s.size()) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    const int extra = c < 0x80 ? 0 : (c & 0xE0) == 0xC0 ? 1 : (c & 0xF0) == 0xE0 ? 2 : (c & 0xF8) == 0xF0 ? 3 : -1;
+    if (extra < 0 || s.size() - i <= std::size_t(extra)) return false;  // a truncated sequence
+    std::uint32_t cp = extra == 0 ? c : c & (0x3F >> extra);
+    for (int k = 1; k <= extra; ++k) {
+      const auto b = static_cast<unsigned char>(s[i + std::size_t(k)]);
+      if ((b & 0xC0) != 0x80) return false;
+      cp = (cp << 6) | (b & 0x3F);
+    }
+    // The shortest encoding only; no UTF-16 surrogates; nothing beyond Unicode's range.
+    const std::uint32_t least[] = {0, 0x80, 0x800, 0x10000};
+    if (cp < least[extra] || (cp >= 0xD800 && cp <= 0xDFFF) || cp > 0x10FFFF) return false;
+    i += std::size_t(extra) + 1;
+  }
+  return true;
 }
 
 std::string read_string_attribute(hid_t object, const char* name, const std::string& file) {

@@ -3,6 +3,7 @@
 #include <hdf5.h>
 
 #include <string>
+#include <string_view>
 #include <type_traits>
 
 #include "dmgplace/formats/error.hpp"
@@ -57,6 +58,9 @@ inline void check_status(herr_t status, const std::string& file, const std::stri
     throw Error(file, element, what + (detail.empty() ? "" : " (" + detail + ")"));
   }
 }
+
+// Well-formed UTF-8 (no overlong forms, surrogates or code points beyond U+10FFFF).
+bool is_valid_utf8(std::string_view s);
 
 std::string read_string_attribute(hid_t object, const char* name, const std::string& file);
 void write_string_attribute(hid_t object, const std::string& name, const std::string& value,

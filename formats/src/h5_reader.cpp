@@ -185,6 +185,46 @@ std::vector<std::string> H5Reader::read_strings(const std::string& name) const {
   return out;
 }
 
+std::vector<std::size_t> H5Reader::shape(const std::string& name) const {
+  if (!has(name)) throw Error(file_name_, name, "missing dataset");
+  Handle ds = check(H5Dopen2(file_, name.c_str(), H5P_DEFAULT), H5Dclose, file_name_, name, "cannot open dataset");
+  Handle space = check(H5Dget_space(ds.get()), H5Sclose, file_name_, name, "no dataspace");
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  if (rank < 0 || rank > 8) throw Error(file_name_, name, "invalid rank (corrupt)");
+  hsize_t hd[8];
+  H5Sget_simple_extent_dims(space.get(), hd, nullptr);
+  return std::vector<std::size_t>(hd, hd + rank);
+}
+
+std::vector<std::string> H5Reader::read_utf8_strings(const std::string& name) const {
+  const auto dims = shape(name);
+  Handle ds = check(H5Dopen2(file_, name.c_str(), H5P_DEFAULT), H5Dclose, file_name_, name, "cannot open dataset");
+  Handle type = check(H5Dget_type(ds.get()), H5Tclose, file_name_, name, "no type");
+  if (H5Tget_class(type.get()) != H5T_STRING || H5Tis_variable_str(type.get()) > 0 ||
+      H5Tget_cset(type.get()) != H5T_CSET_UTF8)
+    throw Error(file_name_, name, "wrong element type (expected fixed-length UTF-8 strings)");
+  if (dims.size() != 1) throw Error(file_name_, name, "wrong shape " + shape_text(dims) + ", expected (*)");
+  const std::size_t width = H5Tget_size(type.get()), count = dims[0];
+  // As read_typed: deflate expands at most ~1032:1, so a larger declared size is a corrupt header.
+  const std::uintmax_t limit = std::max<std::uintmax_t>(1 << 20, file_size_ * 1100);
+  if (width == 0 || width > (std::size_t(1) << 20) || count > limit / width)
+    throw Error(file_name_, name, "implausible size (corrupt)");
+  std::vector<char> bytes(count * width);
+  if (count > 0)
+    check_status(H5Dread(ds.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, bytes.data()), file_name_, name,
+                 "cannot read dataset (checksum error or corrupt file)");
+  if (H5Aexists(ds.get(), "sha256") <= 0) throw Error(file_name_, name, "dataset has no sha256 digest");
+  if (detail::read_string_attribute(ds.get(), "sha256", file_name_) != sha256_hex(bytes.data(), bytes.size()))
+    throw Error(file_name_, name, "content does not match its sha256 digest (corrupt file)");
+  std::vector<std::string> out(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const char* at = bytes.data() + i * width;
+    out[i].assign(at, std::find(at, at + width, '\0'));
+    if (!detail::is_valid_utf8(out[i])) throw Error(file_name_, name + "[" + std::to_string(i) + "]", "not valid UTF-8");
+  }
+  return out;
+}
+
 std::optional<std::string> H5Reader::attribute(const std::string& object, const std::string& name) const {
   if (object.empty() || object == "/") {
     if (H5Aexists(file_, name.c_str()) <= 0) return std::nullopt;
@@ -225,9 +265,11 @@ std::vector<std::string> H5Reader::verify_all_checksums() const {
       if (rank < 0 || rank > 8) throw Error(file_name_, name, "invalid rank (corrupt)");
       std::vector<long> any(std::size_t(rank), -1);
       bool is_float = H5Tget_class(type.get()) == H5T_FLOAT;
+      bool is_string = H5Tget_class(type.get()) == H5T_STRING;
       std::size_t size = H5Tget_size(type.get());
       ds.reset();
-      if (is_float && size == 8) read_f64(name, any);
+      if (is_string) read_utf8_strings(name);
+      else if (is_float && size == 8) read_f64(name, any);
       else if (is_float && size == 4) read_f32(name, any);
       else if (!is_float && size == 4) read_i32(name, any);
       else if (!is_float && size == 8) read_i64(name, any);

@@ -173,6 +173,34 @@ void H5Writer::write_strings(const std::string& name, const std::vector<std::str
   detail::write_string_attribute(ds.get(), "count", std::to_string(values.size()), target_.string());
 }
 
+void H5Writer::write_utf8_strings(const std::string& name, const std::vector<std::string>& values) {
+  std::size_t width = 1;  // HDF5 has no zero-length string type
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const std::string where = name + "[" + std::to_string(i) + "]";
+    if (values[i].find('\0') != std::string::npos) throw Error(target_.string(), where, "string contains a NUL byte");
+    if (!detail::is_valid_utf8(values[i])) throw Error(target_.string(), where, "string is not valid UTF-8");
+    width = std::max(width, values[i].size());
+  }
+  std::vector<char> padded(values.size() * width, '\0');
+  for (std::size_t i = 0; i < values.size(); ++i) std::copy(values[i].begin(), values[i].end(), padded.begin() + i * width);
+  Handle type = check(H5Tcopy(H5T_C_S1), H5Tclose, target_.string(), name, "cannot make the string type");
+  check_status(H5Tset_size(type.get(), width), target_.string(), name, "cannot size the string type");
+  H5Tset_strpad(type.get(), H5T_STR_NULLPAD);
+  H5Tset_cset(type.get(), H5T_CSET_UTF8);
+  write_raw(name, padded.data(), type.get(), width, {values.size()});
+}
+
+void H5Writer::ordered_group(const std::string& name) {
+  const std::string file = target_.string();
+  if (file_ < 0) throw Error(file, name, "writer already closed");
+  Handle gcpl = Handle(H5Pcreate(H5P_GROUP_CREATE), H5Pclose);
+  check_status(H5Pset_link_creation_order(gcpl.get(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED), file, name,
+               "cannot track creation order");
+  Handle lcpl = Handle(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
+  H5Pset_create_intermediate_group(lcpl.get(), 1);
+  check(H5Gcreate2(file_, name.c_str(), lcpl.get(), gcpl.get(), H5P_DEFAULT), H5Gclose, file, name, "cannot create group");
+}
+
 void H5Writer::attribute(const std::string& object, const std::string& name, const std::string& value) {
   if (file_ < 0) throw Error(target_.string(), name, "writer already closed");
   if (object.empty() || object == "/") {

@@ -10,11 +10,15 @@
 
 #include <fcntl.h>
 
+#include <functional>
+#include <nlohmann/json.hpp>
 #include <random>
+#include <span>
 #include <thread>
 #include <set>
 
 #include "dmgplace/formats/h5_reader.hpp"
+#include "dmgplace/formats/h5_writer.hpp"
 #include "dmgplace/tools/batch/batch_state.hpp"
 #include "dmgplace/tools/data/procedural_meshes.hpp"
 #include "run_cli.hpp"
@@ -66,16 +70,90 @@ std::array<int, 3> counts(const std::string& output) {
   return c;
 }
 
-// The deterministic columns of a collected dataset, by their digests.
+// Every deterministic column of a collected dataset (all but the clock's), by its digest.
 std::map<std::string, std::string> dataset_digest(const fs::path& out) {
   const fs::path d = out / "dataset.h5";
   const auto r = test::run_cli({"batch-collect", out, "--out", d});
   EXPECT_EQ(r.exit_code, 0) << r.output;
   formats::H5Reader h(d);
+  const std::set<std::string> timed{"runs/first_solution_time", "runs/seconds", "runs/solution_time", "trace/time"};
   std::map<std::string, std::string> m;
-  for (const char* c : {"runs/task_id", "runs/solved", "runs/objective", "runs/pose", "runs/grasp_state", "runs/g0"})
-    m[c] = h.attribute(c, "sha256").value_or("?");
+  for (const auto& c : h.dataset_names())
+    if (!timed.count(c)) m[c] = h.attribute(c, "sha256").value_or("?");
+  for (const char* c : {"runs/task_id", "runs/objective", "runs/pose_x", "path/q0", "actions/type", "trace/objective"})
+    EXPECT_TRUE(m.count(c)) << c << " missing from " << d;
   return m;
+}
+
+nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(test::read_text(p)); }
+
+// The rows of run i in `table`, from offsets/.
+std::pair<std::size_t, std::size_t> rows_of(const formats::H5Reader& h, const std::string& table, std::size_t i) {
+  const auto off = h.read_i64("offsets/" + table, {-1}).data;
+  return {std::size_t(off.at(i)), std::size_t(off.at(i + 1))};
+}
+
+// Run i's arm path (path/q0 ... of its rows) equals result.json's best.path, value for value.
+void expect_path_equals(const formats::H5Reader& h, std::size_t i, const nlohmann::json& best) {
+  const auto [begin, end] = rows_of(h, "path", i);
+  ASSERT_EQ(end - begin, best.at("path").size()) << "run " << i;
+  EXPECT_EQ(h.read_i64("runs/path_waypoints", {-1}).data.at(i), std::int64_t(end - begin));
+  for (std::size_t j = 0; j < best.at("path").at(0).size(); ++j) {
+    const auto q = h.read_f64("path/q" + std::to_string(j), {-1}).data;
+    for (std::size_t k = begin; k < end; ++k) EXPECT_EQ(q[k], best["path"][k - begin][j].get<double>()) << "run " << i;
+  }
+  for (std::size_t k = begin; k < end; ++k) EXPECT_EQ(h.read_i64("path/run", {-1}).data[k], std::int64_t(i));
+}
+
+// Run i's in-hand actions equal result.json's best.in_hand, and its trace its improvements.
+void expect_actions_and_trace_equal(const formats::H5Reader& h, std::size_t i, const nlohmann::json& result) {
+  const auto& in_hand = result.at("best").at("in_hand");
+  const auto [begin, end] = rows_of(h, "actions", i);
+  ASSERT_EQ(end - begin, in_hand.size()) << "run " << i;
+  const auto type = h.read_utf8_strings("actions/type");
+  const auto from = h.read_i64("actions/from_state", {-1}).data, to = h.read_i64("actions/to_state", {-1}).data;
+  const auto distance = h.read_f64("actions/distance", {-1}).data, angle = h.read_f64("actions/angle", {-1}).data;
+  for (std::size_t k = begin; k < end; ++k) {
+    const auto& a = in_hand[k - begin];
+    EXPECT_EQ(type[k], a.at("type").get<std::string>());
+    EXPECT_EQ(from[k], a.at("from_state").get<std::int64_t>());
+    EXPECT_EQ(to[k], a.at("to_state").get<std::int64_t>());
+    if (type[k] == "push") EXPECT_EQ(distance[k], a.at("distance").get<double>());
+    else EXPECT_EQ(angle[k], a.at("angle").get<double>());
+  }
+  const auto [first, last] = rows_of(h, "trace", i);
+  ASSERT_EQ(last - first, result.at("improvements").size());
+  const auto objective = h.read_f64("trace/objective", {-1}).data;
+  for (std::size_t k = first; k < last; ++k)
+    EXPECT_EQ(objective[k], result["improvements"][k - first].at("objective").get<double>());
+}
+
+// A copy of a dataset with `change` applied to its integer columns and `version` as its schema version.
+void copy_dataset(const fs::path& from, const fs::path& to, int version,
+                  const std::function<void(const std::string&, std::vector<std::int64_t>&)>& change) {
+  formats::H5Reader r(from);
+  formats::ArtifactHeader header = r.header();
+  header.schema_version = version;
+  formats::H5Writer w(to, header);
+  for (const auto& name : r.dataset_names()) {
+    const auto n = r.shape(name).at(0);
+    try {
+      w.write_utf8_strings(name, r.read_utf8_strings(name));
+      continue;
+    } catch (const Error&) {}
+    try {
+      w.write(name, std::span<const double>(r.read_f64(name, {-1}).data), {n});
+      continue;
+    } catch (const Error&) {}
+    try {
+      auto v = r.read_i64(name, {-1}).data;
+      change(name, v);
+      w.write(name, std::span<const std::int64_t>(v), {n});
+      continue;
+    } catch (const Error&) {}
+    w.write(name, std::span<const std::uint8_t>(r.read_u8(name, {-1}).data), {n});
+  }
+  w.commit();
 }
 
 std::vector<std::string> litter(const fs::path& out) {
@@ -169,4 +247,85 @@ TEST(Batch, ABrokenInputFailsOnlyItsOwnTasks) {
   EXPECT_THAT(s.output, HasSubstr("broken.stl"));
   EXPECT_THAT(s.output, HasSubstr("needs object broken, which failed"));
   EXPECT_THAT(r.output, HasSubstr("\"ok\":false"));  // --json: one object per finished task
+}
+
+TEST(Batch, CollectedTablesEqualEachRunsResult) {
+  Batch b;
+  const fs::path out = b.dir / "out";
+  ASSERT_EQ(b.run(out, {"--jobs", "2"}).exit_code, 0);
+  const fs::path d = out / "dataset.h5", csv = out / "runs.csv";
+  const auto r = test::run_cli({"batch-collect", out, "--out", d, "--csv", csv});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(test::run_cli({"validate", d}).exit_code, 0);
+  formats::H5Reader h(d);
+  const auto ids = h.read_utf8_strings("runs/task_id");
+  ASSERT_EQ(ids.size(), 4u);
+  std::map<std::string, fs::path> folder;
+  for (const auto& t : tools::read_plan(out).tasks) folder[t.id] = t.output;
+  int with_actions = 0;
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const auto result = read_json(folder.at(ids[i]) / "result.json");
+    ASSERT_TRUE(result.at("solved").get<bool>()) << ids[i];
+    expect_path_equals(h, i, result.at("best"));
+    expect_actions_and_trace_equal(h, i, result);
+    with_actions += !result["best"]["in_hand"].empty();
+    EXPECT_EQ(h.read_i64("runs/iterations", {-1}).data[i], result.at("counters").at("iterations").get<std::int64_t>());
+  }
+  EXPECT_GT(with_actions, 0) << "no run has in-hand actions: the comparison above proves little";
+  // The CSV: a header, then one line per run in the dataset's order.
+  std::istringstream lines(test::read_text(csv));
+  std::vector<std::string> rows;
+  for (std::string line; std::getline(lines, line);) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 5u);
+  EXPECT_THAT(rows[0], ::testing::StartsWith("task_id,robot,object,environment,grasp,variant,seed,"));
+  for (std::size_t i = 0; i < ids.size(); ++i) EXPECT_THAT(rows[i + 1], ::testing::StartsWith(ids[i] + ",arm,eraser,table,top,"));
+}
+
+TEST(Batch, ValidateRefusesADatasetWhoseTablesDisagree) {
+  Batch b;
+  const fs::path out = b.dir / "out";
+  ASSERT_EQ(b.run(out).exit_code, 0);
+  ASSERT_EQ(test::run_cli({"batch-collect", out, "--out", out / "d.h5"}).exit_code, 0);
+  const auto keep = [](const std::string&, std::vector<std::int64_t>&) {};
+  copy_dataset(out / "d.h5", out / "same.h5", 2, keep);
+  EXPECT_EQ(test::run_cli({"validate", out / "same.h5"}).exit_code, 0) << "the copy itself is sound";
+  copy_dataset(out / "d.h5", out / "moved.h5", 2, [](const std::string& name, std::vector<std::int64_t>& v) {
+    if (name == "path/run") v.front() = 1;  // the first waypoint claims to be the second run's
+  });
+  auto r = test::run_cli({"validate", out / "moved.h5"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_THAT(r.output, HasSubstr("moved.h5: path/run: row 0 is not run 0"));
+  copy_dataset(out / "d.h5", out / "short.h5", 2, [](const std::string& name, std::vector<std::int64_t>& v) {
+    if (name == "runs/in_hand_actions") ++v.back();
+  });
+  r = test::run_cli({"validate", out / "short.h5"});
+  EXPECT_THAT(r.output, HasSubstr("short.h5: offsets/actions: disagrees at run 3"));
+  copy_dataset(out / "d.h5", out / "old.h5", 1, keep);
+  r = test::run_cli({"validate", out / "old.h5"});
+  EXPECT_THAT(r.output, HasSubstr("old.h5: schema_version: is 1, this build reads version 2"));
+}
+
+TEST(Batch, CollectNamesTheFileAndFieldOfABadResult) {
+  Batch b;
+  const fs::path out = b.dir / "out";
+  ASSERT_EQ(b.run(out).exit_code, 0);
+  fs::path result;
+  for (const auto& t : tools::read_plan(out).tasks)
+    if (t.kind == "query") result = t.output / "result.json";
+  auto j = read_json(result);
+  j["best"]["in_hand"] = {{{"type", "twist"}}};
+  test::write_text(result, j.dump());
+  auto r = test::run_cli({"batch-collect", out, "--out", out / "d.h5"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_THAT(r.output, HasSubstr(result.string() + ": best/in_hand/0/type: is 'twist', expected push or rotate"));
+  j["best"].erase("path");
+  test::write_text(result, j.dump());
+  EXPECT_THAT(test::run_cli({"batch-collect", out, "--csv", out / "r.csv"}).output,
+              HasSubstr(result.string() + ": best/path: missing"));
+  test::write_text(result, "{\"solved\": tr");
+  EXPECT_THAT(test::run_cli({"batch-collect", out, "--out", out / "d.h5"}).output, HasSubstr(result.string() + ": not valid JSON"));
+  r = test::run_cli({"batch-collect", out});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_THAT(r.output, HasSubstr("give --out DATASET.h5, --csv FILE.csv or both"));
+  EXPECT_FALSE(fs::exists(out / "d.h5") || fs::exists(out / "r.csv")) << "nothing is written from a bad batch";
 }

@@ -18,14 +18,7 @@
 #include "dmgplace/formats/robot_artifact.hpp"
 #include "dmgplace/runtime/grasp/reachable_grasps.hpp"
 #include "dmgplace/runtime/placement/placement_planner.hpp"
-#include "dmgplace/tools/data/procedural_meshes.hpp"
-#include "dmgplace/tools/env/bake_environment.hpp"
-#include "dmgplace/tools/io/scene_loader.hpp"
-#include "dmgplace/tools/object/dmg_builder.hpp"
-#include "dmgplace/tools/object/gripper_model.hpp"
-#include "dmgplace/tools/object/mass_properties.hpp"
-#include "dmgplace/tools/object/placement_faces.hpp"
-#include "dmgplace/tools/robot/bake_robot.hpp"
+#include "sound_artifacts.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -33,43 +26,7 @@ using namespace dmgplace;
 
 namespace {
 
-struct Sound {
-  test::TempDir dir;
-  fs::path robot = dir / "arm.h5", object = dir / "eraser.h5", env = dir / "table.h5";
-};
-
-Sound* bake_sound() {
-  auto* s = new Sound;
-  const fs::path data = test::source_dir() / "datasets";
-  tools::RobotBakeOptions ro;
-  ro.urdf = data / "robots/dmgarm/dmgarm.urdf";
-  ro.srdf = data / "robots/dmgarm/dmgarm.srdf";
-  ro.arm_base = "dmgarm_link0";
-  ro.arm_tip = "dmgarm_tcp";
-  formats::save_robot(tools::bake_robot(ro), s->robot);
-
-  formats::ObjectArtifact obj;
-  obj.mesh = tools::make_eraser_mesh();
-  obj.mass = tools::compute_mass_properties(obj.mesh, 0.1, "eraser");
-  obj.placement = tools::compute_placement_faces(obj.mesh, obj.mass.com, {}, "eraser");
-  tools::DmgOptions dmg;
-  dmg.seed_resolution = 0.02;
-  dmg.angle_step_deg = 30;
-  obj.dmg = tools::build_dmg(obj.mesh, tools::default_gripper(), dmg, "eraser");
-  formats::save_object(std::move(obj), s->object);
-
-  formats::EnvironmentArtifact env;
-  env.scene = tools::load_scene(data / "scenes/table.yaml");
-  env.volume = Eigen::AlignedBox3d(Eigen::Vector3d(0.3, -0.3, 0.4), Eigen::Vector3d(0.8, 0.3, 0.7));
-  tools::EnvBakeOptions eo;
-  eo.resolution = 0.02;
-  eo.margin = 0.9;
-  eo.sdf_resolution = 0.04;
-  eo.band = 0.25;
-  tools::bake_environment(env, eo);
-  formats::save_environment(std::move(env), s->env);
-  return s;
-}
+using Sound = test::SoundArtifacts;
 
 enum class Kind { Robot, Object, Environment };
 
@@ -145,7 +102,7 @@ std::vector<Mutation> targeted(const Sound& s) {
 }  // namespace
 
 TEST(CraftedArtifacts, NoCrashNoHangEveryRejectionNamesTheFile) {
-  std::unique_ptr<Sound> s(bake_sound());
+  const auto s = test::bake_sound_artifacts();
   ASSERT_EQ(try_file(*s, {"sound", Kind::Object, "", 0, 0, false}, s->object), Outcome::Ran) << "the sound artifacts must run";
 
   std::vector<Mutation> all = targeted(*s);

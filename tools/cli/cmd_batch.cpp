@@ -24,6 +24,7 @@ int run_batch(const BatchArgs& a) {
   const auto plan = tools::plan_batch(tools::read_batch_manifest(manifest), out);
   if (a.slurm) {
     tools::SlurmOptions so{cli, manifest, out, a.array_size, a.partition, a.time};
+    so.deep = !a.no_deep;
     const auto s = tools::submit_slurm(so, !a.dry_run);
     std::cout << "wrote " << s.bakes_script.string() << " and " << s.queries_script.string() << "\n";
     if (!a.dry_run) std::cout << "submitted: bakes " << s.bakes_job << ", queries " << s.queries_job << " (afterok)\n";
@@ -37,6 +38,7 @@ int run_batch(const BatchArgs& a) {
   o.phase = a.phase;
   o.dry_run = a.dry_run;
   o.json = a.json;
+  o.deep = !a.no_deep;
   const auto t = tools::run_batch(plan, o, std::cout, progress_stream());
   std::ostringstream summary;
   summary << t.ran << " ran, " << t.failed << " failed, " << t.done_before << " were done; `dmgplace batch-status "
@@ -52,8 +54,9 @@ int run_batch_status(const BatchStatusArgs& a) {
 }
 
 int run_batch_collect(const BatchCollectArgs& a) {
-  const auto rows = tools::collect_batch(a.dir, a.out);
-  std::cout << "wrote " << a.out << ": " << rows << " runs\n";
+  const auto rows = tools::collect_batch(a.dir, {a.out, a.csv});
+  for (const auto& file : {a.out, a.csv})
+    if (!file.empty()) std::cout << "wrote " << file << ": " << rows << " runs\n";
   return 0;
 }
 

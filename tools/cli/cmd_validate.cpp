@@ -12,6 +12,7 @@
 #include "dmgplace/formats/robot_artifact.hpp"
 #include "dmgplace/formats/stale_inputs.hpp"
 #include "dmgplace/runtime.hpp"
+#include "dmgplace/tools/validate/deep_validation.hpp"
 
 namespace dmgplace::cli {
 namespace {
@@ -56,6 +57,32 @@ SetCheck check_set(const std::vector<std::string>& files) {
   return c;
 }
 
+nlohmann::ordered_json deep_json(const tools::DeepReport& r) {
+  nlohmann::ordered_json checks = nlohmann::ordered_json::array();
+  for (const auto& c : r.checks)
+    checks.push_back({{"check", c.name}, {"dataset", c.dataset}, {"ok", c.ok()}, {"samples", c.samples}, {"worst", c.worst},
+                      {"tolerance", c.tolerance}, {"unit", c.unit}, {"worst_sample", c.worst_sample}});
+  return {{"checks", checks}, {"notes", r.notes}};
+}
+
+// --deep on one sound file: its failed checks join `problems`; the report is printed or kept for JSON.
+void run_deep(const std::string& f, const ValidateArgs& a, std::vector<std::string>& problems, nlohmann::ordered_json* json) {
+  tools::DeepOptions o;
+  o.samples = a.samples, o.seed = a.seed, o.check_inputs = a.check_inputs;
+  try {
+    const auto report = tools::deep_validate(f, o);
+    for (auto& p : report.problems()) problems.push_back(std::move(p));
+    if (json) {
+      *json = deep_json(report);
+    } else if (!a.quiet) {
+      for (const auto& c : report.checks) std::cout << f << ": deep: " << (c.ok() ? "ok   " : "FAIL ") << tools::describe(c) << "\n";
+      for (const auto& n : report.notes) std::cout << f << ": deep: note: " << n << "\n";
+    }
+  } catch (const std::exception& e) {
+    problems.push_back(e.what());
+  }
+}
+
 }  // namespace
 
 int run_validate(const ValidateArgs& a) {
@@ -65,9 +92,12 @@ int run_validate(const ValidateArgs& a) {
     auto problems = formats::validate_artifact(f);
     if (a.check_inputs && problems.empty())
       for (auto& s : stale(f)) problems.push_back(std::move(s));
+    nlohmann::ordered_json deep;
+    if (a.deep && problems.empty()) run_deep(f, a, problems, a.json ? &deep : nullptr);
     bad += !problems.empty();
     if (a.json) {
       files.push_back({{"file", f}, {"ok", problems.empty()}, {"problems", problems}});
+      if (a.deep) files.back()["deep"] = deep;
       continue;
     }
     for (const auto& p : problems) std::cout << p << "\n";

@@ -18,7 +18,12 @@
 
 namespace dmgplace::cli {
 
-struct ValidateArgs { std::vector<std::string> files; bool quiet = false, json = false, set = false, check_inputs = false; };
+struct ValidateArgs {
+  std::vector<std::string> files;
+  bool quiet = false, json = false, set = false, check_inputs = false, deep = false;
+  int samples = 1000;
+  std::uint64_t seed = 1;
+};
 int run_validate(const ValidateArgs& a);
 
 struct InspectArgs { std::string file; bool json = false; };
@@ -140,6 +145,7 @@ struct BatchArgs {
   std::string manifest, out, shard = "1/1", phase = "all";
   int jobs = 1;
   bool keep_going = true, dry_run = false, json = false;
+  bool no_deep = false;
   bool slurm = false;
   std::string partition, time;
   int array_size = 4;
@@ -147,7 +153,7 @@ struct BatchArgs {
 int run_batch(const BatchArgs& a);
 struct BatchStatusArgs { std::string dir; bool json = false; };
 int run_batch_status(const BatchStatusArgs& a);
-struct BatchCollectArgs { std::string dir, out; };
+struct BatchCollectArgs { std::string dir, out, csv; };  // out: DATASET.h5, csv: the runs table; at least one
 int run_batch_collect(const BatchCollectArgs& a);
 
 }  // namespace dmgplace::cli

@@ -63,6 +63,11 @@ int main(int argc, char** argv) {
   c_validate->add_flag("--set", validate.set,
                        "The files are one robot, one object and one environment: also check they fit together (gripper opening, reach, units)");
   c_validate->add_flag("--check-inputs", validate.check_inputs, "Also report inputs that changed since the bake (where they still exist)");
+  c_validate->add_flag("--deep", validate.deep,
+                       "Also hold each artifact's numbers against its own exact geometry (fields, sphere cover, "
+                       "self-distance tables, mass); with --check-inputs, joint limits against the URDF");
+  c_validate->add_option("--samples", validate.samples, "--deep: samples per check")->check(CLI::Range(1, 10'000'000));
+  c_validate->add_option("--seed", validate.seed, "--deep: random seed of the samples");
 
   InspectArgs inspect;
   auto* c_inspect = app.add_subcommand("inspect", "Summarise an artifact (counts, bounds, parameters)");
@@ -185,6 +190,7 @@ int main(int argc, char** argv) {
   c_batch->add_flag("--keep-going", batch.keep_going, "Record failures and go on (the default)");
   c_batch->add_flag("--dry-run", batch.dry_run, "List the tasks that would run (with --slurm: write the scripts only)");
   c_batch->add_flag("--json", batch.json, "One JSON object per finished task on stdout");
+  c_batch->add_flag("--no-deep", batch.no_deep, "Do not run `validate --deep` on each bake's output");
   c_batch->add_flag("--slurm", batch.slurm, "Write and submit two sbatch array jobs (bakes, then queries afterok)");
   c_batch->add_option("--partition", batch.partition, "Slurm partition");
   c_batch->add_option("--array-size", batch.array_size, "Slurm array tasks (shards)")->check(CLI::Range(1, 100000));
@@ -194,9 +200,11 @@ int main(int argc, char** argv) {
   c_bstatus->add_option("dir", batch_status.dir, "Batch folder")->required();
   c_bstatus->add_flag("--json", batch_status.json, "Print JSON");
   BatchCollectArgs batch_collect;
-  auto* c_bcollect = app.add_subcommand("batch-collect", "One dataset file (HDF5) with a row per finished query run");
-  c_bcollect->add_option("dir", batch_collect.dir, "Batch folder")->required();
-  c_bcollect->add_option("--out", batch_collect.out, "DATASET.h5")->required();
+  auto* c_bcollect = app.add_subcommand("batch-collect", "One dataset file (HDF5 tables: runs, paths, in-hand actions, traces)");
+  c_bcollect->add_option("dir", batch_collect.dir, "Batch folder")->required()->check(CLI::ExistingDirectory);
+  const CLI::Validator file_name([](std::string& s) { return s.empty() ? std::string("an empty file name") : std::string(); }, "FILE");
+  c_bcollect->add_option("--out", batch_collect.out, "DATASET.h5 (docs/batch.md has its layout)")->check(file_name);
+  c_bcollect->add_option("--csv", batch_collect.csv, "Also (or only) the runs table as CSV, one row per run")->check(file_name);
 
   MakeObjectsArgs make_objects;
   auto* c_make = app.add_subcommand("make-objects", "Write the built-in procedural object meshes (eraser, bottle)");

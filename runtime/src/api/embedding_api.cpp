@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <future>
 
 #include "dmgplace/formats/environment_artifact.hpp"
 #include "dmgplace/formats/object_artifact.hpp"
@@ -13,6 +14,8 @@
 #include "dmgplace/runtime/motion/arm_timing.hpp"
 #include "dmgplace/runtime/motion/multi_goal_rrt_connect.hpp"
 #include "dmgplace/runtime/placement/placement_planner.hpp"
+#include "dmgplace/runtime/placement/placement_world.hpp"
+#include "dmgplace/runtime/system/available_cpus.hpp"
 
 namespace dmgplace {
 namespace ob = ompl::base;
@@ -27,6 +30,11 @@ struct WorldAccess {
 
 namespace {
 const runtime::PlacementWorld& planner_world(const World& w) { return WorldAccess::of(w); }
+
+void check_opening(std::optional<double> finger_opening) {
+  if (finger_opening && !(std::isfinite(*finger_opening) && *finger_opening >= 0))
+    throw Error("World::load", "finger_opening", "must be finite and >= 0 (m)");
+}
 }  // namespace
 
 World::World() : impl_(std::make_unique<Impl>()) {}
@@ -35,15 +43,25 @@ World::~World() = default;
 std::shared_ptr<const World> World::load(const std::filesystem::path& robot, const std::filesystem::path& object,
                                          const std::filesystem::path& environment, std::optional<double> finger_opening,
                                          const std::map<std::string, double>& joint_values) {
-  return from_artifacts(formats::load_robot(robot), formats::load_object(object), formats::load_environment(environment),
-                        finger_opening, joint_values);
+  check_opening(finger_opening);
+  auto held_object = formats::load_object(object);
+  // The held object's FCL tree and sphere cover need its mesh alone: a second core builds them
+  // while the robot and the environment load (on one core, the world's constructor does).
+  const auto policy = runtime::available_cpus() > 1 ? std::launch::async : std::launch::deferred;
+  auto held = std::async(policy, [mesh = held_object.mesh] { return runtime::HeldObjectModels::build(mesh); });
+  auto robot_artifact = formats::load_robot(robot);
+  auto environment_artifact = formats::load_environment(environment);
+  std::shared_ptr<World> w(new World());
+  w->impl_->world = std::make_unique<runtime::PlacementWorld>(std::move(robot_artifact), std::move(held_object),
+                                                              std::move(environment_artifact), finger_opening.value_or(-1),
+                                                              joint_values, std::move(held));
+  return w;
 }
 
 std::shared_ptr<const World> World::from_artifacts(formats::RobotArtifact robot, formats::ObjectArtifact object,
                                                    formats::EnvironmentArtifact environment, std::optional<double> finger_opening,
                                                    const std::map<std::string, double>& joint_values) {
-  if (finger_opening && !(std::isfinite(*finger_opening) && *finger_opening >= 0))
-    throw Error("World::load", "finger_opening", "must be finite and >= 0 (m)");
+  check_opening(finger_opening);
   std::shared_ptr<World> w(new World());
   w->impl_->world = std::make_unique<runtime::PlacementWorld>(std::move(robot), std::move(object), std::move(environment),
                                                               finger_opening.value_or(-1), joint_values);

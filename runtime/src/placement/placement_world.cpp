@@ -40,7 +40,7 @@ bool in_chain(const Kinematics& kin, const std::string& joint) {
 
 PlacementWorld::PlacementWorld(formats::RobotArtifact robot, formats::ObjectArtifact object,
                                formats::EnvironmentArtifact env, double finger_opening,
-                               const std::map<std::string, double>& joint_values)
+                               const std::map<std::string, double>& joint_values, std::future<HeldObjectModels> held)
     : robot_(std::move(robot)), object_(std::move(object)) {
   // Artifacts built in memory have no file name: say which kind instead.
   const auto name = [](const formats::ArtifactHeader& h, const char* kind) {
@@ -91,9 +91,12 @@ PlacementWorld::PlacementWorld(formats::RobotArtifact robot, formats::ObjectArti
   fast_ = std::make_unique<SphereFieldChecker>(*kin_, robot_.spheres, env_.sdf, env_.sdf_band);
   fast_->set_self_tables(robot_.self_tables);
   fast_->set_exact_obstacles(PrimitiveObstacles::from_scene(scene_));  // null unless all primitives
-  object_mesh_ = std::make_unique<CollisionMesh>(object_.mesh);
-  object_spheres_ = cover_object(object_.mesh);
+  HeldObjectModels models = held.valid() ? held.get() : HeldObjectModels::build(object_.mesh);
+  object_mesh_ = std::move(models.mesh);
+  object_spheres_ = std::move(models.spheres);
 }
+
+HeldObjectModels HeldObjectModels::build(const TriMesh& mesh) { return {std::make_unique<CollisionMesh>(mesh), cover_object(mesh)}; }
 
 void PlacementWorld::set_fingers(Kinematics& kin, double opening) const {
   // Finger joints: movable joints outside the chain whose child is a hand link; each finger

@@ -174,3 +174,24 @@ TEST(H5IO, AnyFlippedByteIsDetectedOrHarmless) {
   RecordProperty("detected", detected);
   RecordProperty("harmless", harmless);
 }
+
+TEST(H5IO, Utf8StringsRoundTripAsHdf5StringsWithTheirDigest) {
+  dmgplace::test::TempDir dir;
+  const std::vector<std::string> names{"panda", "", "bouteille \xC3\xA0 lait", "a,\"b\""};
+  {
+    H5Writer w(dir / "s.h5", header());
+    w.ordered_group("t");
+    w.write_utf8_strings("t/names", names);
+    w.write_utf8_strings("t/none", {});
+    EXPECT_TRUE(is_error_naming([&] { w.write_utf8_strings("nul", {std::string("a\0b", 3)}); }, "nul[0]: string contains a NUL byte"));
+    EXPECT_TRUE(is_error_naming([&] { w.write_utf8_strings("bad", {"ok", "\xC3("}); }, "bad[1]: string is not valid UTF-8"));
+    w.commit();
+  }
+  H5Reader r(dir / "s.h5");
+  EXPECT_EQ(r.read_utf8_strings("t/names"), names);
+  EXPECT_TRUE(r.read_utf8_strings("t/none").empty());
+  EXPECT_EQ(r.shape("t/names"), (std::vector<std::size_t>{4}));
+  EXPECT_TRUE(r.verify_all_checksums().empty());
+  EXPECT_TRUE(is_error_naming([&] { r.read_i64("t/names", {-1}); }, "t/names: wrong element type"));
+  EXPECT_TRUE(is_error_naming([&] { r.read_utf8_strings("g"); }, "g: missing dataset"));
+}

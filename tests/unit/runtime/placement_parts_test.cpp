@@ -6,6 +6,7 @@
 #include <random>
 
 #include "dmgplace/formats/error.hpp"
+#include "dmgplace/formats/triangle_distance.hpp"
 #include "dmgplace/runtime/collision/object_spheres.hpp"
 #include "dmgplace/runtime/placement/objective.hpp"
 #include "dmgplace/runtime/placement/placement_tree.hpp"
@@ -75,6 +76,38 @@ TEST(ObjectSpheres, CoverContainsTheSurfaceAndTheInside) {
       }
     }
   }
+}
+
+// cover_object's lattice only tests the triangles near each cube and on each inside ray's line;
+// every cube must get the answer of testing all triangles (the definition, written out here).
+TEST(ObjectSpheres, CoverEqualsTestingEveryTriangle) {
+  TriMesh tilted = test::bottle_mesh();
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  for (Eigen::Index v = 0; v < tilted.vertices.rows(); ++v) tilted.vertices.row(v) = (r * tilted.vertices.row(v).transpose()).transpose();
+  for (const TriMesh& m : {test::box_mesh(Eigen::Vector3d(0.1, 0.05, 0.03)), test::bottle_mesh(), test::eraser_mesh(), tilted})
+    for (int cells : {1, 3, 8, 13}) {
+      const Eigen::Vector3d lo = m.vertices.colwise().minCoeff().transpose(), hi = m.vertices.colwise().maxCoeff().transpose();
+      const double cell = std::max((hi - lo).maxCoeff() / cells, 1e-4), radius = std::sqrt(3.0) / 2.0 * cell;
+      const Eigen::Array3i n = ((hi - lo) / cell).array().ceil().cast<int>().max(1);
+      const Eigen::Vector3d start = 0.5 * (lo + hi) - 0.5 * cell * n.cast<double>().matrix();
+      std::vector<Eigen::Vector3d> expected;
+      for (int k = 0; k < n.z(); ++k)
+        for (int j = 0; j < n.y(); ++j)
+          for (int i = 0; i < n.x(); ++i) {
+            const Eigen::Vector3d c = start + cell * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5);
+            bool near = false;
+            for (Eigen::Index t = 0; t < m.triangles.rows() && !near; ++t)
+              near = (closest_point_on_triangle(c, m.vertices.row(m.triangles(t, 0)).transpose(), m.vertices.row(m.triangles(t, 1)).transpose(),
+                                                m.vertices.row(m.triangles(t, 2)).transpose()) - c).squaredNorm() <= radius * radius;
+            if (near || inside_mesh(m, c)) expected.push_back(c);
+          }
+      const SphereSet s = cover_object(m, cells);
+      ASSERT_EQ(s.centers.size(), expected.size()) << cells << " cells";
+      for (std::size_t k = 0; k < expected.size(); ++k) {
+        EXPECT_EQ(s.centers[k], expected[k]);
+        EXPECT_EQ(s.radii[k], radius);
+      }
+    }
 }
 
 TEST(SearchSpace, PosesRestOnTheRegionAndCropToTheVolume) {

@@ -2,12 +2,13 @@
 
 #include <cmath>
 #include <fstream>
-#include <map>
-#include <limits>
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <sstream>
 
+#include "batch_dataset.hpp"
+#include "dmgplace/formats/artifact_kind.hpp"
+#include "dmgplace/formats/atomic_file.hpp"
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/formats/h5_writer.hpp"
 #include "dmgplace/tools/batch/batch_state.hpp"
@@ -54,62 +55,49 @@ void print_status(const BatchStatus& s, bool json, std::ostream& os) {
      << s.tasks.size() << "; ETA " << std::lround(s.eta_seconds) << " s on one job\n";
 }
 
-std::size_t collect_batch(const fs::path& out, const fs::path& dataset) {
+namespace {
+
+nlohmann::ordered_json read_result(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw Error(file.string(), "", "cannot open");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  auto j = nlohmann::ordered_json::parse(ss.str(), nullptr, false);
+  if (j.is_discarded()) throw Error(file.string(), "", "not valid JSON");
+  return j;
+}
+
+void write_dataset(const fs::path& file, const BatchPlan& plan, const DatasetTables& tables) {
+  formats::ArtifactHeader h;
+  h.schema = formats::kDatasetSchema;
+  h.schema_version = formats::kDatasetSchemaVersion;
+  h.parameters_json = nlohmann::json{{"batch", plan.name}, {"rows", tables.runs.rows()}}.dump();
+  formats::H5Writer w(file, h);
+  for (const auto& [group, table] : tables.all()) write_table(w, group, *table);
+  w.commit();
+}
+
+}  // namespace
+
+std::size_t collect_batch(const fs::path& out, const CollectOptions& o) {
+  if (o.dataset.empty() && o.csv.empty()) throw Error("batch-collect", "", "nothing to write: give --out DATASET.h5, --csv FILE.csv or both");
+  std::error_code ec;
+  if (!o.dataset.empty() && !o.csv.empty() && fs::weakly_canonical(o.dataset, ec) == fs::weakly_canonical(o.csv, ec))
+    throw Error(o.csv.string(), "", "--csv names the same file as --out");
   const BatchPlan plan = read_plan(out);
-  std::map<std::string, const BatchTask*> by_id;
-  for (const auto& t : plan.tasks) by_id[t.id] = &t;
-  std::vector<std::string> ids, robots, objects, envs, grasps, variants, robot_ids, object_ids, env_ids;
-  std::vector<std::int64_t> seeds, faces, states, actions, waypoints;
-  std::vector<std::uint8_t> solved;
-  std::vector<double> objective, first, seconds, g0, pose;
-  const double nan = std::numeric_limits<double>::quiet_NaN();
+  DatasetBuilder builder;
+  std::size_t runs = 0;
   for (const auto& t : plan.tasks) {
     if (t.kind != "query" || !task_done(out, t)) continue;
-    std::ifstream in(t.output / "result.json");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    const auto j = nlohmann::json::parse(ss.str(), nullptr, false);
-    if (j.is_discarded()) throw Error((t.output / "result.json").string(), "", "not valid JSON");
-    const bool ok = j.value("solved", false);
-    ids.push_back(t.id), robots.push_back(t.robot), objects.push_back(t.object), envs.push_back(t.environment);
-    grasps.push_back(t.grasp), variants.push_back(t.variant), seeds.push_back(t.seed);
-    robot_ids.push_back(t.deps.at(0)), object_ids.push_back(t.deps.at(1)), env_ids.push_back(t.deps.at(2));
-    solved.push_back(ok);
-    seconds.push_back(j.value("seconds", nan));
-    g0.insert(g0.end(), t.g0.begin(), t.g0.end());
-    if (ok) {
-      const auto& b = j.at("best");
-      objective.push_back(b.at("objective"));
-      first.push_back(j.at("improvements").at(0).at("time"));
-      faces.push_back(b.at("face")), states.push_back(b.at("grasp").at("state"));
-      actions.push_back(std::int64_t(b.at("in_hand").size())), waypoints.push_back(std::int64_t(b.at("path").size()));
-      for (const auto& x : b.at("pose")) pose.push_back(x.get<double>());  // x y z qx qy qz qw
-    } else {
-      objective.push_back(nan), first.push_back(nan), faces.push_back(-1), states.push_back(-1), actions.push_back(0),
-          waypoints.push_back(0);
-      for (int k = 0; k < 7; ++k) pose.push_back(nan);
-    }
+    const fs::path file = t.output / "result.json";
+    builder.add_run(t, read_result(file), file.string());
+    ++runs;
   }
-  formats::ArtifactHeader h;
-  h.schema = "dmgplace.dataset";
-  h.schema_version = 1;
-  h.parameters_json = nlohmann::json{{"batch", plan.name}, {"rows", ids.size()}}.dump();
-  formats::H5Writer w(dataset, h);
-  const std::size_t n = ids.size();
-  for (auto [name, col] : {std::pair{"task_id", &ids}, {"robot", &robots}, {"object", &objects}, {"environment", &envs},
-                           {"grasp", &grasps}, {"variant", &variants}, {"robot_artifact", &robot_ids},
-                           {"object_artifact", &object_ids}, {"environment_artifact", &env_ids}})
-    w.write_strings(std::string("runs/") + name, *col);
-  for (auto [name, col] : {std::pair{"seed", &seeds}, {"face", &faces}, {"grasp_state", &states}, {"in_hand_actions", &actions},
-                           {"path_waypoints", &waypoints}})
-    w.write(std::string("runs/") + name, std::span<const std::int64_t>(*col), {n});
-  w.write("runs/solved", std::span<const std::uint8_t>(solved), {n});
-  for (auto [name, col] : {std::pair{"objective", &objective}, {"first_solution_time", &first}, {"seconds", &seconds}})
-    w.write(std::string("runs/") + name, std::span<const double>(*col), {n});
-  w.write("runs/g0", std::span<const double>(g0), {n, 7});
-  w.write("runs/pose", std::span<const double>(pose), {n, 7});
-  w.commit();
-  return n;
+  if (runs == 0) throw Error((out / "batch.json").string(), "", "no finished query run to collect yet (`dmgplace batch-status` shows progress)");
+  const DatasetTables tables = builder.finish();
+  if (!o.dataset.empty()) write_dataset(o.dataset, plan, tables);
+  if (!o.csv.empty()) formats::write_file_atomically(o.csv, csv_text(tables.runs));
+  return runs;
 }
 
 }  // namespace dmgplace::tools

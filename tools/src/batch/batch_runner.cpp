@@ -133,11 +133,25 @@ class Runner {
       if (!rec.ok) rec.error = r.signal ? "killed by signal " + std::to_string(r.signal) : error_line(r.error_output, r.exit_code);
       rec.stderr_tail = tail(r.error_output, 2000);
       if (rec.ok && t.kind != "query" && !fs::exists(t.output)) rec.ok = false, rec.error = "no output written";
+      if (rec.ok && t.kind != "query" && o_.deep) validate_deeply(t, rec);
     } catch (const std::exception& e) {
       rec.ok = false;
       rec.error = e.what();
     }
     return finish(t, rec, start);
+  }
+
+  // A bake's output held against its own geometry (`validate --deep`) before any query plans with it.
+  void validate_deeply(const BatchTask& t, TaskRecord& rec) {
+    ProcessOptions po;
+    po.stderr_to = StderrTo::merge;
+    const ProcessResult r = run_process({o_.cli.string(), "validate", "--deep", "--quiet", t.output.string()}, po);
+    if (r.exit_code == 0) return;
+    rec.ok = false;
+    // --quiet prints problems only, one a line: the first names the dataset and the worst sample.
+    const std::string first = r.output.substr(0, r.output.find('\n'));
+    rec.error = "validate --deep: " + (first.empty() ? "exit status " + std::to_string(r.exit_code) : first);
+    rec.stderr_tail += tail(r.output, 2000);
   }
 
   bool finish(const BatchTask& t, TaskRecord& rec, Clock::time_point start) {

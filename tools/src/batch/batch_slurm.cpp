@@ -29,7 +29,7 @@ std::string script(const SlurmOptions& o, const std::string& phase) {
   if (!o.partition.empty()) s << "#SBATCH --partition=" << o.partition << "\n";
   if (!o.time.empty()) s << "#SBATCH --time=" << o.time << "\n";
   s << "exec " << sh_quote(o.cli.string()) << " batch " << sh_quote(o.manifest.string()) << " --out " << sh_quote(o.out.string())
-    << " --phase " << phase << " --shard \"${SLURM_ARRAY_TASK_ID}/" << o.array_size << "\"\n";
+    << " --phase " << phase << " --shard \"${SLURM_ARRAY_TASK_ID}/" << o.array_size << "\"" << (o.deep ? "" : " --no-deep") << "\n";
   return s.str();
 }
 

@@ -108,6 +108,7 @@ Shape convert_geometry(const urdf::Geometry& g, const std::string& file, const s
 Link convert_link(const urdf::Link& l, const std::string& file, const fs::path& base_dir, const UrdfOptions& options) {
   Link link;
   link.name = l.name;
+  if (options.skip_collision) return link;
   for (std::size_t i = 0; i < l.collision_array.size(); ++i) {
     const auto& c = l.collision_array[i];
     const std::string where = quoted("link", l.name) + " collision " + std::to_string(i);
@@ -321,7 +322,7 @@ RobotModel read_urdf(const fs::path& urdf, const UrdfOptions& options) {
       throw Error(file, quoted("link", name), "not connected to the root link '" + root->name + "' (joint cycle?)");
   for (const auto& l : order) {
     const auto expected = collision_counts.find(l->name);
-    if (expected != collision_counts.end() && expected->second != l->collision_array.size())
+    if (!options.skip_collision && expected != collision_counts.end() && expected->second != l->collision_array.size())
       throw Error(file, quoted("link", l->name),
                   "has " + std::to_string(expected->second) + " <collision> elements but only " +
                       std::to_string(l->collision_array.size()) + " could be read (a malformed origin or geometry)");

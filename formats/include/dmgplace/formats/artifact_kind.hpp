@@ -9,6 +9,10 @@ namespace dmgplace::formats {
 
 using Summary = std::vector<std::pair<std::string, std::string>>;  // ordered key -> value
 
+// `dmgplace batch-collect`'s dataset (layout: tools/include/dmgplace/tools/batch/batch_report.hpp).
+inline constexpr const char* kDatasetSchema = "dmgplace.dataset";
+inline constexpr int kDatasetSchemaVersion = 2;
+
 // Checks one artifact file of any known kind: header, schema, every checksum, then the kind's
 // semantic invariants. Returns one line per problem (empty when the file is sound).
 std::vector<std::string> validate_artifact(const std::filesystem::path& path);

@@ -32,6 +32,10 @@ class H5Reader {
   Array<std::int64_t> read_i64(const std::string& name, std::vector<long> dims) const;
   Array<std::uint8_t> read_u8(const std::string& name, std::vector<long> dims) const;
   std::vector<std::string> read_strings(const std::string& name) const;
+  // A 1-D dataset of fixed-length UTF-8 strings (H5Writer::write_utf8_strings), NUL padding removed.
+  std::vector<std::string> read_utf8_strings(const std::string& name) const;
+  // A dataset's shape, whatever its element type.
+  std::vector<std::size_t> shape(const std::string& name) const;
   std::optional<std::string> attribute(const std::string& object, const std::string& name) const;
   // Every dataset path in the file (for validation).
   std::vector<std::string> dataset_names() const;

@@ -30,6 +30,12 @@ class H5Writer {
   void write(const std::string& name, std::span<const std::int64_t> data, std::vector<std::size_t> dims);
   void write(const std::string& name, std::span<const std::uint8_t> data, std::vector<std::size_t> dims);
   void write_strings(const std::string& name, const std::vector<std::string>& values);
+  // One HDF5 string per value: fixed-length UTF-8, NUL-padded to the longest value (h5py reads a
+  // numpy bytes array). Filtered like write(); the sha256 covers the stored, padded bytes. Values
+  // must be valid UTF-8 without NUL bytes (padding would eat a trailing one).
+  void write_utf8_strings(const std::string& name, const std::vector<std::string>& values);
+  // A group whose members list in creation order (h5py and pandas show columns as written).
+  void ordered_group(const std::string& name);
   // A string attribute on the root ("" ) or on an existing group/dataset.
   void attribute(const std::string& object, const std::string& name, const std::string& value);
 

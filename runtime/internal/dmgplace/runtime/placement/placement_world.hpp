@@ -2,6 +2,7 @@
 // Everything a placement query runs against, built once from the three artifacts: the arm's
 // kinematics, both collision layers with the environment, the held object's grasp graph, mesh and
 // sphere cover, and the hand (the links rigid with the tool centre point).
+#include <future>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -27,6 +28,14 @@ struct HandModel {
   std::vector<std::pair<int, Eigen::Isometry3d>> in_tcp;  // each hand link's pose in the TCP frame
 };
 
+// What the runtime builds from the held object's mesh alone: FCL's tree of it and its sphere
+// cover. World::load builds them on a second core while the robot and the environment load.
+struct HeldObjectModels {
+  std::unique_ptr<CollisionMesh> mesh;
+  SphereSet spheres;
+  static HeldObjectModels build(const TriMesh& mesh);
+};
+
 class PlacementWorld {
  public:
   // The arm chain is the robot artifact's; its tip must be the gripper's TCP (z approach, y
@@ -35,8 +44,11 @@ class PlacementWorld {
   // `joint_values` sets joints outside the arm chain (another arm, a torso, a mobile base's lift)
   // for this world; the rest stay at the robot artifact's values. A name that is not such a joint
   // (unknown, in the chain, fixed, a mimic, a finger) or a value outside its limits is refused.
+  // `held`, when valid, delivers the object's HeldObjectModels (built from the same mesh);
+  // otherwise they are built here.
   PlacementWorld(formats::RobotArtifact robot, formats::ObjectArtifact object, formats::EnvironmentArtifact env,
-                 double finger_opening = -1, const std::map<std::string, double>& joint_values = {});
+                 double finger_opening = -1, const std::map<std::string, double>& joint_values = {},
+                 std::future<HeldObjectModels> held = {});
   PlacementWorld(const PlacementWorld&) = delete;
   PlacementWorld& operator=(const PlacementWorld&) = delete;
 

@@ -19,6 +19,7 @@ struct BatchOptions {
   std::string phase = "all";   // all, bakes, queries (a Slurm array job runs one phase)
   bool dry_run = false;        // list what would run, run nothing
   bool json = false;           // one JSON object per finished task on `out` (for log shippers)
+  bool deep = true;            // every bake's output passes `validate --deep` before a query uses it
 };
 
 struct BatchTotals {

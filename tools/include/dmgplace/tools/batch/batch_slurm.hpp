@@ -12,6 +12,7 @@ struct SlurmOptions {
   std::string partition;   // empty: the cluster's default
   std::string time;        // HH:MM:SS per array task; empty: the partition's default
   std::string sbatch = "sbatch";
+  bool deep = true;        // false: the bakes skip `validate --deep` (batch --no-deep)
 };
 
 struct SlurmSubmission {

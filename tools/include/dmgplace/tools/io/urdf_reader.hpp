@@ -11,6 +11,9 @@ namespace dmgplace::tools {
 struct UrdfOptions {
   // Folders holding ROS packages: package://NAME/rest is looked up as P/NAME/rest, then P/rest.
   std::vector<std::filesystem::path> package_paths;
+  // The link tree and joints only, no collision geometry (no mesh file is read): for comparing
+  // an artifact's joint limits with its URDF.
+  bool skip_collision = false;
 };
 
 // Links in depth-first order from the root (children by joint name), each joint listed after its
