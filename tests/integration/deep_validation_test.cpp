@@ -8,6 +8,7 @@
 
 #include "dmgplace/formats/artifact_kind.hpp"
 #include "dmgplace/formats/environment_artifact.hpp"
+#include "dmgplace/formats/object_artifact.hpp"
 #include "dmgplace/formats/robot_artifact.hpp"
 #include "dmgplace/tools/robot/bake_robot.hpp"
 #include "dmgplace/tools/validate/deep_validation.hpp"
@@ -160,4 +161,26 @@ TEST(DeepValidation, CliRefusesWithTheFileTheDatasetAndTheWorstSample) {
   EXPECT_TRUE(failed_check);
   const auto sound_run = test::run_cli({"validate", "--deep", "--samples", "300", "--set", sound().robot, sound().object, sound().env});
   EXPECT_EQ(sound_run.exit_code, 0) << sound_run.output;
+}
+
+TEST(DeepValidation, CheckInputsComparesAnObjectWithItsMeshFileAndMass) {
+  test::TempDir dir;
+  ASSERT_EQ(test::run_cli({"make-objects", "--out", dir.path()}).exit_code, 0);
+  const fs::path object = dir / "eraser.h5";
+  const auto bake = test::run_cli({"bake-object", dir / "eraser.stl", "--mass", "0.1", "--out", object});
+  ASSERT_EQ(bake.exit_code, 0) << bake.output;
+  const auto sound_report = tools::deep_validate(object, with_inputs());
+  EXPECT_TRUE(sound_report.ok()) << (sound_report.problems().empty() ? "" : sound_report.problems().front());
+  bool compared = false;
+  for (const auto& c : sound_report.checks) compared |= c.dataset == "mesh/vertices" && c.samples > 0;
+  EXPECT_TRUE(compared) << "the mesh file was found beside the artifact's recorded input";
+
+  // Twice the mass (and inertia, so the mesh integrals still agree): only the inputs say it is wrong.
+  auto heavy = formats::read_object_unchecked(object);
+  heavy.mass.mass *= 2;
+  heavy.mass.inertia *= 2;
+  const fs::path forged = dir / "heavy.h5";
+  formats::save_object(std::move(heavy), forged);
+  EXPECT_TRUE(tools::deep_validate(forged).ok());
+  expect_refused(forged, "mass/volume_mass", with_inputs());
 }

@@ -54,7 +54,9 @@ DeepReport deep_validate(const std::filesystem::path& file, const DeepOptions& o
     detail::deep_robot(robot, o, report);
     if (o.check_inputs) detail::robot_against_inputs(robot, file, report);
   } else if (report.schema == formats::kObjectSchema) {
-    detail::deep_object(formats::load_object(file), o, report);
+    const auto object = formats::load_object(file);
+    detail::deep_object(object, o, report);
+    if (o.check_inputs) detail::object_against_inputs(object, file, report);
   } else {
     report.notes.push_back("no deep checks for " + report.schema + " files");
   }

@@ -16,6 +16,8 @@ void deep_robot(const formats::RobotArtifact& a, const DeepOptions& o, DeepRepor
 void deep_object(const formats::ObjectArtifact& a, const DeepOptions& o, DeepReport& report);
 // --check-inputs for a robot: joint limits against the URDF (and joint_limits.yaml) the header names.
 void robot_against_inputs(const formats::RobotArtifact& a, const std::filesystem::path& file, DeepReport& report);
+// --check-inputs for an object baked from a mesh file: the mesh read again, the mass asked for.
+void object_against_inputs(const formats::ObjectArtifact& a, const std::filesystem::path& file, DeepReport& report);
 
 // Keeps the largest disagreement of a check as samples arrive (from one thread).
 struct WorstOf {
