@@ -77,6 +77,13 @@ TEST_F(Placement, EveryPublishedSolutionIsStableFreeAndImproving) {
       const ExactChecker released = world_->released_exact(up, s.release_opening);
       for (std::size_t i = 1; i < s.retreat.size(); ++i)
         ASSERT_TRUE(released.segment_free(vec(s.retreat[i - 1]), vec(s.retreat[i]), qr.options.motion_resolution)) << "retreat " << i;
+      // The fingers let go by release_clearance each, or (where that finds no retreat) by the
+      // gripper's contact tolerance, never beyond the gripper's maximum.
+      const auto& gripper = world_->object().dmg.gripper;
+      const double wide = std::min(gripper.max_opening, s.opening + 2 * qr.options.release_clearance);
+      const double narrow = std::min(wide, s.opening + 2 * gripper.contact_tolerance);
+      EXPECT_TRUE(s.release_opening == wide || s.release_opening == narrow) << s.release_opening;
+      EXPECT_GT(s.release_opening, s.opening);
     }
     // The arm at the end of the path holds the object just above its resting pose.
     const Eigen::Isometry3d held = kin.tip_pose(vec(s.path.back())) * s.grasp.inverse();

@@ -309,12 +309,21 @@ struct PlacementPlanner::Run {
 
   // The retreat from the placement at the end of `path` (the object at `pose`, held at
   // `grasp_opening`): release, withdraw until clear, then the motion to the retreat
-  // configuration. Fills sol.retreat and sol.release_opening; false when there is none.
+  // configuration. Fills sol.retreat and sol.release_opening; false when there is none. The
+  // fingers open release_clearance each; where no retreat is found so, they try opening only as
+  // far as the gripper's contact tolerance (a narrower hand fits where a wider one does not).
   bool plan_whole_retreat(const Eigen::Isometry3d& pose, const JointPath& path, double grasp_opening, PlacementSolution& sol) {
+    const auto& gripper = world.object().dmg.gripper;
+    const double wide = std::min(gripper.max_opening, grasp_opening + 2 * o.release_clearance);
+    const double narrow = std::min(wide, grasp_opening + 2 * gripper.contact_tolerance);
+    return retreat_at(pose, path, wide, sol) || (narrow < wide && retreat_at(pose, path, narrow, sol));
+  }
+
+  // plan_whole_retreat with the fingers opened to `opening` at release.
+  bool retreat_at(const Eigen::Isometry3d& pose, const JointPath& path, double opening, PlacementSolution& sol) {
     const auto vec = [](const std::vector<double>& v) { return Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size())); };
     Eigen::Isometry3d up = pose;
     up.translation().z() += o.lift;
-    const double opening = std::min(world.object().dmg.gripper.max_opening, grasp_opening + 2 * o.release_clearance);
     const ExactChecker released = world.released_exact(up, opening);
     const Eigen::VectorXd q_place = vec(path.back());
     // Back along the approach first; where the arm cannot do that (it folds into itself or the
