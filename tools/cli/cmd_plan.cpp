@@ -19,7 +19,9 @@ int run_plan(const PlanArgs& a) {
   tools::ArmProblemOptions opt;
   opt.sdf_resolution = a.sdf_resolution;
   auto problem = tools::load_arm_problem(a.robot, a.scene, a.request, opt);
-  log_info("distance field: " + std::to_string(problem.bake_seconds) + " s");
+  log_info(problem.sdf ? "scene setup: " + std::to_string(problem.setup_seconds) + " s, of it the distance field " +
+                             std::to_string(problem.bake_seconds) + " s"
+                       : "scene setup: " + std::to_string(problem.setup_seconds) + " s (its primitives serve: no distance field)");
   auto ours = tools::plan_ours(problem, a.time_limit, a.resolution, a.seed);
   nlohmann::ordered_json j;
   j["solved"] = ours.solved;

@@ -101,6 +101,7 @@ struct BenchMbmArgs {
   std::string robot, csv;
   std::string planners = "both";  // ours, stock or both
   std::string stock_bvh = "obbrss";  // the baseline's FCL mesh BVHs: obbrss (MoveIt's) or obb
+  std::string field = "auto";        // ours: auto (none for a scene of few primitives) or always
   int runs = 1, limit = 0;
   double time_limit = 10, resolution = 0.01, sdf_resolution = 0.02;
 };

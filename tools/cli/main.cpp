@@ -176,6 +176,8 @@ int main(int argc, char** argv) {
   c_bench->add_option("--csv", bench_mbm.csv, "Write every run as CSV");
   c_bench->add_option("--planners", bench_mbm.planners, "Which planners to run (the ratio needs both)")
       ->check(CLI::IsMember({"ours", "stock", "both"}));
+  c_bench->add_option("--field", bench_mbm.field, "Ours: auto (no distance field for a scene of at most 64 primitives) or always")
+      ->check(CLI::IsMember({"auto", "always"}));
   c_bench->add_option("--stock-bvh", bench_mbm.stock_bvh,
                       "FCL mesh BVHs of the stock baseline: obbrss (as MoveIt builds them) or obb (as our exact layer)")
       ->check(CLI::IsMember({"obbrss", "obb"}));

@@ -227,6 +227,40 @@ void build_self_pairs(ExactChecker::Impl& impl, const Kinematics& kin) {
 }
 }  // namespace
 
+// The scene's objects (in a fresh broadphase manager) and, when all are primitives, their convex
+// solids: everything of a checker that depends on the scene.
+static void set_environment(ExactChecker::Impl& impl, const Scene& env, double scan_resolution) {
+  impl.env_primitives = true;
+  impl.env_objects = std::make_shared<std::vector<std::unique_ptr<fcl::CollisionObjectd>>>();
+  impl.env_names = std::make_shared<std::vector<std::string>>();
+  impl.env = std::make_shared<fcl::DynamicAABBTreeCollisionManagerd>();
+  impl.env_convex = std::make_shared<std::vector<std::pair<ConvexSolid, Eigen::Isometry3d>>>();
+  for (const auto& o : env.objects)
+    for (const auto& s : o.shapes) {
+      impl.env_primitives &= s.type != ShapeType::Mesh;
+      if (s.type != ShapeType::Mesh) impl.env_convex->emplace_back(*ConvexSolid::of(s), s.origin);
+      impl.env_names->push_back(o.name);
+      auto obj = std::make_unique<fcl::CollisionObjectd>(make_geometry(s), s.origin.linear(), s.origin.translation());
+      obj->setUserData(reinterpret_cast<void*>(impl.env_names->size()));  // 1-based name index
+      obj->computeAABB();
+      impl.env_objects->push_back(std::move(obj));
+    }
+  if (env.points.rows() > 0) {
+    impl.env_primitives = false;
+    auto tree = std::make_shared<octomap::OcTree>(scan_resolution);
+    for (Eigen::Index i = 0; i < env.points.rows(); ++i)
+      tree->updateNode(octomap::point3d(float(env.points(i, 0)), float(env.points(i, 1)), float(env.points(i, 2))), true);
+    tree->updateInnerOccupancy();
+    impl.env_names->push_back("scan");
+    auto obj = std::make_unique<fcl::CollisionObjectd>(std::make_shared<fcl::OcTreed>(tree));
+    obj->setUserData(reinterpret_cast<void*>(impl.env_names->size()));
+    obj->computeAABB();
+    impl.env_objects->push_back(std::move(obj));
+  }
+  for (auto& o : *impl.env_objects) impl.env->registerObject(o.get());
+  impl.env->setup();
+}
+
 ExactChecker::ExactChecker(const Kinematics& kin, const Scene& env, double scan_resolution) : kin_(&kin) {
   auto impl = std::make_shared<Impl>();
   const auto& m = kin.model();
@@ -242,36 +276,17 @@ ExactChecker::ExactChecker(const Kinematics& kin, const Scene& env, double scan_
     }
   }
   impl->moving = kin.moving_links();
-  impl->env_objects = std::make_shared<std::vector<std::unique_ptr<fcl::CollisionObjectd>>>();
-  impl->env_names = std::make_shared<std::vector<std::string>>();
-  impl->env = std::make_shared<fcl::DynamicAABBTreeCollisionManagerd>();
-  impl->env_convex = std::make_shared<std::vector<std::pair<ConvexSolid, Eigen::Isometry3d>>>();
-  for (const auto& o : env.objects)
-    for (const auto& s : o.shapes) {
-      impl->env_primitives &= s.type != ShapeType::Mesh;
-      if (s.type != ShapeType::Mesh) impl->env_convex->emplace_back(*ConvexSolid::of(s), s.origin);
-      impl->env_names->push_back(o.name);
-      auto obj = std::make_unique<fcl::CollisionObjectd>(make_geometry(s), s.origin.linear(), s.origin.translation());
-      obj->setUserData(reinterpret_cast<void*>(impl->env_names->size()));  // 1-based name index
-      obj->computeAABB();
-      impl->env_objects->push_back(std::move(obj));
-    }
-  if (env.points.rows() > 0) {
-    impl->env_primitives = false;
-    auto tree = std::make_shared<octomap::OcTree>(scan_resolution);
-    for (Eigen::Index i = 0; i < env.points.rows(); ++i)
-      tree->updateNode(octomap::point3d(float(env.points(i, 0)), float(env.points(i, 1)), float(env.points(i, 2))), true);
-    tree->updateInnerOccupancy();
-    impl->env_names->push_back("scan");
-    auto obj = std::make_unique<fcl::CollisionObjectd>(std::make_shared<fcl::OcTreed>(tree));
-    obj->setUserData(reinterpret_cast<void*>(impl->env_names->size()));
-    obj->computeAABB();
-    impl->env_objects->push_back(std::move(obj));
-  }
-  for (auto& o : *impl->env_objects) impl->env->registerObject(o.get());
-  impl->env->setup();
+  set_environment(*impl, env, scan_resolution);
   build_self_pairs(*impl, kin);
   impl_ = impl;
+}
+
+ExactChecker ExactChecker::with_scene(const Scene& environment, double scan_resolution) const {
+  auto impl = std::make_shared<Impl>(*impl_);  // shares the robot's geometry (shared_ptrs)
+  set_environment(*impl, environment, scan_resolution);
+  ExactChecker c(*this);
+  c.impl_ = impl;
+  return c;
 }
 
 ExactChecker::~ExactChecker() = default;

@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 
+#include "dmgplace/formats/error.hpp"
 #include "dmgplace/runtime/collision/sphere_field_checker.hpp"
 #include "dmgplace/runtime/system/lanes.hpp"
 #include "sphere_lane_motion.hpp"
@@ -141,6 +142,8 @@ double SphereFieldChecker::lane_margin() const {
 }
 
 void SphereFieldChecker::set_exact_obstacles(std::shared_ptr<const PrimitiveObstacles> obstacles) {
+  if (!fine_ && (!obstacles || !obstacles->all_have_bits()))
+    throw Error("SphereFieldChecker", "scene", "a checker without a distance field needs at most 64 exact primitives");
   obstacles_ = std::move(obstacles);
   set_lane_bounds();
 }

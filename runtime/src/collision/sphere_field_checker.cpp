@@ -15,18 +15,32 @@ SphereFieldChecker::SphereFieldChecker(const Kinematics& kin, std::vector<format
   if (!sdf) throw Error("SphereFieldChecker", "", "no distance field");
   lo_ = sdf->origin();
   hi_ = sdf->point(sdf->dims()[0] - 1, sdf->dims()[1] - 1, sdf->dims()[2] - 1);
-  for (const auto& s : spheres_)
-    if (s.link < 0 || std::size_t(s.link) >= kin.model().links.size())
-      throw Error("SphereFieldChecker", "spheres", "link index out of range");
   // Queries read only these node-bound copies of the field (the float grid is not kept).
   fine_ = std::make_shared<NodeBoundGrid>(*sdf, 1);
   const auto& d = sdf->dims();
   if ((d[0] - 1) / kCoarseStride >= 1 && (d[1] - 1) / kCoarseStride >= 1 && (d[2] - 1) / kCoarseStride >= 1)
     coarse_ = std::make_shared<NodeBoundGrid>(*sdf, kCoarseStride);
+  check_and_sort_spheres();
+}
+
+// No band: exact distances are not clamped (it only seeds SphereCheck::min_clearance here).
+SphereFieldChecker::SphereFieldChecker(const Kinematics& kin, std::vector<formats::LinkSphere> spheres,
+                                       std::shared_ptr<const PrimitiveObstacles> obstacles, double padding)
+    : kin_(&kin), spheres_(std::move(spheres)), allowed_(kin.model().allowed_pairs), band_(1e9), padding_(padding) {
+  if (!obstacles || !obstacles->all_have_bits())
+    throw Error("SphereFieldChecker", "scene", "without a distance field the scene must be at most 64 exact primitives");
+  check_and_sort_spheres();
+  set_exact_obstacles(std::move(obstacles));
+}
+
+void SphereFieldChecker::check_and_sort_spheres() {
+  for (const auto& s : spheres_)
+    if (s.link < 0 || std::size_t(s.link) >= kin_->model().links.size())
+      throw Error("SphereFieldChecker", "spheres", "link index out of range");
   std::stable_sort(spheres_.begin(), spheres_.end(),
                    [](const formats::LinkSphere& a, const formats::LinkSphere& b) { return a.link < b.link; });
   auto inner = std::make_shared<std::vector<double>>();
-  for (const auto& s : spheres_) inner->push_back(inner_radius(kin.model().links[std::size_t(s.link)].collision, s.center));
+  for (const auto& s : spheres_) inner->push_back(inner_radius(kin_->model().links[std::size_t(s.link)].collision, s.center));
   inner_ = std::move(inner);
   build_bodies();
 }

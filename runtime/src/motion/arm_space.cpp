@@ -15,8 +15,8 @@ namespace dmgplace::runtime {
 namespace {
 // The joint space with a cheap default projection: the first two joints, as MoveIt configures
 // arms (the shoulder moves the arm most). OMPL's default for more than two dimensions draws a
-// random matrix, orthonormalises it and samples states to size its cells, about 60% of setting
-// the space up, which every query pays (7% of a typical MotionBenchMaker solve). Planners that
+// random matrix, orthonormalises it and samples states to size its cells, most of the cost of
+// setting the space up, which every query pays. Planners that
 // use projections (KPIECE, SBL, ...) get one; ours ignore it.
 class ArmStateSpace : public ob::RealVectorStateSpace {
  public:

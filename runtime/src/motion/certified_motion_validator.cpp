@@ -13,13 +13,14 @@ constexpr int kBatch = 8;  // SphereFieldChecker::free_lanes' lanes
 constexpr int kBatchRange = 2 * kBatch;  // wider uncertified ranges are bisected (fewer states, when certificates return)
 // A span batch's lanes reach T states each way, where T x kSpanShare is within the neighbouring
 // certificate: the batch widens by a static speed bound, which lasts about half as far as a
-// certificate's local one (bench-mbm: shares 1.5-2 best, 1 and 0.7 slower).
+// certificate's local one (bench-mbm: shares 1.5-2 best, smaller ones slower; docs/perf-log.md).
 constexpr int kSpanShare = 2;
 // Far ends go into the first batch's last lane while fewer than this share of recent ones were
 // blocked (CertifiedMotionValidator::far_blocked_). A blocked one then costs a batch more than a
-// plain check first; a free one the batch proves costs nothing more. bench-paired on the median
-// problems (far ends blocked 24-55% of the time): 0.1 level or 1-4% faster per set than never,
-// 0.2 up to 2% slower, always 2-11% slower; bench_robot's 0.5 rad motions (2-4% blocked) 0.8x.
+// plain check first; a free one the batch proves costs nothing more. On the planners' median
+// problems, where far ends are often blocked, this share was level with or faster than never
+// using the lane, and faster than a higher share or always; open-space motions, seldom blocked,
+// gain most (docs/perf-log.md).
 constexpr double kFarLaneBlockedShare = 0.1;
 Eigen::Map<const Eigen::VectorXd> values(const ob::State* s, unsigned n) {
   return {s->as<ob::RealVectorStateSpace::StateType>()->values, Eigen::Index(n)};
@@ -27,8 +28,8 @@ Eigen::Map<const Eigen::VectorXd> values(const ob::State* s, unsigned n) {
 
 // The straight motion s1 -> s2 as the discrete validator sees it: `steps` states h apart. Its
 // vectors are this thread's buffers, sized once (a motion check allocated three vectors, and one
-// more per state checked: 0.5 rad open-space motions are about 2% faster without): one segment per thread at a
-// time, which holds as a validator's checks do not nest.
+// more per state checked, which cost measurable time): one segment per thread at a time, which
+// holds as a validator's checks do not nest.
 struct Segment {
   Eigen::VectorXd &a, &dir;
   double length = 0, h = 0;
@@ -97,13 +98,13 @@ bool CertifiedMotionValidator::check_motion(const ob::State* s1, const ob::State
   };
   // With batch proofs a certificate need only reach a batch's width: what lies beyond goes to span
   // batches, which take it as their estimate. Refining further had made bisection midpoints the
-  // costliest checks (bench-mbm: needs of 1, 2, 4, 8, 16, 32 states and the whole range: 8 best).
+  // costliest checks (bench-mbm over needs from 1 state to the whole range: 8 best).
   auto need_of = [&](int states) { return proven_free_ ? std::min(states, kBatch) : states; };
   int k = 0, span_k = 0;
   // The far end first: a bad goal is found at once. With batch proofs a plain check, and span
   // batches take the whole motion from there: a certificate at the far end (8 states) cost more
-  // than the lanes it spared (bench_robot's 0.5 rad motions 0.77x; the planners within noise,
-  // docs/motion.md). Where far ends are seldom blocked, not even that: the first batch's last lane
+  // than the lanes it spared (docs/motion.md, "Certified motion validation"). Where far ends are
+  // seldom blocked, not even that: the first batch's last lane
   // takes the far end, and only a far end it leaves unproven gets a plain check, before anything
   // else (far_in_batch).
   bool far_in_batch = false;
@@ -169,8 +170,8 @@ bool CertifiedMotionValidator::check_motion(const ob::State* s1, const ob::State
   // A span batch: 8 lanes 2T + 1 states apart, each proving the T states on either side of it
   // (proven_free's reach), so one batch covers up to 8 (2T + 1) states. What lanes leave unproven
   // is queued for certified checks, with the range's estimate: neighbouring lanes' stretches as
-  // one range, since one certificate often covers both (median problems: 6-12% fewer certified
-  // checks than a range per lane).
+  // one range, since one certificate often covers both (fewer certified checks than a range per
+  // lane).
   auto check_span = [&](int lo, int hi, int e, int se, int T, bool far) {
     const double* q[kBatch];
     int idx[kBatch], count = 0;
@@ -202,8 +203,8 @@ bool CertifiedMotionValidator::check_motion(const ob::State* s1, const ob::State
     const int size = hi - lo + 1;
     // Ranges from a plain far end (e = 0 with an estimate: the first range, and the stretches its
     // span batch's lanes leave) are raked only up to one batch: beyond, the first range takes one
-    // span batch rather than two raked ones, a stretch certified checks (bench-paired, both
-    // orders: bookshelf sets 2-3% faster, the others level).
+    // span batch rather than two raked ones, a stretch certified checks (bench-paired: faster on
+    // the bookshelf sets, level on the others).
     if (proven_free_ && e == 0 && size >= 2 && size <= (se > 0 ? kBatch : kBatchRange)) {
       if (!check_batch(lo, hi, far_in_batch && head == 0)) {
         ++invalid_;

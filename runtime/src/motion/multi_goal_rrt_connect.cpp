@@ -42,8 +42,8 @@ MultiGoalRRTConnect::MultiGoalRRTConnect(const ob::SpaceInformationPtr& si) : ob
 namespace {
 // The default range schedule (setup()): fractions of the space's maximum extent, and how many
 // extensions take the wide one. Chosen on MotionBenchMaker's two shared Panda sets; their
-// neighbours (10-12%, 4-6%, 50-300 extensions) gave medians within 5% of it and p95s of 11-19 ms
-// (12 ms), where fixed ranges gave 15-58 ms (docs/motion.md).
+// neighbours (10-12%, 4-6%, 50-300 extensions) did about as well, and every fixed range had a
+// longer tail (docs/motion.md, "Extension range").
 constexpr double kWideRange = 0.11, kNarrowRange = 0.05;
 constexpr long kWideExtensions = 100;
 }  // namespace
@@ -63,8 +63,8 @@ void MultiGoalRRTConnect::setup() {
   // extensions, then 5%. Most problems are solved within the first, where long extensions reach
   // far for few certified checks; a problem still open after them has narrow passages (shelves),
   // where long extensions mostly fail or cost many checks. On MotionBenchMaker any fixed range
-  // trades one for the other (5%: p95 15 ms, median 0.94 ms; 11%: 23 ms, 0.68 ms); the schedule
-  // has both (docs/motion.md).
+  // trades one for the other (short ranges a slower median, long ones a longer tail); the
+  // schedule has both (docs/motion.md).
   const double extent = si_->getMaximumExtent();
   wide_range_ = range_ > 0 ? range_ : kWideRange * extent;
   narrow_range_ = range_ > 0 ? range_ : kNarrowRange * extent;
@@ -104,8 +104,7 @@ bool MultiGoalRRTConnect::motion_valid(const std::vector<double>& a, const std::
   si_->getStateSpace()->copyFromReals(scratch_, a);
   si_->getStateSpace()->copyFromReals(scratch_end_, b);
   // Both ends tree nodes (a shortcut jump, a new goal's straight line from the start): no far end
-  // checked first (identical answers; bench-mbm, paired runs: 5% less time per problem,
-  // table_under_pick 35%).
+  // checked first (identical answers in less time).
   if (b_valid)
     if (const auto* v = dynamic_cast<const CertifiedMotionValidator*>(si_->getMotionValidator().get()))
       return v->checkMotionBetweenValid(scratch_, scratch_end_);
@@ -260,8 +259,8 @@ ob::PlannerStatus MultiGoalRRTConnect::solve(const ob::PlannerTerminationConditi
       Tree& goal = *it->second;
       // The smaller tree grows toward the sample, the other connects (balanced RRT-Connect):
       // where one end sits in a narrow pocket (a goal deep in a shelf or a cage) its tree grows
-      // slowly, and alternating would spend half the extensions on the other tree's open side.
-      // All seven MotionBenchMaker Panda sets: pooled median -16%, p95 15 -> 9 ms (docs/motion.md).
+      // slowly, and alternating would spend half the extensions on the other tree's open side
+      // (faster on every MotionBenchMaker Panda set, the tail most: docs/perf-log.md).
       const bool forward = start_tree_->nodes.size() <= goal.nodes.size();
       Tree& grow = forward ? *start_tree_ : goal;
       Tree& other = forward ? goal : *start_tree_;

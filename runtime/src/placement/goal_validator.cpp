@@ -15,7 +15,7 @@ double GoalCheck::reward(const PlacementOptions& o) const {
   if (!(total > 0)) return 0.0;
   // The objective is credited only where the pose is a placement (stable, object free): an
   // unstable pose "improving" on the best would otherwise earn more than a feasible one that does
-  // not, and MCTS settles in subtrees where nothing is stable (seen: 0.2% stable samples).
+  // not, and MCTS settles in subtrees where nothing is stable (almost no stable samples).
   const bool feasible_improvement = improves && stable && object_free;
   return (o.reward_arm_free * arm_free + o.reward_object_free * object_free + o.reward_contact * stable +
           o.reward_objective * feasible_improvement + o.reward_reachable * reachable) /

@@ -76,9 +76,8 @@ inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>&
     const auto& A = P[std::size_t(j.parent)];
     auto& C = P[std::size_t(j.child)];
     // AVX2: the joint's values built in registers and stored a whole vector at a time; stored
-    // lane by lane, sincos' vector loads of them waited on failed store forwarding (float batch
-    // 1.18-1.31x side by side). The portable build keeps the lane loop: there the vectors were
-    // about 6% slower.
+    // lane by lane, sincos' vector loads of them waited on failed store forwarding. The portable
+    // build keeps the lane loop: there the vectors were slower.
     if constexpr (Wide) {
       for (int h = 0; h < N; h += lanes::W) {
         lanes::D x = lanes::splat(j.offset);
@@ -95,7 +94,7 @@ inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>&
       if (j.type == 1) sincos_lanes(vd, sd, cd);
     } else if (j.type == 1) {
       // The portable build keeps the double core, rounded: its float vectors are SSE pairs, and
-      // fast_sincos_f8 there made the float batch about 20% slower.
+      // fast_sincos_f8 there made the float batch slower.
       if constexpr (Wide) {
         sincos_lanes_f(vd, sf, cf);
       } else {

@@ -71,13 +71,14 @@ using test::random_q;
 }  // namespace
 
 // Every form of the fast layer: the field alone; a scene of a few exact primitives, checked by
-// their exact distances alone; and one of more than 64, where the field goes first and the
-// primitives settle what it leaves undecided (here the shelf plus 64 specks far out of reach, so
-// the answers are the shelf's).
-enum class Form { FieldOnly, WithExactPrimitives, FieldWithManyPrimitives };
+// their exact distances alone, with a field beside them or built without one; and one of more
+// than 64, where the field goes first and the primitives settle what it leaves undecided (here
+// the shelf plus 64 specks far out of reach, so the answers are the shelf's).
+enum class Form { FieldOnly, WithExactPrimitives, ExactPrimitivesNoField, FieldWithManyPrimitives };
 class FastLayer : public ::testing::TestWithParam<Form> {
  protected:
   SphereFieldChecker make(const ShelfWorld& w) const {
+    if (GetParam() == Form::ExactPrimitivesNoField) return SphereFieldChecker(w.kin, w.arm.spheres, PrimitiveObstacles::from_scene(w.scene));
     SphereFieldChecker fast(w.kin, w.arm.spheres, w.sdf, 0.3);
     if (GetParam() == Form::FieldOnly) return fast;
     Scene scene = w.scene;
@@ -97,12 +98,72 @@ class FastLayer : public ::testing::TestWithParam<Form> {
   bool exact_primitives() const { return GetParam() != Form::FieldOnly; }
 };
 INSTANTIATE_TEST_SUITE_P(Collision, FastLayer,
-                         ::testing::Values(Form::FieldOnly, Form::WithExactPrimitives, Form::FieldWithManyPrimitives),
+                         ::testing::Values(Form::FieldOnly, Form::WithExactPrimitives, Form::ExactPrimitivesNoField,
+                                           Form::FieldWithManyPrimitives),
                          [](const auto& info) {
-                           return info.param == Form::FieldOnly             ? "FieldOnly"
-                                  : info.param == Form::WithExactPrimitives ? "WithExactPrimitives"
-                                                                            : "FieldWithManyPrimitives";
+                           return info.param == Form::FieldOnly                ? "FieldOnly"
+                                  : info.param == Form::WithExactPrimitives    ? "WithExactPrimitives"
+                                  : info.param == Form::ExactPrimitivesNoField ? "ExactPrimitivesNoField"
+                                                                               : "FieldWithManyPrimitives";
                          });
+
+// A scene of a few primitives needs no field: the checker built without one answers exactly as
+// the one with a field beside the same primitives (which it never reads), state by state, along
+// directions and in lanes; a scene the primitives cannot carry alone is refused.
+TEST(FastLayerWithoutField, AnswersAsWithAFieldItNeverReads) {
+  ShelfWorld w;
+  const auto tables = test::self_distance_tables(w.kin, w.arm.spheres);
+  const auto prims = PrimitiveObstacles::from_scene(w.scene);
+  SphereFieldChecker with_field(w.kin, w.arm.spheres, w.sdf, 0.3);
+  with_field.set_self_tables(tables);
+  with_field.set_exact_obstacles(prims);
+  SphereFieldChecker without(w.kin, w.arm.spheres, prims);
+  without.set_self_tables(tables);
+  EXPECT_TRUE(with_field.has_field());
+  EXPECT_FALSE(without.has_field());
+  std::mt19937_64 rng(23);
+  int free = 0;
+  for (int round = 0; round < 400; ++round) {
+    std::vector<Eigen::VectorXd> qs;
+    const double* ptr[PoseBatch::kLanes];
+    for (int k = 0; k < PoseBatch::kLanes; ++k) qs.push_back(random_q(w.kin, rng));
+    for (int k = 0; k < PoseBatch::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
+    const Eigen::VectorXd dir = random_q(w.kin, rng) - qs[0];
+    ASSERT_EQ(with_field.free_lanes(ptr), without.free_lanes(ptr));
+    ASSERT_EQ(with_field.free_lanes_along(ptr, PoseBatch::kLanes, dir, 0.05), without.free_lanes_along(ptr, PoseBatch::kLanes, dir, 0.05));
+    const SphereCheck a = with_field.check_along(qs[0], dir), b = without.check_along(qs[0], dir);
+    ASSERT_EQ(a.free(), b.free());
+    ASSERT_EQ(a.env_link_count, b.env_link_count);
+    ASSERT_EQ(a.pair_count, b.pair_count);
+    ASSERT_EQ(a.proven_collision, b.proven_collision);
+    ASSERT_EQ(a.free_distance, b.free_distance);
+    free += a.free();
+  }
+  EXPECT_GT(free, 40);
+  Scene many = w.scene;
+  for (int k = 0; k < 64; ++k) many.objects.push_back({"speck", {box({0.01, 0.01, 0.01}, {0.1 * k, 4.0, 3.0})}});
+  EXPECT_THROW(SphereFieldChecker(w.kin, w.arm.spheres, PrimitiveObstacles::from_scene(many)), Error);
+  EXPECT_THROW(SphereFieldChecker(w.kin, w.arm.spheres, std::shared_ptr<const PrimitiveObstacles>()), Error);
+  EXPECT_THROW(without.set_exact_obstacles(nullptr), Error);
+}
+
+// A checker moved to another scene keeps the robot's geometry and answers as one built there.
+TEST(ExactChecker, WithSceneAnswersAsACheckerBuiltForThatScene) {
+  ShelfWorld w;
+  const ExactChecker empty(w.kin, Scene{});
+  const ExactChecker moved = empty.with_scene(w.scene), fresh(w.kin, w.scene);
+  std::mt19937_64 rng(29);
+  int collide = 0;
+  for (int k = 0; k < 300; ++k) {
+    const Eigen::VectorXd q = random_q(w.kin, rng);
+    const ExactCheck a = moved.check(q), b = fresh.check(q);
+    ASSERT_EQ(a.environment_free, b.environment_free);
+    ASSERT_EQ(a.self_free, b.self_free);
+    ASSERT_TRUE(empty.check(q).environment_free);
+    collide += !a.environment_free;
+  }
+  EXPECT_GT(collide, 10);
+}
 
 TEST_P(FastLayer, NeverSaysFreeWhereExactLayerCollides) {
   ShelfWorld w;

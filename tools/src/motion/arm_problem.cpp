@@ -5,6 +5,7 @@
 #include <ompl/util/Console.h>
 
 #include <chrono>
+#include <optional>
 
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/runtime/environment/environment_model.hpp"
@@ -44,34 +45,60 @@ double path_length(const runtime::JointPath& path) {
 }
 }  // namespace
 
+std::shared_ptr<const ArmRobot> load_arm_robot(const std::filesystem::path& robot_h5) {
+  auto r = std::make_shared<ArmRobot>();
+  r->robot = formats::load_robot(robot_h5);
+  const auto& m = r->robot.model;
+  r->kin = std::make_unique<runtime::Kinematics>(m, m.arm_base, m.arm_tip);
+  r->fast = std::make_unique<runtime::SphereFieldChecker>(*r->kin, r->robot.spheres, runtime::PrimitiveObstacles::from_scene(Scene{}));
+  r->fast->set_self_tables(r->robot.self_tables);
+  r->exact = std::make_unique<runtime::ExactChecker>(*r->kin, Scene{});
+  return r;
+}
+
 ArmProblem load_arm_problem(const std::filesystem::path& robot_h5, const std::filesystem::path& scene_yaml,
+                            const std::filesystem::path& request_yaml, const ArmProblemOptions& o) {
+  return load_arm_problem(load_arm_robot(robot_h5), scene_yaml, request_yaml, o);
+}
+
+ArmProblem load_arm_problem(std::shared_ptr<const ArmRobot> robot, const std::filesystem::path& scene_yaml,
                             const std::filesystem::path& request_yaml, const ArmProblemOptions& o) {
   ompl::msg::setLogLevel(ompl::msg::LOG_WARN);  // OMPL's per-solve chatter is not ours to print
   ArmProblem p;
-  p.robot = formats::load_robot(robot_h5);
+  p.robot = std::move(robot);
+  const auto& model = p.robot->robot.model;
   p.scene = load_scene(scene_yaml);
   const MotionRequest req = read_motion_request(request_yaml);
-  p.kin = std::make_unique<runtime::Kinematics>(p.robot.model, p.robot.model.arm_base, p.robot.model.arm_tip);
+  p.kin = std::make_unique<runtime::Kinematics>(*p.robot->kin);
   for (const auto& [name, value] : req.start) {
-    const int j = p.robot.model.joint_index(name);
+    const int j = model.joint_index(name);
     if (j < 0) throw Error(request_yaml.string(), "start_state", "robot has no joint '" + name + "'");
     const bool in_chain = std::find(p.kin->joint_names().begin(), p.kin->joint_names().end(), name) != p.kin->joint_names().end();
-    if (!in_chain && p.robot.model.joints[std::size_t(j)].mimic < 0 && p.robot.model.joints[std::size_t(j)].type != JointType::Fixed)
+    if (!in_chain && model.joints[std::size_t(j)].mimic < 0 && model.joints[std::size_t(j)].type != JointType::Fixed)
       p.kin->set_joint_value(name, value);
   }
   p.start = chain_values(*p.kin, req.start, request_yaml.string(), "start_state");
   p.goal = chain_values(*p.kin, req.goal, request_yaml.string(), "goal_constraints");
+  // The scene's part: a few primitives serve the fast layer as they are; else a distance field.
   const auto t0 = Clock::now();
-  const EnvGeometry geometry = make_env_geometry(p.scene);
-  const EmbreeScene embree(geometry);
-  const Eigen::AlignedBox3d box(Eigen::Vector3d(-o.reach, -o.reach, -0.3), Eigen::Vector3d(o.reach, o.reach, o.reach + 0.5));
-  p.sdf = std::make_shared<runtime::Grid3>(runtime::to_grid(distance_field(embree, grid_covering(box, o.sdf_resolution), o.sdf_band, 1)));
-  p.bake_seconds = since(t0);
-  runtime::SphereFieldChecker fast(*p.kin, p.robot.spheres, p.sdf, o.sdf_band);
-  fast.set_self_tables(p.robot.self_tables);
-  if (o.exact_primitives) fast.set_exact_obstacles(runtime::PrimitiveObstacles::from_scene(p.scene));
-  p.exact = std::make_unique<runtime::ExactChecker>(*p.kin, p.scene);
-  p.checker = std::make_unique<runtime::TwoLayerChecker>(std::move(fast), *p.exact);
+  const auto primitives = o.exact_primitives ? runtime::PrimitiveObstacles::from_scene(p.scene) : nullptr;
+  std::optional<runtime::SphereFieldChecker> fast;
+  if (primitives && primitives->all_have_bits() && !o.always_field) {
+    fast.emplace(p.robot->fast->with_kinematics(*p.kin));
+    fast->set_exact_obstacles(primitives);
+  } else {
+    const EnvGeometry geometry = make_env_geometry(p.scene);
+    const EmbreeScene embree(geometry);
+    const Eigen::AlignedBox3d box(Eigen::Vector3d(-o.reach, -o.reach, -0.3), Eigen::Vector3d(o.reach, o.reach, o.reach + 0.5));
+    p.sdf = std::make_shared<runtime::Grid3>(runtime::to_grid(distance_field(embree, grid_covering(box, o.sdf_resolution), o.sdf_band, 1)));
+    p.bake_seconds = since(t0);
+    fast.emplace(*p.kin, p.robot->robot.spheres, p.sdf, o.sdf_band);
+    fast->set_self_tables(p.robot->robot.self_tables);
+    if (primitives) fast->set_exact_obstacles(primitives);
+  }
+  p.exact = std::make_unique<runtime::ExactChecker>(p.robot->exact->with_kinematics(*p.kin).with_scene(p.scene));
+  p.checker = std::make_unique<runtime::TwoLayerChecker>(std::move(*fast), *p.exact);
+  p.setup_seconds = since(t0);
   return p;
 }
 

@@ -51,6 +51,8 @@ class ExactChecker {
   // The same checker posing the robot with `kin`: a copy of this one's kinematics (the same
   // model) with other finger joint values. `kin` must outlive the checker.
   ExactChecker with_kinematics(const Kinematics& kin) const;
+  // The same robot (its geometry shared, not rebuilt) in another scene.
+  ExactChecker with_scene(const Scene& environment, double scan_resolution = 0.01) const;
 
   // The listed links' geometry alone at the given poses (world), against the environment: a hand
   // without its arm, for instance.

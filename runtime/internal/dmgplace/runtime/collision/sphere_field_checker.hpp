@@ -73,6 +73,11 @@ class SphereFieldChecker {
   // far cells were clamped to (distances at or above it are "at least band").
   SphereFieldChecker(const Kinematics& kin, std::vector<formats::LinkSphere> spheres,
                      std::shared_ptr<const Grid3> sdf, double band, double padding = 0.0);
+  // For a scene of exact primitives alone (PrimitiveObstacles::from_scene, at most 64 of them:
+  // all_have_bits()), which every check then reads instead of a field: nothing is baked for a
+  // new scene. Other scenes: dmgplace::Error.
+  SphereFieldChecker(const Kinematics& kin, std::vector<formats::LinkSphere> spheres,
+                     std::shared_ptr<const PrimitiveObstacles> obstacles, double padding = 0.0);
 
   // Exact self-distance tables (from ROBOT.h5): a pair with a table is settled by its proven lower
   // bound where its spheres overlap, instead of being flagged for FCL.
@@ -81,8 +86,10 @@ class SphereFieldChecker {
   // The environment's exact primitives, when it is made only of those (PrimitiveObstacles::
   // from_scene): spheres the field leaves undecided are settled by their exact distance. A scene
   // of at most 64 primitives is then checked by exact distances alone, the field left unread
-  // (exact_scene()).
+  // (exact_scene()). A checker built without a field keeps such a scene (dmgplace::Error otherwise).
   void set_exact_obstacles(std::shared_ptr<const PrimitiveObstacles> obstacles);
+  // Whether a distance field backs the checks (false: exact primitives alone).
+  bool has_field() const { return fine_ != nullptr; }
 
   // A checker for one grasp: same robot and environment (shared, no copy), plus the object.
   SphereFieldChecker with_attached(AttachedSpheres object) const;
@@ -231,6 +238,7 @@ class SphereFieldChecker {
       return index;
     }
   };
+  void check_and_sort_spheres();  // the constructors' common part, then build_bodies
   void build_bodies();
   struct Pass;  // one query's passes: environment, self pairs, certificate (src/collision/sphere_check_pass.hpp)
   SphereCheck evaluate(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses, const Eigen::VectorXd* direction,
@@ -340,15 +348,15 @@ class SphereFieldChecker {
   std::vector<int> touching_;                 // links the attached object may touch
   std::shared_ptr<const PrimitiveObstacles> obstacles_;  // null unless the scene is all primitives
   // A few primitives (at most 64, as the lanes' reach masks hold): their exact distances, in
-  // cache and with no cell loss or band, cost less than the field's loads (bench-mbm bookshelf
-  // median problems: 8% less solve time), so the scalar passes read no field.
+  // cache and with no cell loss or band, cost less than the field's loads (measured on bench-mbm's
+  // bookshelf median problems: docs/perf-log.md), so the scalar passes read no field.
   bool exact_scene() const { return obstacles_ && obstacles_->all_have_bits(); }
   // Per robot sphere (link frame, in spheres_ order): the largest ball around its centre inside
   // the link's collision geometry, 0 when the centre is outside it. Held objects have none.
   std::shared_ptr<const std::vector<double>> inner_;
   double inner(int sphere) const { return std::size_t(sphere) < inner_->size() ? (*inner_)[std::size_t(sphere)] : 0.0; }
   double band_, padding_;
-  Eigen::Vector3d lo_, hi_;  // grid bounds
+  Eigen::Vector3d lo_ = Eigen::Vector3d::Zero(), hi_ = Eigen::Vector3d::Zero();  // grid bounds (none: zero)
   int attached_link_ = -1;   // link carrying the attached object, -1 when none
   int attached_begin_ = 0;   // first sphere of the attached object
 };

@@ -2,8 +2,8 @@
 // The nearest stored point by Euclidean distance, for the planner's trees. Up to kScan points a
 // scan by squared distance over blocks of 8 points laid out coordinate by coordinate, in SIMD lanes
 // (AVX2 + FMA when the CPU has them, simd_dispatch.hpp); past that OMPL's GNAT, built from the
-// points at once. Measured in 7-D with uniform queries, one run: the AVX2 scan 1.6 / 6.1 / 12 / 30
-// us at 2k / 8k / 16k / 32k points, GNAT (through its std::function metric) 8.0 / 19 / 30 / 52 us.
+// points at once. Up to kScan points the scan is faster than GNAT, whose cost is dominated by its
+// std::function metric (docs/perf-log.md).
 #include <cstddef>
 #include <memory>
 #include <vector>
