@@ -45,9 +45,36 @@ void SphereFieldChecker::check_and_sort_spheres() {
   build_bodies();
 }
 
+// The bodies and everything derived from them, in this order: bodies (bounding spheres, capsules,
+// chains), their batch placements and lane bounds, pair spheres, lever offsets, pairs, reaches.
 void SphereFieldChecker::build_bodies() {
   static std::atomic<std::uint64_t> next_id{0};
   id_ = ++next_id;
+  group_bodies();
+  const auto& model = kin_->model();
+  reach_ = link_reach_ = 0;
+  std::vector<int> parent_joint(model.links.size(), -1);
+  for (std::size_t j = 0; j < model.joints.size(); ++j) parent_joint[std::size_t(model.joints[j].child)] = int(j);
+  certifiable_ = true;
+  for (const auto& j : model.joints) certifiable_ &= !(j.mimic >= 0 && kin_->chain_slot(j.mimic) >= 0);
+  for (auto& b : bodies_) {
+    shape_body(b);
+    chain_body(b, parent_joint);
+  }
+  build_batch_bodies();
+  set_lane_bounds();
+  build_pair_spheres();
+  lever_count_ = 0;
+  for (auto& b : bodies_) {
+    b.lever_begin = lever_count_;
+    lever_count_ += int(b.chain.size());
+  }
+  build_pairs();
+  build_static_reach();
+}
+
+// One body per link's run of spheres (spheres_ is sorted by link), then the attached object's.
+void SphereFieldChecker::group_bodies() {
   const auto moving = kin_->moving_links();
   bodies_.clear();
   const int robot_end = attached_link_ >= 0 ? attached_begin_ : int(spheres_.size());
@@ -59,8 +86,7 @@ void SphereFieldChecker::build_bodies() {
     b.end = i;
     bodies_.push_back(b);
   }
-  if (attached_link_ >= 0 && attached_begin_ < int(spheres_.size()))
-  {
+  if (attached_link_ >= 0 && attached_begin_ < int(spheres_.size())) {
     Body b;
     b.link = attached_link_;
     b.begin = attached_begin_;
@@ -68,53 +94,53 @@ void SphereFieldChecker::build_bodies() {
     b.attached = true;
     bodies_.push_back(b);
   }
-  const auto& model = kin_->model();
-  reach_ = link_reach_ = 0;
-  std::vector<int> parent_joint(model.links.size(), -1);
-  for (std::size_t j = 0; j < model.joints.size(); ++j) parent_joint[std::size_t(model.joints[j].child)] = int(j);
-  certifiable_ = true;
-  for (const auto& j : model.joints) certifiable_ &= !(j.mimic >= 0 && kin_->chain_slot(j.mimic) >= 0);
   for (auto& b : bodies_) b.moving = moving[std::size_t(b.link)];
-  for (auto& b : bodies_) {
-    // Bounding sphere: centre of the spheres' box, radius reaching every sphere's far side.
-    Eigen::AlignedBox3d box;
-    for (int i = b.begin; i < b.end; ++i) box.extend(spheres_[std::size_t(i)].center);
-    b.center = box.center();
-    for (int i = b.begin; i < b.end; ++i)
-      b.radius = std::max(b.radius, (spheres_[std::size_t(i)].center - b.center).norm() + spheres_[std::size_t(i)].radius);
-    // A capsule only for three spheres or more, where it is well under the bounding sphere (else
-    // its test costs more than it settles: with two spheres, testing both is as cheap), and
-    // inside it, so the lanes' pose error bound covers its ends.
-    std::vector<Eigen::Vector3d> centers;
-    std::vector<double> radii;
-    for (int i = b.begin; i < b.end; ++i) {
-      centers.push_back(spheres_[std::size_t(i)].center);
-      radii.push_back(spheres_[std::size_t(i)].radius);
-    }
-    const auto capsule = bounding_capsule(centers, radii);
-    b.has_capsule = capsule && b.end - b.begin >= 3 && capsule->radius < 0.8 * b.radius && (capsule->from - b.center).norm() <= b.radius &&
-                    (capsule->to - b.center).norm() <= b.radius;
-    if (b.has_capsule) {
-      b.capsule = *capsule;
-      b.inv_len2 = 1.0 / (capsule->to - capsule->from).squaredNorm();
-    }
-    // Reach from each chain joint above: the body's extent in its link frame plus every joint
-    // offset on the way up (a prismatic joint's offset grows by its largest travel).
-    b.chain.clear();
-    double reach = b.center.norm() + b.radius;
-    link_reach_ = std::max(link_reach_, reach);
-    for (int l = b.link, guard = 0; parent_joint[std::size_t(l)] >= 0 && guard <= int(model.joints.size()); ++guard) {
-      const int j = parent_joint[std::size_t(l)];
-      const Joint& jt = model.joints[std::size_t(j)];
-      const bool prismatic = jt.type == JointType::Prismatic;
-      if (kin_->chain_slot(j) >= 0) b.chain.push_back({kin_->chain_slot(j), prismatic ? 1.0 : reach, jt.child, jt.axis.normalized(), prismatic});
-      reach += jt.origin.translation().norm() + (prismatic ? std::max(std::abs(jt.lower), std::abs(jt.upper)) : 0.0);
-      l = jt.parent;
-    }
-    reach_ = std::max(reach_, reach);
+}
+
+void SphereFieldChecker::shape_body(Body& b) const {
+  // Bounding sphere: centre of the spheres' box, radius reaching every sphere's far side.
+  Eigen::AlignedBox3d box;
+  for (int i = b.begin; i < b.end; ++i) box.extend(spheres_[std::size_t(i)].center);
+  b.center = box.center();
+  for (int i = b.begin; i < b.end; ++i)
+    b.radius = std::max(b.radius, (spheres_[std::size_t(i)].center - b.center).norm() + spheres_[std::size_t(i)].radius);
+  // A capsule only for three spheres or more, where it is well under the bounding sphere (else
+  // its test costs more than it settles: with two spheres, testing both is as cheap), and
+  // inside it, so the lanes' pose error bound covers its ends.
+  std::vector<Eigen::Vector3d> centers;
+  std::vector<double> radii;
+  for (int i = b.begin; i < b.end; ++i) {
+    centers.push_back(spheres_[std::size_t(i)].center);
+    radii.push_back(spheres_[std::size_t(i)].radius);
   }
-  build_batch_bodies();
-  set_lane_bounds();
+  const auto capsule = bounding_capsule(centers, radii);
+  b.has_capsule = capsule && b.end - b.begin >= 3 && capsule->radius < 0.8 * b.radius && (capsule->from - b.center).norm() <= b.radius &&
+                  (capsule->to - b.center).norm() <= b.radius;
+  if (b.has_capsule) {
+    b.capsule = *capsule;
+    b.inv_len2 = 1.0 / (capsule->to - capsule->from).squaredNorm();
+  }
+}
+
+// Reach from each chain joint above: the body's extent in its link frame plus every joint
+// offset on the way up (a prismatic joint's offset grows by its largest travel).
+void SphereFieldChecker::chain_body(Body& b, const std::vector<int>& parent_joint) {
+  const auto& model = kin_->model();
+  b.chain.clear();
+  double reach = b.center.norm() + b.radius;
+  link_reach_ = std::max(link_reach_, reach);
+  for (int l = b.link, guard = 0; parent_joint[std::size_t(l)] >= 0 && guard <= int(model.joints.size()); ++guard) {
+    const int j = parent_joint[std::size_t(l)];
+    const Joint& jt = model.joints[std::size_t(j)];
+    const bool prismatic = jt.type == JointType::Prismatic;
+    if (kin_->chain_slot(j) >= 0) b.chain.push_back({kin_->chain_slot(j), prismatic ? 1.0 : reach, jt.child, jt.axis.normalized(), prismatic});
+    reach += jt.origin.translation().norm() + (prismatic ? std::max(std::abs(jt.lower), std::abs(jt.upper)) : 0.0);
+    l = jt.parent;
+  }
+  reach_ = std::max(reach_, reach);
+}
+
+void SphereFieldChecker::build_pair_spheres() {
   pair_spheres_.clear();
   for (auto& b : bodies_) {
     b.local = int(pair_spheres_.size());
@@ -129,30 +155,31 @@ void SphereFieldChecker::build_bodies() {
       at[3 * w + k] = real ? s.radius : 0.0;
     }
   }
-  lever_count_ = 0;
-  for (auto& b : bodies_) {
-    b.lever_begin = lever_count_;
-    lever_count_ += int(b.chain.size());
-  }
+}
+
+// Joints above both bodies move them together: only the others change their distance.
+SphereFieldChecker::PairMoves SphereFieldChecker::relative_moves(const Body& a, const Body& b) {
+  auto only = [](const Body& x, const Body& y, std::vector<ChainJoint>& out, std::vector<int>& at) {
+    for (std::size_t k = 0; k < x.chain.size(); ++k)
+      if (std::none_of(y.chain.begin(), y.chain.end(), [&](const ChainJoint& d) { return d.slot == x.chain[k].slot; })) {
+        out.push_back(x.chain[k]);
+        at.push_back(int(k));
+      }
+  };
+  PairMoves m;
+  only(a, b, m.a, m.a_at);
+  only(b, a, m.b, m.b_at);
+  return m;
+}
+
+// The body pairs checked for self-collision: moving ones not allowed to touch (the held object
+// may touch the link holding it and the fingers), each with its self-distance table if any.
+void SphereFieldChecker::build_pairs() {
   auto allowed = [&](int a, int b) {
     if (a == b) return true;
     for (auto [x, y] : allowed_)
       if ((x == a && y == b) || (x == b && y == a)) return true;
     return false;
-  };
-  // Joints above both bodies move them together: only the others change their distance.
-  auto relative_moves = [](const Body& a, const Body& b) {
-    auto only = [](const Body& x, const Body& y, std::vector<ChainJoint>& out, std::vector<int>& at) {
-      for (std::size_t k = 0; k < x.chain.size(); ++k)
-        if (std::none_of(y.chain.begin(), y.chain.end(), [&](const ChainJoint& d) { return d.slot == x.chain[k].slot; })) {
-          out.push_back(x.chain[k]);
-          at.push_back(int(k));
-        }
-    };
-    PairMoves m;
-    only(a, b, m.a, m.a_at);
-    only(b, a, m.b, m.b_at);
-    return m;
   };
   pairs_.clear();
   pair_moves_.clear();
@@ -166,7 +193,6 @@ void SphereFieldChecker::build_bodies() {
       if (!a.moving && !b.moving && !a.attached && !b.attached) continue;  // never changes: not our concern
       if (a.attached || b.attached) {
         const int other = a.attached ? b.link : a.link;
-        // The object may touch the link holding it and the fingers.
         if (other == attached_link_ || std::find(touching_.begin(), touching_.end(), other) != touching_.end()) continue;
         add_pair(i, j, -1);
         continue;
@@ -179,6 +205,9 @@ void SphereFieldChecker::build_bodies() {
       }
       add_pair(i, j, table);
     }
+}
+
+void SphereFieldChecker::build_static_reach() {
   static_reach_.setZero(Eigen::Index(bodies_.size() + pairs_.size()), Eigen::Index(kin_->dof()));
   auto add_reaches = [&](std::size_t row, const std::vector<ChainJoint>& joints) {
     for (const ChainJoint& j : joints) static_reach_(Eigen::Index(row), j.slot) += j.reach;

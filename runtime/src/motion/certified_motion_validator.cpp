@@ -4,6 +4,8 @@
 #include <ompl/base/spaces/RealVectorStateSpace.h>
 
 #include <cmath>
+#include <optional>
+#include <vector>
 
 namespace ob = ompl::base;
 
@@ -81,70 +83,65 @@ bool CertifiedMotionValidator::checkMotionBetweenValid(const ob::State* s1, cons
   return check_motion(s1, s2, true);
 }
 
-bool CertifiedMotionValidator::check_motion(const ob::State* s1, const ob::State* s2, bool end_valid) const {
-  const Segment seg(*si_, s1, s2);
-  const int steps = seg.steps;
-  // A certificate is symmetric (speeds bound |direction|): state i proves states i-k .. i+k.
-  // `need` steps on either side is all that is left to prove around i.
-  // k: the states the certificate covers each way; `span_k` (optional): its isotropic estimate's.
-  auto check = [&](int i, int need, int& k, int* span_k = nullptr) {
-    // Nothing left to prove around i (a bisection leaf): a plain check, no certificate work.
-    const Certificate c = certificate_(seg.at(i), seg.dir, need > 0 ? (need + 1e-6) * seg.h : 0.0);
+// One check_motion call: the segment's states, checked far end first, then its unchecked ranges
+// bisected breadth first as OMPL's discrete validator does, minus what each checked state
+// certifies around itself (a certificate is symmetric: state i proves states i-k .. i+k), with
+// batches of states in SIMD lanes where the validator has them (proven_free_).
+struct CertifiedMotionValidator::Call {
+  // An unchecked index range [lo, hi] (state 0 is valid by contract), with an estimate e of the
+  // next certificate (that of the check that made it) and the same certificate's under isotropic
+  // bounds (Certificate::estimate) for span batches.
+  struct Range {
+    int lo, hi, estimate, span_estimate;
+    bool certified_only = false;  // a span batch's lane left it: certified checks from here on
+  };
+  const CertifiedMotionValidator& v;
+  const Segment seg;
+  const int steps;
+  // far_in_batch: the first batch's last lane takes the far end; one it leaves unproven gets a
+  // plain check before any other state (far_end_free).
+  bool far_in_batch = false;
+
+  Call(const CertifiedMotionValidator& validator, const ob::State* s1, const ob::State* s2)
+      : v(validator), seg(*validator.si_, s1, s2), steps(seg.steps) {}
+
+  static std::vector<Eigen::VectorXd>& lanes() {
+    thread_local std::vector<Eigen::VectorXd> batch(kBatch);
+    return batch;
+  }
+  static std::vector<Range>& queue() {
+    thread_local std::vector<Range> q;
+    return q;
+  }
+
+  // State i's certificate, asked to reach `need` steps on either side (0: a plain check, no
+  // certificate work). k: the states it covers each way; `span_k` (optional): its estimate's.
+  bool check(int i, int need, int& k, int* span_k = nullptr) const {
+    const Certificate c = v.certificate_(seg.at(i), seg.dir, need > 0 ? (need + 1e-6) * seg.h : 0.0);
     if (c.reach < 0) return false;
     auto states = [&](double t) { return seg.h > 0 ? int(std::min(t / seg.h, double(steps))) : steps; };
     k = states(c.reach);
     if (span_k) *span_k = std::min(k, states(c.estimate));
     return true;
-  };
-  // With batch proofs a certificate need only reach a batch's width: what lies beyond goes to span
-  // batches, which take it as their estimate. Refining further had made bisection midpoints the
-  // costliest checks (bench-mbm over needs from 1 state to the whole range: 8 best).
-  auto need_of = [&](int states) { return proven_free_ ? std::min(states, kBatch) : states; };
-  int k = 0, span_k = 0;
-  // The far end first: a bad goal is found at once. With batch proofs a plain check, and span
-  // batches take the whole motion from there: a certificate at the far end (8 states) cost more
-  // than the lanes it spared (docs/motion.md, "Certified motion validation"). Where far ends are
-  // seldom blocked, not even that: the first batch's last lane
-  // takes the far end, and only a far end it leaves unproven gets a plain check, before anything
-  // else (far_in_batch).
-  bool far_in_batch = false;
-  if (!end_valid && proven_free_ && steps > 1 &&
-      far_blocked_.load(std::memory_order_relaxed) < std::uint32_t(kFarLaneBlockedShare * 65536.0)) {
-    far_in_batch = true;
-    span_k = steps;
-  } else if (!end_valid) {
-    if (!check(steps, proven_free_ ? 0 : steps - 1, k, &span_k)) {
-      far_end_was(true);
-      ++invalid_;
-      return false;
-    }
-    far_end_was(false);
-    if (proven_free_) k = 0, span_k = steps;
   }
-  // Unchecked index ranges [lo, hi] (state 0 is valid by contract), bisected breadth first as
-  // OMPL's discrete validator does, minus what each checked state certifies around itself. Each
-  // range keeps the certificate of the check that made it, an estimate e of the next one's: a range
-  // a little wider than one certificate (2e + 1 < size <= 4e + 2) is tiled from its left end
-  // (two checks) rather than split in the middle (which leaves a one-state range on each side).
-  // The span estimate is the same certificate's under isotropic bounds (Certificate::estimate).
-  struct Range {
-    int lo, hi, estimate, span_estimate;
-    bool certified_only = false;  // a span batch's lane left it: certified checks from here on
-  };
+  // With batch proofs a certificate need only reach a batch's width: what lies beyond goes to span
+  // batches, which take it as their estimate (refining further made bisection midpoints the
+  // costliest checks).
+  int need_of(int states) const { return v.proven_free_ ? std::min(states, kBatch) : states; }
+
+  bool far_end_free(bool proven) const {
+    int unused = 0;
+    const bool blocked = !proven && !check(steps, 0, unused);
+    v.far_end_was(blocked);
+    return !blocked;
+  }
+
   // A range the last certificate did not reach beyond its own state, at most two batches wide:
   // its states 8 at a time in SIMD lanes, the undecided ones one by one. Raked: batch b takes
   // states lo + b, lo + b + stride, ... so each batch spans the range and a collision anywhere
   // shows up early.
-  thread_local std::vector<Eigen::VectorXd> batch(kBatch);
-  // far_in_batch: the first batch's last lane is the far end; one it leaves unproven (`proven`
-  // false) gets a plain check before any other state.
-  auto far_end_free = [&](bool proven) {
-    int unused = 0;
-    const bool blocked = !proven && !check(steps, 0, unused);
-    far_end_was(blocked);
-    return !blocked;
-  };
-  auto check_batch = [&](int lo, int hi, bool far) {
+  bool check_batch(int lo, int hi, bool far) const {
+    auto& batch = lanes();
     const int size = hi - lo + 1, stride = (size + kBatch - 1) / kBatch;
     for (int b = 0; b < stride; ++b) {
       const double* q[kBatch];
@@ -155,7 +152,7 @@ bool CertifiedMotionValidator::check_motion(const ob::State* s1, const ob::State
         q[count] = batch[std::size_t(count)].data();
         ++count;
       }
-      const std::uint32_t proven = proven_free_(q, count, seg.dir, 0.0);
+      const std::uint32_t proven = v.proven_free_(q, count, seg.dir, 0.0);
       int unused = 0;
       if (far && idx[count - 1] == steps) {
         if (!far_end_free(proven >> (count - 1) & 1u)) return false;
@@ -165,14 +162,14 @@ bool CertifiedMotionValidator::check_motion(const ob::State* s1, const ob::State
         if (!(proven >> m & 1u) && !check(idx[m], 0, unused)) return false;
     }
     return true;
-  };
-  thread_local std::vector<Range> queue;
+  }
+
   // A span batch: 8 lanes 2T + 1 states apart, each proving the T states on either side of it
   // (proven_free's reach), so one batch covers up to 8 (2T + 1) states. What lanes leave unproven
   // is queued for certified checks, with the range's estimate: neighbouring lanes' stretches as
-  // one range, since one certificate often covers both (fewer certified checks than a range per
-  // lane).
-  auto check_span = [&](int lo, int hi, int e, int se, int T, bool far) {
+  // one range, since one certificate often covers both.
+  bool check_span(int lo, int hi, int e, int se, int T, bool far) const {
+    auto& batch = lanes();
     const double* q[kBatch];
     int idx[kBatch], count = 0;
     for (int i = lo + T; i - T <= hi && count < kBatch; i += 2 * T + 1) {
@@ -181,7 +178,7 @@ bool CertifiedMotionValidator::check_motion(const ob::State* s1, const ob::State
       q[count] = batch[std::size_t(count)].data();
       ++count;
     }
-    const std::uint32_t proven = proven_free_(q, count, seg.dir, (T + 1e-6) * seg.h);
+    const std::uint32_t proven = v.proven_free_(q, count, seg.dir, (T + 1e-6) * seg.h);
     if (far) {
       const bool lane = proven >> (count - 1) & 1u;
       if (!far_end_free(lane)) return false;
@@ -191,42 +188,71 @@ bool CertifiedMotionValidator::check_motion(const ob::State* s1, const ob::State
       if (proven >> m & 1u) continue;
       int last = m;
       while (last + 1 < count && !(proven >> (last + 1) & 1u)) ++last;
-      queue.push_back({std::max(lo, idx[m] - T), std::min(hi, idx[last] + T), e, se, true});
+      queue().push_back({std::max(lo, idx[m] - T), std::min(hi, idx[last] + T), e, se, true});
       m = last;
     }
     return true;
-  };
-  queue.assign(1, {1, far_in_batch ? steps : steps - 1 - k, k, span_k});  // (end_valid: k = 0, every state but the ends)
-  for (std::size_t head = 0; head < queue.size(); ++head) {
-    const auto [lo, hi, e, se, certified_only] = queue[head];
-    if (lo > hi) continue;
+  }
+
+  // The far end first: a bad goal is found at once. With batch proofs a plain check, and span
+  // batches take the whole motion from there; where far ends are seldom blocked, not even that:
+  // the first batch's last lane takes it (far_in_batch). Returns the first range, or none when
+  // the far end is blocked.
+  std::optional<Range> far_end(bool end_valid) {
+    int k = 0, span_k = 0;
+    if (!end_valid && v.proven_free_ && steps > 1 &&
+        v.far_blocked_.load(std::memory_order_relaxed) < std::uint32_t(kFarLaneBlockedShare * 65536.0)) {
+      far_in_batch = true;
+      span_k = steps;
+    } else if (!end_valid) {
+      if (!check(steps, v.proven_free_ ? 0 : steps - 1, k, &span_k)) {
+        v.far_end_was(true);
+        return std::nullopt;
+      }
+      v.far_end_was(false);
+      if (v.proven_free_) k = 0, span_k = steps;
+    }
+    return Range{1, far_in_batch ? steps : steps - 1 - k, k, span_k};  // (end_valid: k = 0, every state but the ends)
+  }
+
+  // One range off the queue: raked batches, a span batch, or a check that splits it in two (a
+  // range a little wider than one certificate, 2e + 1 < size <= 4e + 2, is tiled from its left
+  // end rather than split in the middle). False when a state is in collision.
+  bool step(const Range& r, bool first) {
+    const auto [lo, hi, e, se, certified_only] = r;
+    if (lo > hi) return true;
     const int size = hi - lo + 1;
     // Ranges from a plain far end (e = 0 with an estimate: the first range, and the stretches its
     // span batch's lanes leave) are raked only up to one batch: beyond, the first range takes one
-    // span batch rather than two raked ones, a stretch certified checks (bench-paired: faster on
-    // the bookshelf sets, level on the others).
-    if (proven_free_ && e == 0 && size >= 2 && size <= (se > 0 ? kBatch : kBatchRange)) {
-      if (!check_batch(lo, hi, far_in_batch && head == 0)) {
-        ++invalid_;
-        return false;
-      }
-      continue;
-    }
+    // span batch rather than two raked ones, a stretch certified checks.
+    if (v.proven_free_ && e == 0 && size >= 2 && size <= (se > 0 ? kBatch : kBatchRange)) return check_batch(lo, hi, far_in_batch && first);
     const int span = (size + kBatch - 1) / (2 * kBatch);  // the least T with 8 (2T + 1) >= size, for size > 8
-    if (proven_free_ && !certified_only && size > kBatch && span * kSpanShare <= std::max(1, se)) {
-      if (!check_span(lo, hi, e, se, span, far_in_batch && head == 0)) {
-        ++invalid_;
-        return false;
-      }
-      continue;
-    }
+    if (v.proven_free_ && !certified_only && size > kBatch && span * kSpanShare <= std::max(1, se))
+      return check_span(lo, hi, e, se, span, far_in_batch && first);
     const int at = size > 2 * e + 1 && size <= 4 * e + 2 ? lo + e : (lo + hi) / 2;
-    if (!check(at, need_of(std::max(at - lo, hi - at)), k, &span_k)) {
-      ++invalid_;
-      return false;
-    }
-    queue.push_back({lo, at - k - 1, k, span_k, certified_only});
-    queue.push_back({at + k + 1, hi, k, span_k, certified_only});
+    int k = 0, span_k = 0;
+    if (!check(at, need_of(std::max(at - lo, hi - at)), k, &span_k)) return false;
+    queue().push_back({lo, at - k - 1, k, span_k, certified_only});
+    queue().push_back({at + k + 1, hi, k, span_k, certified_only});
+    return true;
+  }
+
+  bool run(bool end_valid) {
+    const auto first = far_end(end_valid);
+    if (!first) return false;
+    auto& q = queue();
+    q.assign(1, *first);
+    for (std::size_t head = 0; head < q.size(); ++head)
+      if (!step(Range(q[head]), head == 0)) return false;  // a copy: step() may grow the queue
+    return true;
+  }
+};
+
+bool CertifiedMotionValidator::check_motion(const ob::State* s1, const ob::State* s2, bool end_valid) const {
+  Call call(*this, s1, s2);
+  if (!call.run(end_valid)) {
+    ++invalid_;
+    return false;
   }
   ++valid_;
   return true;

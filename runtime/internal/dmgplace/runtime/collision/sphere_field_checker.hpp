@@ -240,6 +240,13 @@ class SphereFieldChecker {
   };
   void check_and_sort_spheres();  // the constructors' common part, then build_bodies
   void build_bodies();
+  // build_bodies' steps (sphere_field_checker.cpp).
+  void group_bodies();
+  void shape_body(Body& b) const;
+  void chain_body(Body& b, const std::vector<int>& parent_joint);
+  void build_pair_spheres();
+  void build_pairs();
+  void build_static_reach();
   struct Pass;  // one query's passes: environment, self pairs, certificate (src/collision/sphere_check_pass.hpp)
   SphereCheck evaluate(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses, const Eigen::VectorXd* direction,
                        double enough) const;
@@ -249,6 +256,7 @@ class SphereFieldChecker {
     std::vector<ChainJoint> a, b;
     std::vector<int> a_at, b_at;  // where each of a, b sits in its body's chain (lever arms cached per body)
   };
+  static PairMoves relative_moves(const Body& a, const Body& b);
   bool certifiable_ = true;  // false when a mimic joint follows a chain joint (speeds unknown)
   const Kinematics* kin_;
   std::vector<formats::LinkSphere> spheres_;  // robot + attached, link frames, grouped by body

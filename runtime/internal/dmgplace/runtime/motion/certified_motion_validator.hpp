@@ -53,6 +53,7 @@ class CertifiedMotionValidator : public ompl::base::MotionValidator {
 
  private:
   bool check_motion(const ompl::base::State* s1, const ompl::base::State* s2, bool end_valid) const;
+  struct Call;  // one check_motion call (certified_motion_validator.cpp)
   CertificateFn certificate_;
   ProvenFreeFn proven_free_;
   // How often far ends were blocked lately, 1 << 16 meaning always: a running average over about
