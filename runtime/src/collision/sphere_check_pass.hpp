@@ -79,6 +79,8 @@ struct SphereFieldChecker::Pass {
 
   // Each returns false when the answer is final (a proven collision, or more pairs than fit).
   bool environment();
+  bool body_clear(std::size_t bi, bool exact);           // environment's steps
+  bool environment_spheres(std::size_t bi, bool exact);
   bool self_pairs();
   // self_pairs' verdicts on an overlapping sphere pair (global indices, centres s2 apart): a
   // collision proven by the spheres' inner balls (out says so); the body pair left to the exact

@@ -24,102 +24,117 @@ bool SphereFieldChecker::Pass::environment() {
   for (std::size_t bi = 0; bi < c.bodies_.size(); ++bi) {
     const Body& b = c.bodies_[bi];
     if (!b.moving && !b.attached) continue;
-    if (exact) {
-      const double d = s.body_exact[bi] - b.radius - c.padding_;
-      if (d >= 0) {
-        cleared(bi, d);
-        continue;  // the whole body is clear
-      }
-    } else if (!outside(s.body_center[bi])) {
-      const double dc = c.coarse_lower_bound(s.body_center[bi]) - b.radius - c.padding_;
-      if (dc >= 0) {
-        cleared(bi, dc);
-        continue;  // cleared from the coarse grid alone
-      }
-      const double d = c.fine_lower_bound(s.body_center[bi]) - b.radius - c.padding_;
-      if (d >= 0) {
-        cleared(bi, d);
-        continue;  // the whole body is clear
-      }
-    }
-    centres(bi);
-    if (!exact)
-      for (int i = b.begin; i < b.end; ++i) c.fine_->prefetch(s.world[std::size_t(i)]);
-    // Keep going after a hit: every flagged link is listed, so the exact layer can check just those.
-    // With exact primitives every sphere of a flagged link is looked at, to name every primitive
-    // the link may touch; without, the first flagged sphere settles the link.
-    const bool masks = c.obstacles_ && c.obstacles_->all_have_bits() && !b.attached;
-    std::uint64_t mask = 0;
-    bool flagged = false;
-    // Certified mode keeps what it reads for the certificate's refinement (sphere_coarse ...).
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    if (certify) {
-      mark(bi, kBoundsRead);
-      for (int i = b.begin; i < b.end; ++i) {
-        s.sphere_coarse[std::size_t(i)] = s.sphere_fine[std::size_t(i)] = nan;
-        if (!exact) s.sphere_exact[std::size_t(i)] = nan;
-      }
-    }
-    if (exact) exact_distances(bi);
-    for (int i = b.begin; i < b.end; ++i) {
-      const auto& sp = c.spheres_[std::size_t(i)];
-      const Eigen::Vector3d& w = s.world[std::size_t(i)];
-      // Outside the grid nothing is known: "maybe in collision", for the exact layer to decide.
-      // (Band-clamped far cells are fine: clamping only lowers values, which stays conservative.)
-      const bool out_of_grid = !exact && outside(w);
-      double clearance = -1.0;  // the best bound read (out of the grid: none)
-      if (!exact && !out_of_grid) {
-        const double bound = c.coarse_lower_bound(w);
-        if (certify) s.sphere_coarse[std::size_t(i)] = bound;
-        const double coarse = bound - sp.radius - c.padding_;
-        if (coarse >= 0) {
-          cleared(bi, coarse);
-          continue;
-        }
-        const double fine = c.fine_lower_bound(w);
-        if (certify) s.sphere_fine[std::size_t(i)] = fine;
-        clearance = fine - sp.radius - c.padding_;
-        if (clearance >= 0) {
-          cleared(bi, clearance);
-          continue;
-        }
-      }
-      if (c.obstacles_) {  // exact, inside the grid or not
-        // (Exact scenes: a lower bound, at most twice exact_float_error_ below the distance.)
-        const double distance = exact ? s.sphere_exact[std::size_t(i)] : c.obstacles_->distance(w);
-        if (certify && !exact) s.sphere_exact[std::size_t(i)] = distance;
-        const double gap = distance - sp.radius - c.padding_;
-        if (gap >= 0) {
-          cleared(bi, gap);
-          continue;
-        }
-        const double at_most = exact ? distance + 2.0 * c.exact_float_error_ : distance;
-        if (c.inner(i) > 0 && at_most < c.inner(i)) {  // part of the link's solid is inside an obstacle (0: unknown)
-          out.environment_free = false;
-          out.proven_collision = true;
-          return false;
-        }
-        if (exact) clearance = gap;
-      }
-      if (!out_of_grid) out.min_clearance = std::min(out.min_clearance, clearance);
-      out.environment_free = false;
-      out.outside_grid |= out_of_grid && !c.obstacles_;
-      if (!flagged) {
-        flagged = true;
-        if (certify) {  // the exact layer certifies this link from its exact distance
-          mark(bi, kFlagged);
-          s.body_clear[bi] = std::numeric_limits<double>::infinity();
-        }
-        if (b.attached) out.attached_near_env = true;
-        else if (out.env_link_count < SphereCheck::kMaxPairs) out.env_links[std::size_t(out.env_link_count++)] = b.link;
-        else out.env_overflow = true;
-      }
-      if (!masks) break;
-      mask |= c.obstacles_->touching(w, sp.radius + c.padding_);
-    }
-    if (flagged && masks && !out.env_overflow && out.env_links[std::size_t(out.env_link_count - 1)] == b.link)
-      out.env_masks[std::size_t(out.env_link_count - 1)] = mask;
+    if (body_clear(bi, exact)) continue;
+    if (!environment_spheres(bi, exact)) return false;
   }
+  return true;
+}
+
+// Body bi's bounding sphere alone clear of the scene (exact distance, or coarse then fine grid).
+bool SphereFieldChecker::Pass::body_clear(std::size_t bi, bool exact) {
+  const Body& b = c.bodies_[bi];
+  if (exact) {
+    const double d = s.body_exact[bi] - b.radius - c.padding_;
+    if (d >= 0) {
+      cleared(bi, d);
+      return true;  // the whole body is clear
+    }
+  } else if (!outside(s.body_center[bi])) {
+    const double dc = c.coarse_lower_bound(s.body_center[bi]) - b.radius - c.padding_;
+    if (dc >= 0) {
+      cleared(bi, dc);
+      return true;  // cleared from the coarse grid alone
+    }
+    const double d = c.fine_lower_bound(s.body_center[bi]) - b.radius - c.padding_;
+    if (d >= 0) {
+      cleared(bi, d);
+      return true;  // the whole body is clear
+    }
+  }
+  return false;
+}
+
+// Body bi sphere by sphere: the grid, then the exact primitives where it cannot tell; a sphere
+// neither clears flags the body's link for the exact layer. False on a proven collision.
+bool SphereFieldChecker::Pass::environment_spheres(std::size_t bi, bool exact) {
+  const Body& b = c.bodies_[bi];
+  centres(bi);
+  if (!exact)
+    for (int i = b.begin; i < b.end; ++i) c.fine_->prefetch(s.world[std::size_t(i)]);
+  // Keep going after a hit: every flagged link is listed, so the exact layer can check just those.
+  // With exact primitives every sphere of a flagged link is looked at, to name every primitive
+  // the link may touch; without, the first flagged sphere settles the link.
+  const bool masks = c.obstacles_ && c.obstacles_->all_have_bits() && !b.attached;
+  std::uint64_t mask = 0;
+  bool flagged = false;
+  // Certified mode keeps what it reads for the certificate's refinement (sphere_coarse ...).
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (certify) {
+    mark(bi, kBoundsRead);
+    for (int i = b.begin; i < b.end; ++i) {
+      s.sphere_coarse[std::size_t(i)] = s.sphere_fine[std::size_t(i)] = nan;
+      if (!exact) s.sphere_exact[std::size_t(i)] = nan;
+    }
+  }
+  if (exact) exact_distances(bi);
+  for (int i = b.begin; i < b.end; ++i) {
+    const auto& sp = c.spheres_[std::size_t(i)];
+    const Eigen::Vector3d& w = s.world[std::size_t(i)];
+    // Outside the grid nothing is known: "maybe in collision", for the exact layer to decide.
+    // (Band-clamped far cells are fine: clamping only lowers values, which stays conservative.)
+    const bool out_of_grid = !exact && outside(w);
+    double clearance = -1.0;  // the best bound read (out of the grid: none)
+    if (!exact && !out_of_grid) {
+      const double bound = c.coarse_lower_bound(w);
+      if (certify) s.sphere_coarse[std::size_t(i)] = bound;
+      const double coarse = bound - sp.radius - c.padding_;
+      if (coarse >= 0) {
+        cleared(bi, coarse);
+        continue;
+      }
+      const double fine = c.fine_lower_bound(w);
+      if (certify) s.sphere_fine[std::size_t(i)] = fine;
+      clearance = fine - sp.radius - c.padding_;
+      if (clearance >= 0) {
+        cleared(bi, clearance);
+        continue;
+      }
+    }
+    if (c.obstacles_) {  // exact, inside the grid or not
+      // (Exact scenes: a lower bound, at most twice exact_float_error_ below the distance.)
+      const double distance = exact ? s.sphere_exact[std::size_t(i)] : c.obstacles_->distance(w);
+      if (certify && !exact) s.sphere_exact[std::size_t(i)] = distance;
+      const double gap = distance - sp.radius - c.padding_;
+      if (gap >= 0) {
+        cleared(bi, gap);
+        continue;
+      }
+      const double at_most = exact ? distance + 2.0 * c.exact_float_error_ : distance;
+      if (c.inner(i) > 0 && at_most < c.inner(i)) {  // part of the link's solid is inside an obstacle (0: unknown)
+        out.environment_free = false;
+        out.proven_collision = true;
+        return false;
+      }
+      if (exact) clearance = gap;
+    }
+    if (!out_of_grid) out.min_clearance = std::min(out.min_clearance, clearance);
+    out.environment_free = false;
+    out.outside_grid |= out_of_grid && !c.obstacles_;
+    if (!flagged) {
+      flagged = true;
+      if (certify) {  // the exact layer certifies this link from its exact distance
+        mark(bi, kFlagged);
+        s.body_clear[bi] = std::numeric_limits<double>::infinity();
+      }
+      if (b.attached) out.attached_near_env = true;
+      else if (out.env_link_count < SphereCheck::kMaxPairs) out.env_links[std::size_t(out.env_link_count++)] = b.link;
+      else out.env_overflow = true;
+    }
+    if (!masks) break;
+    mask |= c.obstacles_->touching(w, sp.radius + c.padding_);
+  }
+  if (flagged && masks && !out.env_overflow && out.env_links[std::size_t(out.env_link_count - 1)] == b.link)
+    out.env_masks[std::size_t(out.env_link_count - 1)] = mask;
   return true;
 }
 
