@@ -55,7 +55,7 @@ int run_bake_object(const BakeObjectArgs& a);
 struct GraspsArgs {
   std::string object;
   std::array<double, 7> initial{};  // TCP pose in the object frame: x y z qx qy qz qw
-  double opening = -1;              // < 0: not used when snapping
+  std::optional<double> opening;    // unset: not used when snapping
   bool json = false;
 };
 int run_grasps(const GraspsArgs& a);

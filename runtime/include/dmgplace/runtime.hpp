@@ -42,6 +42,7 @@
 #include "dmgplace/runtime/placement/placement_query.hpp"
 #include "dmgplace/runtime/placement/placement_result.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
+#include "dmgplace/runtime/stop_condition.hpp"
 #include "dmgplace/runtime/types.hpp"
 
 namespace dmgplace {
@@ -87,7 +88,9 @@ class DMGPLACE_RUNTIME_EXPORT World {
   std::unique_ptr<Impl> impl_;
 };
 
-using StopCondition = std::function<bool()>;
+using runtime::StopCondition;  // runtime/stop_condition.hpp, with stop_after_seconds and stop_after_iterations
+using runtime::stop_after_iterations;
+using runtime::stop_after_seconds;
 using SolutionCallback = std::function<void(const runtime::PlacementSolution&)>;
 
 // The anytime placement search of Haustein, Cruciani et al. until `stop()` says so. q0 must be
@@ -122,9 +125,5 @@ struct MotionResult {
 // Bidirectional RRT-Connect with the two-layer collision checker, shortcut, then timed
 // (runtime/motion/trajectory.hpp). dmgplace::Error naming the field when the query is malformed.
 DMGPLACE_RUNTIME_EXPORT MotionResult plan_motion(const World& world, const MotionQuery& query);
-
-// Stop conditions.
-DMGPLACE_RUNTIME_EXPORT StopCondition stop_after_seconds(double seconds);
-DMGPLACE_RUNTIME_EXPORT StopCondition stop_after_iterations(long iterations);
 
 }  // namespace dmgplace

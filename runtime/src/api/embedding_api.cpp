@@ -92,7 +92,7 @@ runtime::PlacementResult place(const World& world, const runtime::PlacementQuery
 runtime::ReachableGrasps reachable_grasps(const World& world, const Eigen::Isometry3d& g0, std::optional<double> opening) {
   if (!g0.matrix().allFinite()) throw Error("reachable_grasps", "g0", "not finite");
   if (opening && !(std::isfinite(*opening) && *opening > 0)) throw Error("reachable_grasps", "opening", "must be finite and > 0 (m)");
-  return runtime::reachable_grasps(planner_world(world).grasp_graph(), g0, opening.value_or(-1));
+  return runtime::reachable_grasps(planner_world(world).grasp_graph(), g0, opening);
 }
 
 namespace {
@@ -157,8 +157,5 @@ MotionResult plan_motion(const World& world, const MotionQuery& query) {
   out.seconds = since();
   return out;
 }
-
-StopCondition stop_after_seconds(double seconds) { return runtime::stop_after_seconds(seconds); }
-StopCondition stop_after_iterations(long iterations) { return runtime::stop_after_iterations(iterations); }
 
 }  // namespace dmgplace

@@ -426,7 +426,7 @@ GapHint* thread_gap_hints(const void* owner, std::size_t n) {
 
 bool ExactChecker::links_free(const std::vector<std::pair<int, Eigen::Isometry3d>>& link_poses) const {
   // FCL alone: proving convex links apart by their gaps first was slower here (the placement's
-  // hand check: the hand sits near the support, where GJK iterates long: CHANGELOG).
+  // hand check: the hand sits near the support, where GJK iterates long: docs/perf-log.md).
   ObjectPool::Lease lease(*impl_->pool, impl_->parts);
   for (std::size_t i = 0; i < impl_->parts.size(); ++i) {
     const Part& p = impl_->parts[i];

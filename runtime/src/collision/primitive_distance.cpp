@@ -2,7 +2,7 @@
 // (4 per vector under AVX2, 2 in the portable SSE2 build), the same formulas as
 // local_signed_distance. In a scene of a few primitives (SphereFieldChecker::exact_scene) every
 // body and sphere asks it, where the shape-by-shape scan with bounding-sphere culling it replaces
-// had become a third of the planner's time. No FMA, so both paths give the same answers.
+// had become a large share of the planner's time (docs/perf-log.md). No FMA, so both paths give the same answers.
 #include <algorithm>
 #include <cmath>
 #include <limits>

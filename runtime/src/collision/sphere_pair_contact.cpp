@@ -2,8 +2,7 @@
 // doubles four spheres at a time, each body's spheres in its own link frame (pair_spheres_). b's
 // bounding-sphere centre goes into a's frame once, and each of a's spheres near it into b's frame:
 // no sphere is moved into the world, where the world-frame loop moved every sphere of both bodies
-// for a pair that mostly needs one or two of a's (bench_robot's 0.5 rad motion: self pairs 12% of
-// it). Compiled for AVX2 and for the portable baseline, chosen at run time (system/simd_dispatch).
+// for a pair that mostly needs one or two of a's (docs/perf-log.md has what it saved). Compiled for AVX2 and for the portable baseline, chosen at run time (system/simd_dispatch).
 #include "dmgplace/runtime/collision/sphere_field_checker.hpp"
 #include "dmgplace/runtime/system/lanes.hpp"
 #include "dmgplace/runtime/system/simd_dispatch.hpp"

@@ -36,7 +36,7 @@ int GraspGraph::find(int node, int angle) const {
 
 Eigen::Isometry3d GraspGraph::tcp_pose(int s) const { return tcp_[s]; }
 
-int GraspGraph::snap(const Eigen::Isometry3d& tcp, double opening, double* distance) const {
+int GraspGraph::snap(const Eigen::Isometry3d& tcp, std::optional<double> opening, double* distance) const {
   const Eigen::Matrix3d flip = Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   const Eigen::Quaterniond q0(tcp.linear()), q1(Eigen::Matrix3d(tcp.linear() * flip));
   int best = -1;
@@ -45,7 +45,7 @@ int GraspGraph::snap(const Eigen::Isometry3d& tcp, double opening, double* dista
     const Eigen::Quaterniond q(tcp_[s].linear());
     const double rot = std::min(q.angularDistance(q0), q.angularDistance(q1));
     double d = (tcp_[s].translation() - tcp.translation()).norm() + snap_weight * rot;
-    if (opening >= 0) d += std::abs(opening_[s] - opening);
+    if (opening) d += std::abs(opening_[s] - *opening);
     if (d < best_d) best_d = d, best = s;
   }
   if (distance) *distance = best_d;

@@ -36,19 +36,6 @@ std::pair<Eigen::Vector3d, double> bounding_ball(const TriMesh& mesh) {
 }
 }  // namespace
 
-PlacementPlanner::Stop stop_after_seconds(double seconds) {
-  // Clamped before the cast: 1e12 s in nanoseconds overflows, wrapping the deadline into the past.
-  constexpr double kYear = 365.0 * 24 * 3600;
-  const double s = std::isnan(seconds) ? 0.0 : std::clamp(seconds, 0.0, kYear);
-  const auto end = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
-  return [end] { return Clock::now() >= end; };
-}
-
-PlacementPlanner::Stop stop_after_iterations(long iterations) {
-  auto left = std::make_shared<long>(iterations);
-  return [left] { return (*left)-- <= 0; };
-}
-
 PlacementPlanner::PlacementPlanner(const PlacementWorld& world, PlacementQuery query) : world_(&world), query_(std::move(query)) {
   const Kinematics& kin = world.kin();
   if (query_.q0.size() != kin.dof())
@@ -180,7 +167,7 @@ struct PlacementPlanner::Run {
     objective = std::make_unique<Objective>(q.objective, world.env(), world.object(), world.object_spheres().centers);
     if (space->face_count() == 0) return "the object has no stable placement face";
     if (space->region_count() == 0) return "no placement region inside the target volume";
-    reach = reachable_grasps(world.grasp_graph(), q.g0, q.g0_opening.value_or(-1));
+    reach = reachable_grasps(world.grasp_graph(), q.g0, q.g0_opening);
     if (reach.initial_state < 0 || reach.grasps.empty()) return "the object's DMG has no grasp to start from";
     // Grasp 0 is g0 exactly as held (its pose and opening), not the DMG state it snaps to; the
     // in-hand sequences to every other grasp start from that state.
@@ -411,7 +398,7 @@ struct PlacementPlanner::Run {
   }
 };
 
-PlacementResult PlacementPlanner::run(const Stop& stop, const Callback& on_solution) {
+PlacementResult PlacementPlanner::run(const StopCondition& stop, const Callback& on_solution) {
   Run r(*world_, query_);
   const std::string impossible = r.prepare();
   if (!impossible.empty()) {

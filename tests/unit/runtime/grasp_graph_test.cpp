@@ -145,12 +145,12 @@ TEST(ReachableGrasps, SnapFindsTheExactStateAndItsFlip) {
     EXPECT_LT(d, 1e-9);
     Eigen::Isometry3d flipped = g.tcp_pose(s);
     flipped.linear() = flipped.linear() * flip;
-    EXPECT_TRUE(same_grasp(g.snap(flipped, -1, &d), g.tcp_pose(s)));
+    EXPECT_TRUE(same_grasp(g.snap(flipped, std::nullopt, &d), g.tcp_pose(s)));
     EXPECT_LT(d, 1e-9);
     // A pose 2 cm away snaps to a grasp at most about that far away.
     Eigen::Isometry3d off = g.tcp_pose(s);
     off.translation() += Eigen::Vector3d(0, 0.02, 0);
-    EXPECT_LE(g.snap(off, -1, &d), g.size());
+    EXPECT_LE(g.snap(off, std::nullopt, &d), g.size());
     EXPECT_LE(d, 0.02 + 1e-9);
   }
   const GraspGraph empty(formats::Dmg{}, formats::GraspGraphTable{});

@@ -5,6 +5,7 @@
 // interval, so every state is collision-free with the object.
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -42,9 +43,9 @@ class GraspGraph {
   const Eigen::Vector3d& contact2(int s) const { return dmg_.nodes[states_[s].node].opposite_point; }
 
   // The state whose TCP pose is nearest `tcp` (metres + snap_weight x rotation angle, the gripper's
-  // 180-degree symmetry about z counted as the same pose, plus |opening difference| if opening >= 0).
+  // 180-degree symmetry about z counted as the same pose, plus |opening difference| if an opening is given).
   // Returns -1 for an empty graph; `distance` (optional) receives the score.
-  int snap(const Eigen::Isometry3d& tcp, double opening = -1, double* distance = nullptr) const;
+  int snap(const Eigen::Isometry3d& tcp, std::optional<double> opening = std::nullopt, double* distance = nullptr) const;
   static constexpr double snap_weight = 0.05;  // m per rad
 
  private:

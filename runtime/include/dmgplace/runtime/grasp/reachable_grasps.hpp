@@ -3,6 +3,7 @@
 // in-hand actions that gets there (what an executor needs: contact paths, push directions,
 // distances, rotation axis and angle).
 #include <Eigen/Geometry>
+#include <optional>
 #include <vector>
 
 #include "dmgplace/runtime/grasp/grasp_graph.hpp"
@@ -40,6 +41,7 @@ struct ReachableGrasps {
 };
 
 // Snaps `initial_tcp` (object frame) to the nearest grasp state and runs Dijkstra from it.
-ReachableGrasps reachable_grasps(const GraspGraph& g, const Eigen::Isometry3d& initial_tcp, double opening = -1);
+ReachableGrasps reachable_grasps(const GraspGraph& g, const Eigen::Isometry3d& initial_tcp,
+                                 std::optional<double> opening = std::nullopt);
 
 }  // namespace dmgplace::runtime

@@ -15,28 +15,24 @@
 #include "dmgplace/runtime/placement/placement_query.hpp"
 #include "dmgplace/runtime/placement/placement_result.hpp"
 #include "dmgplace/runtime/placement/placement_world.hpp"
+#include "dmgplace/runtime/stop_condition.hpp"
 
 namespace dmgplace::runtime {
 
 class PlacementPlanner {
  public:
-  using Stop = std::function<bool()>;
   using Callback = std::function<void(const PlacementSolution&)>;
   // Checks the query against the world (dmgplace::Error naming the field when it does not fit).
   PlacementPlanner(const PlacementWorld& world, PlacementQuery query);
   ~PlacementPlanner();
   // Runs until `stop()` returns true (checked between rounds), calling `on_solution` for every
   // improvement as it is found. Synchronous mode (options.threads == 0) is deterministic.
-  PlacementResult run(const Stop& stop, const Callback& on_solution = {});
+  PlacementResult run(const StopCondition& stop, const Callback& on_solution = {});
 
  private:
   struct Run;
   const PlacementWorld* world_;
   PlacementQuery query_;
 };
-
-// Stop conditions.
-PlacementPlanner::Stop stop_after_seconds(double seconds);
-PlacementPlanner::Stop stop_after_iterations(long iterations);
 
 }  // namespace dmgplace::runtime
