@@ -62,23 +62,7 @@ void SphereFieldChecker::Pass::certificate() {
     // Sphere by sphere (the bounding spheres, or the coarse grid, gave less).
     double clearance = std::numeric_limits<double>::infinity();
     if (it->pair) {
-      const Body &a = c.bodies_[std::size_t(c.pairs_[it->index].a)], &b = c.bodies_[std::size_t(c.pairs_[it->index].b)];
-      centres(std::size_t(c.pairs_[it->index].a));
-      centres(std::size_t(c.pairs_[it->index].b));
-      // A root only where it can lower the minimum: |wa - wb| - r < clearance, squared.
-      const Eigen::Vector3d& cb = s.body_center[std::size_t(c.pairs_[it->index].b)];
-      for (int i = a.begin; i < a.end; ++i) {
-        const Eigen::Vector3d& wa = s.world[std::size_t(i)];
-        const double ra = c.spheres_[std::size_t(i)].radius + c.padding_;
-        const double row = ra + b.radius + clearance;  // past b's bounding sphere by the minimum: no sphere of b is nearer
-        if (row > 0 && (wa - cb).squaredNorm() >= row * row) continue;
-        for (int j = b.begin; j < b.end; ++j) {
-          const double r = ra + c.spheres_[std::size_t(j)].radius, reach = r + clearance;
-          const double d2 = (wa - s.world[std::size_t(j)]).squaredNorm();
-          if (reach > 0 && d2 >= reach * reach) continue;
-          clearance = std::min(clearance, std::sqrt(d2) - r);
-        }
-      }
+      clearance = pair_sphere_gap(c.pairs_[it->index]);
     } else {
       const Body& b = c.bodies_[it->index];
       // The field stops at its band: where it has clamped, the body's whole bounding sphere against
@@ -114,6 +98,29 @@ void SphereFieldChecker::Pass::certificate() {
   if (skipped) fd = std::min(fd, enough);
   out.free_distance = std::isfinite(fd) ? fd : 1e9;
   out.isotropic_distance = std::min(out.free_distance, isotropic);
+}
+
+// The smallest gap between a pair's spheres. A root only where it can lower the minimum:
+// |wa - wb| - r < clearance, squared.
+double SphereFieldChecker::Pass::pair_sphere_gap(const Pair& p) {
+  const Body &a = c.bodies_[std::size_t(p.a)], &b = c.bodies_[std::size_t(p.b)];
+  centres(std::size_t(p.a));
+  centres(std::size_t(p.b));
+  double clearance = std::numeric_limits<double>::infinity();
+  const Eigen::Vector3d& cb = s.body_center[std::size_t(p.b)];
+  for (int i = a.begin; i < a.end; ++i) {
+    const Eigen::Vector3d& wa = s.world[std::size_t(i)];
+    const double ra = c.spheres_[std::size_t(i)].radius + c.padding_;
+    const double row = ra + b.radius + clearance;  // past b's bounding sphere by the minimum: no sphere of b is nearer
+    if (row > 0 && (wa - cb).squaredNorm() >= row * row) continue;
+    for (int j = b.begin; j < b.end; ++j) {
+      const double r = ra + c.spheres_[std::size_t(j)].radius, reach = r + clearance;
+      const double d2 = (wa - s.world[std::size_t(j)]).squaredNorm();
+      if (reach > 0 && d2 >= reach * reach) continue;
+      clearance = std::min(clearance, std::sqrt(d2) - r);
+    }
+  }
+  return clearance;
 }
 
 // A body's spheres' gaps to the scene (into s.sphere_gap, for directional_time), the smallest

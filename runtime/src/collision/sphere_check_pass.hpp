@@ -82,6 +82,8 @@ struct SphereFieldChecker::Pass {
   bool body_clear(std::size_t bi, bool exact);           // environment's steps
   bool environment_spheres(std::size_t bi, bool exact);
   bool self_pairs();
+  enum class PairSpheres { Apart, Touching, ProvenCollision };
+  PairSpheres pair_spheres(const Pair& p, double need, double& gap, bool& beyond);  // self_pairs' step
   // self_pairs' verdicts on an overlapping sphere pair (global indices, centres s2 apart): a
   // collision proven by the spheres' inner balls (out says so); the body pair left to the exact
   // layer (out.pairs_overflow when more pairs than fit).
@@ -111,6 +113,7 @@ struct SphereFieldChecker::Pass {
   // A body's smallest sphere gap to the scene, each sphere's into s.sphere_gap: from the exact
   // primitives (exact_scene()), or from the field with the primitives where its bounds fall
   // short of lasting `limit`. centres() of the body must be set.
+  double pair_sphere_gap(const Pair& p);  // certificate's step for a pair
   double exact_sphere_gaps(std::size_t bi);
   double field_sphere_gaps(const Candidate& cand, double limit);
   // A sphere's exact distance to the scene, as the environment pass read it or now.

@@ -44,7 +44,6 @@ bool SphereFieldChecker::Pass::self_pairs() {
         continue;
       }
     }
-    bool hit = false;
     if (!certify_this) {
       // No gaps to measure: the first overlap decides, in the bodies' own frames.
       const PairContact k = c.pair_contact(p, poses[std::size_t(a.link)], poses[std::size_t(b.link)],
@@ -55,47 +54,51 @@ bool SphereFieldChecker::Pass::self_pairs() {
       if (out.pairs_overflow) return false;
       continue;
     }
-    centres(std::size_t(p.a));
-    centres(std::size_t(p.b));
-    // The pair's gap so far: a sphere pair past it cannot lower it, and all share the pair's speed
-    // bound, so such pairs need no root. Past `need`, unexamined, they only cap the certificate,
-    // and only when no gap is found at all (a finite gap limits it more).
     double gap = std::numeric_limits<double>::infinity();
     bool beyond = false;
-    const Eigen::Vector3d& cb = s.body_center[std::size_t(p.b)];
-    for (int i = a.begin; i < a.end && !hit; ++i) {
-      const Eigen::Vector3d& wa = s.world[std::size_t(i)];
-      const double ra = c.spheres_[std::size_t(i)].radius + c.padding_;
-      const double look = std::min(gap, need);
-      // Past b's bounding sphere by `look`, this sphere is past each of b's spheres by as much.
-      const double rab = ra + b.radius + look;
-      if ((wa - cb).squaredNorm() >= rab * rab) {
-        beyond = true;
-        continue;
-      }
-      for (int j = b.begin; j < b.end; ++j) {
-        const double r = ra + c.spheres_[std::size_t(j)].radius;
-        const double s2 = (wa - s.world[std::size_t(j)]).squaredNorm();
-        if (s2 < r * r) {
-          if (proven_overlap(i, j, s2)) return false;
-          hit = true;
-          break;
-        }
-        if (!certify_this) continue;
-        const double reach = r + std::min(gap, need);
-        if (s2 < reach * reach) gap = std::min(gap, std::sqrt(s2) - r);
-        else beyond = true;
-      }
-    }
-    if (!hit) {
-      if (certify_this && std::isfinite(gap)) candidate(gap / v, gap, pi, true, true);
-      else skipped |= certify_this && beyond;
+    const PairSpheres found = pair_spheres(p, need, gap, beyond);
+    if (found == PairSpheres::ProvenCollision) return false;
+    if (found == PairSpheres::Apart) {
+      if (std::isfinite(gap)) candidate(gap / v, gap, pi, true, true);
+      else skipped |= beyond;
       continue;
     }
     flag(a, b);
     if (out.pairs_overflow) return false;
   }
   return true;
+}
+
+// A pair's spheres in the world, for a certificate: the smallest gap found up to `need` (gap), or
+// a touching sphere pair. The pair's gap so far: a sphere pair past it cannot lower it, and all
+// share the pair's speed bound, so such pairs need no root. Past `need`, unexamined, they only
+// cap the certificate (beyond), and only when no gap is found at all (a finite gap limits it more).
+SphereFieldChecker::Pass::PairSpheres SphereFieldChecker::Pass::pair_spheres(const Pair& p, double need, double& gap,
+                                                                             bool& beyond) {
+  const Body &a = c.bodies_[std::size_t(p.a)], &b = c.bodies_[std::size_t(p.b)];
+  centres(std::size_t(p.a));
+  centres(std::size_t(p.b));
+  const Eigen::Vector3d& cb = s.body_center[std::size_t(p.b)];
+  for (int i = a.begin; i < a.end; ++i) {
+    const Eigen::Vector3d& wa = s.world[std::size_t(i)];
+    const double ra = c.spheres_[std::size_t(i)].radius + c.padding_;
+    const double look = std::min(gap, need);
+    // Past b's bounding sphere by `look`, this sphere is past each of b's spheres by as much.
+    const double rab = ra + b.radius + look;
+    if ((wa - cb).squaredNorm() >= rab * rab) {
+      beyond = true;
+      continue;
+    }
+    for (int j = b.begin; j < b.end; ++j) {
+      const double r = ra + c.spheres_[std::size_t(j)].radius;
+      const double s2 = (wa - s.world[std::size_t(j)]).squaredNorm();
+      if (s2 < r * r) return proven_overlap(i, j, s2) ? PairSpheres::ProvenCollision : PairSpheres::Touching;
+      const double reach = r + std::min(gap, need);
+      if (s2 < reach * reach) gap = std::min(gap, std::sqrt(s2) - r);
+      else beyond = true;
+    }
+  }
+  return PairSpheres::Apart;
 }
 
 bool SphereFieldChecker::Pass::proven_overlap(int i, int j, double s2) {
