@@ -120,7 +120,7 @@ PlanOutcome plan_ours(const ArmProblem& p, double time_limit, double resolution,
     out.seconds = out.first_path_seconds = since(t0);
     return out;
   }
-  const double setup = since(t0);
+  const double setup = out.planner_setup_seconds = since(t0);
   planner.solve(ob::timedPlannerTerminationCondition(time_limit));
   out.seconds = since(t0);
   out.first_path_seconds = out.seconds;

@@ -57,6 +57,7 @@ struct PlanOutcome {
   bool valid = false;        // every segment re-checked exactly at the resolution
   double seconds = 0;         // to the returned path
   double first_path_seconds = 0;  // to the first path, before shortcutting (= seconds for planners that do not shorten)
+  double planner_setup_seconds = 0;  // of both: the space, the planner and its goal, before planning
   double length = 0;         // joint-space path length
   runtime::JointPath path;
 };
