@@ -67,7 +67,7 @@ TEST_F(PlacementSearch, NoRegraspPlacesWithTheGraspActuallyHeld) {
   EXPECT_NEAR(s.opening, *width, 1e-12);
   EXPECT_NEAR(r.initial_opening, *width, 1e-12);
   // The arm at the end of the path holds the object at its placement through g0.
-  const Eigen::Isometry3d held = world_->kin().tip_pose(vec(s.path.back())) * qr.g0.inverse();
+  const Eigen::Isometry3d held = world_->kinematics().tip_pose(vec(s.path.back())) * qr.g0.inverse();
   EXPECT_LT((held.translation() - s.pose.translation() - Eigen::Vector3d(0, 0, qr.options.lift)).norm(), 1e-3);
 }
 
@@ -80,10 +80,10 @@ TEST_F(PlacementSearch, EachGraspsCheckerHasTheFingersAtItsOpening) {
     // kinematics (the state the collision layers pose).
     const TwoLayerChecker c = world_->grasp_checker(side_grasp(), opening, nullptr);
     std::vector<Eigen::Isometry3d> poses;
-    const Eigen::VectorXd q = 0.5 * (world_->kin().lower() + world_->kin().upper());
+    const Eigen::VectorXd q = 0.5 * (world_->kinematics().lower() + world_->kinematics().upper());
     c.exact().kinematics().link_poses(q, poses);
     EXPECT_EQ(&c.exact().kinematics(), &c.fast().kinematics());
-    const Eigen::Isometry3d tip = poses[std::size_t(world_->kin().tip_link())];
+    const Eigen::Isometry3d tip = poses[std::size_t(world_->kinematics().tip_link())];
     const Eigen::Vector3d a = tip.inverse() * poses[std::size_t(fingers[0])].translation();
     const Eigen::Vector3d b = tip.inverse() * poses[std::size_t(fingers[1])].translation();
     return std::abs(a.y() - b.y());
@@ -103,8 +103,8 @@ TEST_F(PlacementSearch, EachGraspsCheckerHasTheFingersAtItsOpening) {
     const double opening = p.per_grasp.grasp(g).opening;
     EXPECT_NEAR(opening, world_->grasp_graph().opening(p.per_grasp.grasp(g).state), 1e-12);
     std::vector<Eigen::Isometry3d> poses;
-    p.per_grasp.checker(g)->exact().kinematics().link_poses(0.5 * (world_->kin().lower() + world_->kin().upper()), poses);
-    const Eigen::Isometry3d tip = poses[std::size_t(world_->kin().tip_link())];
+    p.per_grasp.checker(g)->exact().kinematics().link_poses(0.5 * (world_->kinematics().lower() + world_->kinematics().upper()), poses);
+    const Eigen::Isometry3d tip = poses[std::size_t(world_->kinematics().tip_link())];
     const double y = std::abs((tip.inverse() * poses[std::size_t(fingers[0])].translation()).y() -
                               (tip.inverse() * poses[std::size_t(fingers[1])].translation()).y());
     EXPECT_NEAR(wide - y, max_opening - std::clamp(opening, 0.0, max_opening), 1e-9) << "grasp " << g;

@@ -51,7 +51,7 @@ TEST_F(Placement, EveryPublishedSolutionIsStableFreeAndImproving) {
   PlacementQuery qr = query(side_grasp());
   const PlacementResult r = solve(qr, 1500);
   ASSERT_TRUE(r.solved()) << r.reason;
-  const Kinematics& kin = world_->kin();
+  const Kinematics& kin = world_->kinematics();
   const auto& env = world_->env();
   for (std::size_t k = 0; k < r.improvements.size(); ++k) {
     const PlacementSolution& s = r.improvements[k];
@@ -304,7 +304,7 @@ TEST_F(Placement, ExactLayerCatchesAWrongSphereModel) {
   for (int k = 0; k < 3000; ++k) {
     Eigen::VectorXd q = vec(best.path.back());
     for (int i = 0; i < q.size(); ++i) q[i] += noise(rng);
-    q = q.cwiseMax(wrong.kin().lower()).cwiseMin(wrong.kin().upper());
+    q = q.cwiseMax(wrong.kinematics().lower()).cwiseMin(wrong.kinematics().upper());
     fooled += layers.fast().is_free(q) && !layers.exact().is_free(q);
   }
   EXPECT_GT(fooled, 0);

@@ -72,11 +72,11 @@ class RobotJointValues : public ::testing::Test {
 TEST_F(RobotJointValues, TheValueMovesTheLinkAndDecidesWhatCollides) {
   const auto at_zero = world({});
   const auto swung = world({{"mast_joint", std::numbers::pi / 2}});
-  const auto& m = swung->kin().model();
+  const auto& m = swung->kinematics().model();
   const int mast = m.link_index("mast");
   std::vector<Eigen::Isometry3d> a, b;
-  at_zero->kin().link_poses(home(), a);
-  swung->kin().link_poses(home(), b);
+  at_zero->kinematics().link_poses(home(), a);
+  swung->kinematics().link_poses(home(), b);
   EXPECT_NEAR((a[std::size_t(mast)].translation() - b[std::size_t(mast)].translation()).norm(), 0, 1e-12);
   const Eigen::Vector3d tip_a = a[std::size_t(mast)] * Eigen::Vector3d(0, 0.4, 0), tip_b = b[std::size_t(mast)] * Eigen::Vector3d(0, 0.4, 0);
   EXPECT_NEAR((tip_a - Eigen::Vector3d(0, 0.1, 0.45)).norm(), 0, 1e-12);
@@ -85,7 +85,7 @@ TEST_F(RobotJointValues, TheValueMovesTheLinkAndDecidesWhatCollides) {
   EXPECT_FALSE(at_zero->exact().is_free(home()));
   EXPECT_TRUE(swung->exact().is_free(home())) << swung->exact().check(home()).contact;
   // The arm chain is untouched.
-  EXPECT_NEAR((at_zero->kin().tip_pose(home()).matrix() - swung->kin().tip_pose(home()).matrix()).norm(), 0, 1e-12);
+  EXPECT_NEAR((at_zero->kinematics().tip_pose(home()).matrix() - swung->kinematics().tip_pose(home()).matrix()).norm(), 0, 1e-12);
 }
 
 TEST_F(RobotJointValues, NamesThatAreNoSuchJointAreRefused) {
@@ -114,10 +114,10 @@ TEST_F(RobotJointValues, AQueryFileNamesTheJointInItsStart) {
   ASSERT_EQ(joints.size(), 1u);
   EXPECT_DOUBLE_EQ(joints.at("mast_joint"), 1.5707963);
   const auto w = world(joints);
-  EXPECT_TRUE(w->exact().is_free(tools::resolve_start(q, w->kin())));
+  EXPECT_TRUE(w->exact().is_free(tools::resolve_start(q, w->kinematics())));
   // A world built without it would silently plan with the mast elsewhere: refused.
   const auto plain = world({});
-  const std::string e = error_of([&] { tools::resolve_start(q, plain->kin()); });
+  const std::string e = error_of([&] { tools::resolve_start(q, plain->kinematics()); });
   EXPECT_NE(e.find("q.yaml"), std::string::npos) << e;
   EXPECT_NE(e.find("start.mast_joint"), std::string::npos) << e;
   // And through the CLI: `place` builds its world with the query's joints.

@@ -40,7 +40,7 @@ void expect_executable(const Trajectory& t, const JointPath& path, const JointLi
 }  // namespace
 
 TEST_F(TimedTrajectory, LimitsComeFromTheUrdfAndTheJointLimitsFile) {
-  const JointLimits limits = arm_joint_limits(world_->kin());
+  const JointLimits limits = arm_joint_limits(world_->kinematics());
   ASSERT_EQ(limits.velocity.size(), 7u);
   EXPECT_DOUBLE_EQ(limits.velocity[0], 2.3925);      // dmgarm.urdf
   EXPECT_DOUBLE_EQ(limits.acceleration[1], 1.875);   // joint_limits.yaml
@@ -54,7 +54,7 @@ TEST_F(TimedTrajectory, EverySolutionIsTimedWithinTheLimits) {
     qr.options.velocity_scaling = qr.options.acceleration_scaling = scaling;
     const PlacementResult r = solve(qr, 1500, true);
     ASSERT_TRUE(r.solved()) << r.reason;
-    const JointLimits limits = arm_joint_limits(world_->kin());
+    const JointLimits limits = arm_joint_limits(world_->kinematics());
     for (const auto& s : r.improvements) {
       expect_executable(s.trajectory, s.path, limits, scaling);
       if (!s.retreat.empty()) expect_executable(s.retreat_trajectory, s.retreat, limits, scaling);

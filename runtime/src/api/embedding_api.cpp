@@ -68,12 +68,12 @@ std::shared_ptr<const World> World::from_artifacts(formats::RobotArtifact robot,
   return w;
 }
 
-int World::dof() const { return impl_->world->kin().dof(); }
-const std::vector<std::string>& World::joint_names() const { return impl_->world->kin().joint_names(); }
-Eigen::VectorXd World::lower_limits() const { return impl_->world->kin().lower(); }
-Eigen::VectorXd World::upper_limits() const { return impl_->world->kin().upper(); }
+int World::dof() const { return impl_->world->kinematics().dof(); }
+const std::vector<std::string>& World::joint_names() const { return impl_->world->kinematics().joint_names(); }
+Eigen::VectorXd World::lower_limits() const { return impl_->world->kinematics().lower(); }
+Eigen::VectorXd World::upper_limits() const { return impl_->world->kinematics().upper(); }
 Eigen::Isometry3d World::tcp_pose(const Eigen::VectorXd& q) const {
-  const auto& kin = impl_->world->kin();
+  const auto& kin = impl_->world->kinematics();
   if (q.size() != kin.dof() || !q.allFinite())
     throw Error("tcp_pose", "q", "needs " + std::to_string(kin.dof()) + " finite joint values");
   std::vector<Eigen::Isometry3d> poses;
@@ -81,7 +81,7 @@ Eigen::Isometry3d World::tcp_pose(const Eigen::VectorXd& q) const {
   return poses[std::size_t(kin.tip_link())];
 }
 const std::vector<std::string>& World::fit_warnings() const { return impl_->world->fit().warnings; }
-const runtime::Kinematics& World::kinematics() const { return impl_->world->kin(); }
+const runtime::Kinematics& World::kinematics() const { return impl_->world->kinematics(); }
 
 runtime::PlacementResult place(const World& world, const runtime::PlacementQuery& query, const StopCondition& stop,
                                const SolutionCallback& on_solution) {
@@ -119,7 +119,7 @@ void check_motion_query(const runtime::Kinematics& kin, const MotionQuery& q) {
 MotionResult plan_motion(const World& world, const MotionQuery& query) {
   const auto t0 = std::chrono::steady_clock::now();
   const auto& pw = planner_world(world);
-  const auto& kin = pw.kin();
+  const auto& kin = pw.kinematics();
   check_motion_query(kin, query);
   const runtime::TwoLayerChecker checker = query.grasp ? pw.grasp_checker(*query.grasp, -1, nullptr) : pw.arm_checker(nullptr);
   auto si = runtime::make_arm_space(kin, checker, query.resolution);

@@ -25,7 +25,7 @@ double GoalCheck::reward(const PlacementOptions& o) const {
 GoalValidator::GoalValidator(const PlacementWorld& world, const SearchSpace& space, const Objective& objective,
                              PerGraspCheckers& per_grasp, GraspSelector& selector, const PlacementQuery& query)
     : world_(&world), space_(&space), objective_(&objective), per_grasp_(&per_grasp), selector_(&selector), query_(&query),
-      ik_(world.kin(), ik_options(query.options)) {}
+      ik_(world.kinematics(), ik_options(query.options)) {}
 
 Eigen::Isometry3d GoalValidator::lifted(const Eigen::Isometry3d& resting) const {
   Eigen::Isometry3d x = resting;

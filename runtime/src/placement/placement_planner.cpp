@@ -37,7 +37,7 @@ std::pair<Eigen::Vector3d, double> bounding_ball(const TriMesh& mesh) {
 }  // namespace
 
 PlacementPlanner::PlacementPlanner(const PlacementWorld& world, PlacementQuery query) : world_(&world), query_(std::move(query)) {
-  const Kinematics& kin = world.kin();
+  const Kinematics& kin = world.kinematics();
   if (query_.q0.size() != kin.dof())
     throw Error(query_.source, "q0", "has " + std::to_string(query_.q0.size()) + " values, the arm has " + std::to_string(kin.dof()) + " joints");
   if (!query_.q0.allFinite()) throw Error(query_.source, "q0", "not finite (NaN or infinity)");
@@ -191,7 +191,7 @@ struct PlacementPlanner::Run {
     selector = std::make_unique<GraspSelector>(*per_grasp, *tree, q.variant, o.p_accept, o.hand_tries, hand_free);
     validator = std::make_unique<GoalValidator>(world, *space, *objective, *per_grasp, *selector, q);
     // Each grasp's checker is kept by per_grasp for the whole run, so its space may refer to it.
-    auto factory = [this](int g) { return make_arm_space(world.kin(), *per_grasp->checker(g), o.motion_resolution); };
+    auto factory = [this](int g) { return make_arm_space(world.kinematics(), *per_grasp->checker(g), o.motion_resolution); };
     motion = std::make_unique<MultiGraspPlanner>(factory, std::vector<double>(q.q0.data(), q.q0.data() + q.q0.size()),
                                                  std::max(1, o.threads), q.seed);
     motion->set_path_validator([this](int g, const JointPath& path) {
@@ -255,7 +255,7 @@ struct PlacementPlanner::Run {
     const ReachableGrasp& grasp = per_grasp->grasp(goal.grasp);
     auto checker = per_grasp->checker(goal.grasp);
     LocalProblem lp;
-    lp.kin = &world.kin();
+    lp.kin = &world.kinematics();
     lp.space = space.get();
     lp.objective = objective.get();
     lp.checker = checker.get();
@@ -315,12 +315,12 @@ struct PlacementPlanner::Run {
     const Eigen::VectorXd q_place = vec(path.back());
     // Back along the approach first; where the arm cannot do that (it folds into itself or the
     // scene), straight up: the fingers are open and leave the object either way.
-    const Eigen::Vector3d back = -world.kin().tip_pose(q_place).linear().col(2);
+    const Eigen::Vector3d back = -world.kinematics().tip_pose(q_place).linear().col(2);
     const ExactChecker placed = world.placed_exact(up, opening);
     const ValidityFn clear = [&placed](const Eigen::VectorXd& x) { return placed.is_free(x); };
-    Retreat r = plan_retreat(world.kin(), released, q_place, back, o.retreat_distance, o.motion_resolution, clear);
+    Retreat r = plan_retreat(world.kinematics(), released, q_place, back, o.retreat_distance, o.motion_resolution, clear);
     if (!r.ok && back.z() < 0.99)
-      r = plan_retreat(world.kin(), released, q_place, Eigen::Vector3d::UnitZ(), o.retreat_distance, o.motion_resolution, clear);
+      r = plan_retreat(world.kinematics(), released, q_place, Eigen::Vector3d::UnitZ(), o.retreat_distance, o.motion_resolution, clear);
     if (!r.ok) return false;
     const JointPath motion = retreat_motion(placed, opening, up, vec(r.path.back()), path);
     if (motion.empty()) return false;
@@ -338,7 +338,7 @@ struct PlacementPlanner::Run {
     auto& arm = retreat_arms[opening];
     if (!arm) arm = std::make_unique<TwoLayerChecker>(world.arm_checker(nullptr, opening));
     RetreatScene scene;
-    scene.kin = &world.kin_at(opening);
+    scene.kin = &world.kinematics_at(opening);
     scene.arm = arm.get();
     scene.placed = &placed;
     scene.spheres = &world.robot().spheres;
@@ -374,8 +374,8 @@ struct PlacementPlanner::Run {
     sol.in_hand = std::move(actions);
     sol.path = std::move(path);
     const TimingOptions timing{o.velocity_scaling, o.acceleration_scaling};
-    sol.trajectory = time_arm_path(world.kin(), sol.path, timing);
-    sol.retreat_trajectory = time_arm_path(world.kin(), sol.retreat, timing);
+    sol.trajectory = time_arm_path(world.kinematics(), sol.path, timing);
+    sol.retreat_trajectory = time_arm_path(world.kinematics(), sol.retreat, timing);
     sol.time = elapsed();
     sol.counters = counters();
     result.improvements.push_back(std::move(sol));

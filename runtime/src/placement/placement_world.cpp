@@ -162,11 +162,11 @@ double PlacementWorld::finger_travel() const {
   return gap(1e3) - gap(0);  // driven to their upper and lower limits
 }
 
-const Kinematics& PlacementWorld::kin_at(double opening) const { return opening >= 0 ? *fingers_at(opening).kin : *kin_; }
+const Kinematics& PlacementWorld::kinematics_at(double opening) const { return opening >= 0 ? *fingers_at(opening).kin : *kin_; }
 
 TwoLayerChecker PlacementWorld::grasp_checker(const Eigen::Isometry3d& tcp_in_object, double opening,
                                               std::shared_ptr<CheckCounters> counters) const {
-  const Kinematics& kin = kin_at(opening);
+  const Kinematics& kin = kinematics_at(opening);
   const Eigen::Isometry3d object_in_tip = tcp_in_object.inverse();
   AttachedSpheres att;
   att.link = kin_->tip_link();
@@ -184,21 +184,21 @@ TwoLayerChecker PlacementWorld::grasp_checker(const Eigen::Isometry3d& tcp_in_ob
 
 TwoLayerChecker PlacementWorld::arm_checker(std::shared_ptr<CheckCounters> counters, double opening) const {
   if (opening < 0) return TwoLayerChecker(*fast_, *exact_, std::move(counters));
-  const Kinematics& kin = kin_at(opening);
+  const Kinematics& kin = kinematics_at(opening);
   return TwoLayerChecker(fast_->with_kinematics(kin), exact_->with_kinematics(kin), std::move(counters));
 }
 
 ExactChecker PlacementWorld::grasp_exact(const Eigen::Isometry3d& tcp_in_object, double opening) const {
-  return exact_->with_kinematics(kin_at(opening))
+  return exact_->with_kinematics(kinematics_at(opening))
       .with_attached(*object_mesh_, kin_->tip_link(), tcp_in_object.inverse(), hand_.fingers);
 }
 
 ExactChecker PlacementWorld::released_exact(const Eigen::Isometry3d& object_pose, double opening) const {
-  return exact_->with_kinematics(kin_at(opening)).with_attached(*object_mesh_, kin_->base_link(), object_pose, hand_.fingers);
+  return exact_->with_kinematics(kinematics_at(opening)).with_attached(*object_mesh_, kin_->base_link(), object_pose, hand_.fingers);
 }
 
 ExactChecker PlacementWorld::placed_exact(const Eigen::Isometry3d& object_pose, double opening) const {
-  return exact_->with_kinematics(kin_at(opening)).with_attached(*object_mesh_, kin_->base_link(), object_pose, {});
+  return exact_->with_kinematics(kinematics_at(opening)).with_attached(*object_mesh_, kin_->base_link(), object_pose, {});
 }
 
 bool PlacementWorld::hand_free(const Eigen::Isometry3d& tcp_world, double opening) const {

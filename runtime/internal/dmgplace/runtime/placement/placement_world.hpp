@@ -52,7 +52,7 @@ class PlacementWorld {
   PlacementWorld(const PlacementWorld&) = delete;
   PlacementWorld& operator=(const PlacementWorld&) = delete;
 
-  const Kinematics& kin() const { return *kin_; }
+  const Kinematics& kinematics() const { return *kin_; }
   const formats::RobotArtifact& robot() const { return robot_; }
   const formats::ObjectArtifact& object() const { return object_; }
   const EnvironmentModel& env() const { return env_; }
@@ -68,21 +68,21 @@ class PlacementWorld {
   double finger_travel() const;
 
   // Both layers with the object held at `tcp_in_object` (a grasp) and the fingers at that grasp's
-  // `opening` (m; < 0: as kin() has them): shares all geometry. Object and hand are not
+  // `opening` (m; < 0: as kinematics() has them): shares all geometry. Object and hand are not
   // checked against each other (their relative pose is the grasp's, fixed).
   TwoLayerChecker grasp_checker(const Eigen::Isometry3d& tcp_in_object, double opening,
                                 std::shared_ptr<CheckCounters> counters) const;
-  // Both layers for the arm alone, empty-handed, the fingers at `opening` (< 0: as kin() has them).
+  // Both layers for the arm alone, empty-handed, the fingers at `opening` (< 0: as kinematics() has them).
   TwoLayerChecker arm_checker(std::shared_ptr<CheckCounters> counters, double opening = -1) const;
   // Exact, with the object also checked against the hand's non-finger links: the grasp itself.
   ExactChecker grasp_exact(const Eigen::Isometry3d& tcp_in_object, double opening) const;
   // The object released at `object_pose` (world), the arm free to move around it: the fingers may
   // touch it (released_exact), or nothing may (placed_exact: the hand has let go and withdrawn).
-  // The fingers at `opening` (< 0: as kin() has them).
+  // The fingers at `opening` (< 0: as kinematics() has them).
   ExactChecker released_exact(const Eigen::Isometry3d& object_pose, double opening = -1) const;
   ExactChecker placed_exact(const Eigen::Isometry3d& object_pose, double opening = -1) const;
-  // The kinematics with the fingers at `opening` (< 0: kin()); lives as long as the world.
-  const Kinematics& kin_at(double opening) const;
+  // The kinematics with the fingers at `opening` (< 0: kinematics()); lives as long as the world.
+  const Kinematics& kinematics_at(double opening) const;
   // Hand-only exact test at a TCP pose (no arm, no IK): the grasp filter of Algorithm 3. Exact
   // because the hand works close to the support, where conservative spheres would reject it.
   // Fingers at `opening` (< 0: as the world's kinematics has them).
