@@ -13,6 +13,9 @@
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/runtime/collision/sphere_field_checker.hpp"
 #include "dmgplace/runtime/system/lanes.hpp"
+#include "dmgplace/runtime/collision/kernels/lane_points.hpp"
+#include "dmgplace/runtime/collision/kernels/sphere_field.hpp"
+#include "dmgplace/runtime/collision/kernels/sphere_sphere.hpp"
 #include "sphere_lane_motion.hpp"
 #include "dmgplace/runtime/system/simd_dispatch.hpp"
 
@@ -24,69 +27,12 @@ static_assert(N == lanes::WF, "one float vector per coordinate");
 using lanes::F;
 using lanes::splatf;
 using Xyz = LaneXyz;
-// A link's pose in every lane (PoseBatchF): rotation row-major, then the translation.
-using LinkPose = std::array<PoseBatchF::Lanes, 12>;
-
-// A link's pose loaded into vectors once for all its spheres: the stores of their centres could
-// alias the pose's arrays for all the compiler knows, so it would reload all 12 per sphere.
-struct PoseLanes {
-  F t[12];
-  explicit PoseLanes(const LinkPose& T) {
-    for (int e = 0; e < 12; ++e) t[e] = lanes::load(T[std::size_t(e)].data());
-  }
-};
-
-// c = R p + t in every lane, p given in every lane.
-inline __attribute__((always_inline)) void transform(const PoseLanes& T, F px, F py, F pz, Xyz& c) {
-  const F* t = T.t;
-  lanes::store(c.x, t[0] * px + t[1] * py + t[2] * pz + t[9]);
-  lanes::store(c.y, t[3] * px + t[4] * py + t[5] * pz + t[10]);
-  lanes::store(c.z, t[6] * px + t[7] * py + t[8] * pz + t[11]);
-}
-
-// Lanes whose point p is at least `need` from the scene by the field (inside the grid only): the
-// coarse bound where there is one, else the fine one. `alive`: lanes still worth the fine loads.
-// In floats: `need` carries the margin, and the grid box is shrunk by it, so a lane inside is
-// inside for its unrounded point too.
-inline __attribute__((always_inline)) std::uint32_t clear_of_field(const Xyz& p, float need, float margin,
-                                                                  std::uint32_t alive, const Eigen::Vector3d& lo,
-                                                                  const Eigen::Vector3d& hi, const NodeBoundGrid* coarse,
-                                                                  const NodeBoundGrid& fine, bool wide) {
-  const F px = lanes::load(p.x), py = lanes::load(p.y), pz = lanes::load(p.z);
-  auto low = [&](double v) { return splatf(float(v) + margin); };
-  auto high = [&](double v) { return splatf(float(v) - margin); };
-  const std::uint32_t in_grid = lanes::bits((px >= low(lo.x())) & (py >= low(lo.y())) & (pz >= low(lo.z())) &
-                                            (px <= high(hi.x())) & (py <= high(hi.y())) & (pz <= high(hi.z())), wide);
-  alignas(32) float b[N];
-  auto at_least_need = [&] { return lanes::bits(lanes::load(b) >= splatf(need), wide); };
-  std::uint32_t ok = 0;
-  if (coarse) {
-    coarse->lower_bound_lanes(p.x, p.y, p.z, b);
-    ok = at_least_need() & in_grid;
-  }
-  if ((ok & alive) != (in_grid & alive)) {
-    fine.lower_bound_lanes(p.x, p.y, p.z, b);
-    ok |= at_least_need();
-  }
-  return ok & in_grid;
-}
-
-// Lanes where spheres a and b (centres in lanes) are closer than `reach` (sum of radii + padding +
-// margin), as a mask: a caller testing many sphere pairs ORs them and takes the bits once (the
-// bits cost more than the test).
-inline __attribute__((always_inline)) lanes::MF overlaps(const Xyz& a, const Xyz& b, F reach2) {
-  const F dx = lanes::load(a.x) - lanes::load(b.x), dy = lanes::load(a.y) - lanes::load(b.y), dz = lanes::load(a.z) - lanes::load(b.z);
-  return dx * dx + dy * dy + dz * dz < reach2;
-}
-inline __attribute__((always_inline)) lanes::MF overlaps(const Xyz& a, const Xyz& b, float reach) {
-  return overlaps(a, b, splatf(reach * reach));
-}
-
-// Lanes with every coordinate of p within `limit` (false for NaN): lane_margin() holds there.
-inline __attribute__((always_inline)) lanes::MF within(const Xyz& p, float limit) {
-  const F l = splatf(limit);
-  return (lanes::abs(lanes::load(p.x)) <= l) & (lanes::abs(lanes::load(p.y)) <= l) & (lanes::abs(lanes::load(p.z)) <= l);
-}
+// The lane kernels (collision/kernels/): one job each, tested against exact answers.
+using kernels::clear_of_field;
+using kernels::overlaps;
+using kernels::PoseLanes;
+using kernels::transform;
+using kernels::within;
 
 }  // namespace
 

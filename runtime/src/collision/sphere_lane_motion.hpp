@@ -12,15 +12,11 @@
 #include <cstdint>
 #include <vector>
 
+#include "dmgplace/runtime/collision/kernels/lane_points.hpp"
 #include "dmgplace/runtime/collision/sphere_field_checker.hpp"
 #include "dmgplace/runtime/system/lanes.hpp"
 
 namespace dmgplace::runtime {
-
-// Points in every lane.
-struct alignas(32) LaneXyz {
-  float x[PoseBatch::kLanes], y[PoseBatch::kLanes], z[PoseBatch::kLanes];
-};
 
 struct SphereFieldChecker::LaneMotion {
   using F = lanes::F;
