@@ -143,6 +143,17 @@ TEST(DeepValidation, RefusesJointLimitsWiderThanTheUrdf) {
   EXPECT_TRUE(alone.ok());
 }
 
+TEST(DeepValidation, RefusesLinkGeometryThatIsNotTheUrdfs) {
+  int shrunk = 0;
+  const auto forged = forged_robot("thin_link", [&](formats::RobotArtifact& robot) {
+    for (auto& l : robot.model.links)
+      for (auto& s : l.collision)
+        if (s.type == ShapeType::Box && shrunk == 0) s.size *= 0.9, ++shrunk;
+  });
+  ASSERT_EQ(shrunk, 1);
+  expect_refused(forged, "links/collision", with_inputs());
+}
+
 TEST(DeepValidation, CliRefusesWithTheFileTheDatasetAndTheWorstSample) {
   const auto forged = forged_env("negated_field_cli", negate_field);
   const auto plain = test::run_cli({"validate", forged});

@@ -43,7 +43,7 @@ std::vector<Eigen::Vector3d> near_surface_points(const EnvGeometry& g, int count
       area.push_back((b.back() - a.back()).cross(c.back() - a.back()).norm());
     }
   std::vector<Eigen::Vector3d> out;
-  for (Eigen::Index i = 0; i < g.points.rows() && int(out.size()) < count / 2; ++i)
+  for (int k = 0; k < count / 2 && g.points.rows() > 0; ++k)  // scan points: half the samples
     out.push_back(g.points.row(Eigen::Index(rng() % std::uint64_t(g.points.rows()))).transpose());
   if (area.empty() || std::all_of(area.begin(), area.end(), [](double x) { return x <= 0; })) return out;
   std::discrete_distribution<std::size_t> pick(area.begin(), area.end());
@@ -74,8 +74,8 @@ DeepCheck compare_nodes(const formats::FieldGrid& g, const std::vector<std::size
     const double stored = g.values[nodes[i]];
     const double v = std::clamp(exact[i].value, -g.band, g.band), alt = std::clamp(exact[i].alternative, -g.band, g.band);
     const double miss = std::min(std::abs(stored - v), std::abs(stored - alt));
-    w.add(miss, "node " + fmt(node_point(g, nodes[i])) + ": stored " + fmt(stored) + ", exact " + fmt(v) +
-                    (alt != v ? " (or " + fmt(alt) + " on the surface)" : ""));
+    w.add(miss, [&] { return "node " + fmt(node_point(g, nodes[i])) + ": stored " + fmt(stored) + ", exact " + fmt(v) +
+                    (alt != v ? " (or " + fmt(alt) + " on the surface)" : ""); });
   }
   return {name, dataset, int(nodes.size()), w.worst, kNodeTolerance, "m", w.sample};
 }
@@ -120,9 +120,9 @@ DeepCheck regions_on_surface(const formats::EnvironmentArtifact& a, const ExactS
   for (std::size_t k = 0; k < cells.size(); ++k) {
     const auto& r = a.regions[cells[k].region];
     const Eigen::Vector2d m = r.cell_center(cells[k].i, cells[k].j);
-    w.add(miss[k], "region " + std::to_string(cells[k].region) + " cell (" + std::to_string(cells[k].i) + ", " +
+    w.add(miss[k], [&] { return "region " + std::to_string(cells[k].region) + " cell (" + std::to_string(cells[k].i) + ", " +
                        std::to_string(cells[k].j) + ") at " + fmt(Eigen::Vector3d(m.x(), m.y(), r.height)) + ": " +
-                       fmt(miss[k] * r.resolution) + " m from any obstacle");
+                       fmt(miss[k] * r.resolution) + " m from any obstacle"; });
   }
   return {"region cells on an obstacle surface", "regions/scalars", int(cells.size()), w.worst, 1.0, "region cells", w.sample};
 }

@@ -33,7 +33,7 @@ DeepCheck mesh_against(const formats::ObjectArtifact& a, const TriMesh& read, co
   WorstOf w;
   for (Eigen::Index v = 0; v < read.vertices.rows(); ++v) {
     const Eigen::Vector3d s = a.mesh.vertices.row(v).transpose(), r = read.vertices.row(v).transpose();
-    w.add((s - r).norm(), "vertex " + std::to_string(v) + ": stored " + fmt(s) + ", input " + fmt(r));
+    w.add((s - r).norm(), [&] { return "vertex " + std::to_string(v) + ": stored " + fmt(s) + ", input " + fmt(r); });
   }
   c.worst = w.worst, c.worst_sample = w.sample;
   return c;

@@ -59,8 +59,8 @@ DeepCheck sphere_coverage(const formats::RobotArtifact& a) {
         for (const auto& s : a.spheres)
           if (s.link == int(l)) out = std::min(out, (p - s.center).norm() - s.radius);
         ++samples;
-        w.add(out, "link '" + a.model.links[l].name + "' surface point " + fmt(p) + " (link frame): " + fmt(out) +
-                       " m outside its nearest sphere");
+        w.add(out, [&] { return "link '" + a.model.links[l].name + "' surface point " + fmt(p) + " (link frame): " + fmt(out) +
+                       " m outside its nearest sphere"; });
       }
   return {"link collision geometry inside the link's spheres", "links/spheres", samples, w.worst, kCoverTolerance, "m", w.sample};
 }
@@ -76,10 +76,11 @@ DeepCheck table_below_exact(const formats::RobotArtifact& a, const formats::Self
     for (int k = 0; k < kin.dof(); ++k) q[k] = std::uniform_real_distribution<double>(kin.lower()[k], kin.upper()[k])(rng);
     const double x0 = kin.joint_value(t.joints[0], q), x1 = t.joints[1] >= 0 ? kin.joint_value(t.joints[1], q) : 0.0;
     const double bound = t.lower_bound(x0, x1), d = exact.link_distance(q, t.link_a, t.link_b);
-    std::string at = "q =";
-    for (int k = 0; k < kin.dof(); ++k) at += " " + fmt(q[k]);
-    w.add(bound - d, "table " + std::to_string(index) + " (" + pair + ") at " + at + ": bound " + fmt(bound) + " m, exact " +
-                         fmt(d) + " m");
+    w.add(bound - d, [&] {
+      std::string at = "q =";
+      for (int k = 0; k < kin.dof(); ++k) at += " " + fmt(q[k]);
+      return "table " + std::to_string(index) + " (" + pair + ") at " + at + ": bound " + fmt(bound) + " m, exact " + fmt(d) + " m";
+    });
   }
   return {"self-distance table " + std::to_string(index) + " (" + pair + ") at or below the exact distance",
           "self_tables/distance", o.samples, w.worst, kTableTolerance, "m", w.sample};

@@ -26,7 +26,8 @@ ExactSceneDistance::ExactSceneDistance(const EnvGeometry& geometry) : geometry_(
 
 bool ExactSceneDistance::inside(const Eigen::Vector3d& p) const {
   for (std::size_t m = 0; m < closed_boxes_.size(); ++m)
-    if (!closed_boxes_[m].isEmpty() && closed_boxes_[m].contains(p) && winding_number(geometry_->meshes[m], p) > 0.5) return true;
+    if (!closed_boxes_[m].isEmpty() && closed_boxes_[m].contains(p) && std::abs(winding_number(geometry_->meshes[m], p)) > 0.5)
+      return true;
   return false;
 }
 

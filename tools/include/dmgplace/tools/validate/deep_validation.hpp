@@ -39,7 +39,8 @@ struct DeepReport {
   std::vector<std::string> problems() const;
 };
 
-// Throws dmgplace::Error when the file cannot be read or fails the ordinary validation first.
+// Throws dmgplace::Error when the file cannot be read or is refused by its loader (the ordinary
+// validation's semantic gate).
 DeepReport deep_validate(const std::filesystem::path& file, const DeepOptions& options = {});
 
 // "name: worst W m at SAMPLE (tolerance T m, N samples)"

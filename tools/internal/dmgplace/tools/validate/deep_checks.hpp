@@ -19,13 +19,15 @@ void robot_against_inputs(const formats::RobotArtifact& a, const std::filesystem
 // --check-inputs for an object baked from a mesh file: the mesh read again, the mass asked for.
 void object_against_inputs(const formats::ObjectArtifact& a, const std::filesystem::path& file, DeepReport& report);
 
-// Keeps the largest disagreement of a check as samples arrive (from one thread).
+// Keeps the largest disagreement of a check as samples arrive (from one thread). `describe()`
+// (the sample's text) is called only for a new worst.
 struct WorstOf {
   double worst = 0;
   std::string sample;
-  void add(double disagreement, const std::string& where) {
+  template <class Describe>
+  void add(double disagreement, Describe describe) {
     if (std::isnan(worst)) return;  // a NaN disagreement stays the worst
-    if (!(disagreement <= worst)) worst = disagreement, sample = where;
+    if (!(disagreement <= worst)) worst = disagreement, sample = describe();
   }
 };
 

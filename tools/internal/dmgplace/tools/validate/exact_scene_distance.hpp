@@ -22,7 +22,8 @@ class ExactSceneDistance {
   // Distance from p to the obstacle parts strictly above height z_min, at most `cap`, whether or
   // not p is inside.
   double distance_above(const Eigen::Vector3d& p, double cap, double z_min) const;
-  // Inside a closed mesh, by its generalised winding number.
+  // Inside a closed mesh: its generalised winding number is non-zero (the bake's rule, whatever
+  // the mesh's orientation).
   bool inside(const Eigen::Vector3d& p) const;
 
  private:
