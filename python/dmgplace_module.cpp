@@ -85,6 +85,22 @@ py::dict solution_dict(const runtime::PlacementSolution& s) {
   d["release_opening"] = s.release_opening;
   d["trajectory"] = trajectory_dict(s.trajectory);
   d["retreat_trajectory"] = trajectory_dict(s.retreat_trajectory);
+  py::list pushes;
+  for (const auto& p : s.pushes) {
+    py::dict x;
+    x["action"] = p.action;
+    x["contact"] = Eigen::Vector3d(p.contact);
+    x["direction"] = Eigen::Vector3d(p.direction);
+    x["object_before"] = Eigen::Matrix4d(p.object_before.matrix());
+    x["object_after"] = Eigen::Matrix4d(p.object_after.matrix());
+    x["grasp_after"] = Eigen::Matrix4d(p.grasp_after.matrix());
+    x["path"] = path_array(p.path);
+    x["push_begin"] = p.push_begin;
+    x["push_end"] = p.push_end;
+    x["trajectory"] = trajectory_dict(p.trajectory);
+    pushes.append(x);
+  }
+  d["pushes"] = pushes;  // one per in-hand action when the query names a pusher arm
   return d;
 }
 
@@ -101,8 +117,11 @@ py::dict result_dict(const runtime::PlacementResult& r) {
   for (const auto& s : r.improvements) imp.append(solution_dict(s));
   d["improvements"] = imp;
   d["best"] = r.solved() ? py::object(solution_dict(r.best())) : py::none();
-  // The in-hand actions are not planned for a pusher: say so wherever there are some.
-  if (r.solved() && !r.best().in_hand.empty()) d["in_hand_execution"] = runtime::kInHandExecutionNote;
+  // Who performs the in-hand actions: the query's pusher arm, or (none named) a second arm or a
+  // fixture that dmgplace does not plan for. Said wherever there are some.
+  if (r.solved() && !r.best().in_hand.empty())
+    d["in_hand_execution"] = r.best().pushes.empty() ? runtime::kInHandExecutionNote : runtime::kInHandPlannedNote;
+  d["pusher_joints"] = r.pusher_joints;
   d["samples"] = r.counters.samples;
   d["goals"] = r.counters.goals;
   return d;

@@ -24,6 +24,8 @@ int run_place(const PlaceArgs& a) {
     if (!v) throw Error("--variant", "", "unknown variant '" + a.variant + "' (full, random-grasp, no-regrasp)");
     q.query.variant = *v;
   }
+  if (a.pusher == "none") q.query.pusher.reset();
+  else if (!a.pusher.empty()) throw Error("--pusher", a.pusher, "expected 'none' (the pusher arm is named in the query file)");
   const auto t_load = std::chrono::steady_clock::now();
   auto robot = formats::load_robot(q.robot);
   const auto joints = tools::world_joint_values(q, robot.model);
@@ -67,7 +69,10 @@ int run_place(const PlaceArgs& a) {
     }
     std::cout << "  trajectory " << b.trajectory.duration() << " s to the placement, retreat " << b.retreat_trajectory.duration()
               << " s\n";
-    if (!b.in_hand.empty())
+    for (const auto& p : b.pushes)
+      std::cout << "  push " << p.action + 1 << ": the pusher touches the object at (" << p.contact.x() << ", " << p.contact.y() << ", "
+                << p.contact.z() << "), " << p.trajectory.duration() << " s\n";
+    if (!b.in_hand.empty() && b.pushes.empty())
       std::cout << "  the in-hand actions need a second arm or a fixture to push the object: not planned for execution\n";
   } else {
     std::cout << "no solution: " << result.reason << "\n";

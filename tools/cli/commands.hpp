@@ -115,6 +115,7 @@ struct PlaceArgs {
   std::optional<int> threads;
   long iterations = 0;  // > 0: also stop after this many search rounds (reproducible runs)
   std::string variant;  // empty: the query's
+  std::string pusher;   // empty: the query's; "none": no pusher
   bool json = false;
   bool allow_outside = false;  // artifact paths may leave the artifact folder
   std::string trajectory_format = "json";  // json or moveit

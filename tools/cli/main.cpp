@@ -96,6 +96,7 @@ int main(int argc, char** argv) {
                       "Also stop after this many search rounds (0: no limit): with --threads 0, the same result on every machine")
       ->check(CLI::Range(0L, 1000000000L));
   c_place->add_option("--variant", place.variant, "full, random-grasp or no-regrasp (overrides the query's)");
+  c_place->add_option("--pusher", place.pusher, "none: leave the query's pusher arm out (the in-hand actions are not planned for it)");
   c_place->add_flag("--json", place.json, "Also print result.json to stdout");
   c_place->add_option("--trajectory-format", place.trajectory_format,
                       "json: trajectory.json; moveit: also trajectory_approach.yaml and trajectory_retreat.yaml (trajectory_msgs/JointTrajectory)")

@@ -16,6 +16,7 @@
 #include "dmgplace/runtime/motion/multi_grasp_planner.hpp"
 #include "dmgplace/runtime/placement/goal_validator.hpp"
 #include "dmgplace/runtime/placement/local_optimizer.hpp"
+#include "dmgplace/runtime/placement/push_planner.hpp"
 #include "dmgplace/runtime/placement/retreat.hpp"
 #include "dmgplace/runtime/placement/retreat_motion.hpp"
 
@@ -66,6 +67,9 @@ PlacementPlanner::PlacementPlanner(const PlacementWorld& world, PlacementQuery q
     if (!kin.within_limits(*r, 1e-6)) throw Error(query_.source, el, "outside the joint limits");
     if (!world.exact().is_free(*r)) throw Error(query_.source, el, "in collision: " + world.exact().check(*r).contact);
   }
+  if (query_.pusher)
+    pusher_ = std::make_unique<PushPlanner>(world, *query_.pusher, query_.q0, query_.options.motion_resolution, query_.seed,
+                                            query_.source);
 }
 
 PlacementPlanner::~PlacementPlanner() = default;
@@ -101,7 +105,15 @@ struct PlacementPlanner::Run {
   std::pair<Eigen::Vector3d, double> object_ball = bounding_ball(world.object().mesh);  // object frame
   long retreat_plans = 0;
 
-  Run(const PlacementWorld& w, const PlacementQuery& query) : world(w), q(query), o(query.options), rng(query.seed) {}
+  PushPlanner* pusher = nullptr;
+  long push_failures = 0, push_plans_before = 0;
+  double push_seconds_before = 0;
+
+  Run(const PlacementWorld& w, const PlacementQuery& query, PushPlanner* p)
+      : world(w), q(query), o(query.options), rng(query.seed), pusher(p), push_plans_before(p ? p->planned() : 0),
+        push_seconds_before(p ? p->seconds() : 0) {}
+
+  TimingOptions timing() const { return {o.velocity_scaling, o.acceleration_scaling}; }
 
   double elapsed() const { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -137,6 +149,11 @@ struct PlacementPlanner::Run {
     c.paths = paths;
     c.paths_rejected = paths_rejected;
     c.retreat_failures = retreat_failures;
+    c.push_failures = push_failures;
+    if (pusher) {
+      c.push_plans = pusher->planned() - push_plans_before;
+      c.push_seconds = pusher->seconds() - push_seconds_before;
+    }
     return c;
   }
 
@@ -180,6 +197,15 @@ struct PlacementPlanner::Run {
     result.snap_distance = reach.snap_distance;
     result.initial_opening = grasps[0].opening;
     per_grasp = std::make_unique<PerGraspCheckers>(world, std::move(grasps), q.q0);
+    if (pusher) {
+      result.pusher_joints = pusher->kinematics().joint_names();
+      per_grasp->set_in_hand_check([this](int g) {
+        const auto actions = reach.actions_to(world.grasp_graph(), per_grasp->grasp(g).state);
+        if (actions.empty() || pusher->plan(actions, timing())) return true;
+        ++push_failures;
+        return false;
+      });
+    }
     if (!world.exact().is_free(q.q0)) return "the start configuration q0 is in collision: " + world.exact().check(q.q0).contact;
     if (q.variant == PlacementVariant::NoRegrasp && !per_grasp->usable(0))
       return "holding the object with g0, the start configuration is in collision: " +
@@ -372,10 +398,10 @@ struct PlacementPlanner::Run {
     sol.opening = grasp.opening;
     sol.grasp_cost = grasp.cost;
     sol.in_hand = std::move(actions);
+    if (pusher && !sol.in_hand.empty()) sol.pushes = pusher->plan(sol.in_hand, timing()).value();  // planned when the grasp was admitted
     sol.path = std::move(path);
-    const TimingOptions timing{o.velocity_scaling, o.acceleration_scaling};
-    sol.trajectory = time_arm_path(world.kinematics(), sol.path, timing);
-    sol.retreat_trajectory = time_arm_path(world.kinematics(), sol.retreat, timing);
+    sol.trajectory = time_arm_path(world.kinematics(), sol.path, timing());
+    sol.retreat_trajectory = time_arm_path(world.kinematics(), sol.retreat, timing());
     sol.time = elapsed();
     sol.counters = counters();
     result.improvements.push_back(std::move(sol));
@@ -394,12 +420,13 @@ struct PlacementPlanner::Run {
       << " collision-free), " << c.goals << " valid goals, " << c.paths << " arm paths";
     if (c.paths_rejected) s << ", " << c.paths_rejected << " arm paths refused by the exact re-check";
     if (c.retreat_failures) s << ", " << c.retreat_failures << " placements without a free retreat";
+    if (c.push_failures) s << ", " << c.push_failures << " grasps whose in-hand actions the pusher could not perform";
     return s.str();
   }
 };
 
 PlacementResult PlacementPlanner::run(const StopCondition& stop, const Callback& on_solution) {
-  Run r(*world_, query_);
+  Run r(*world_, query_, pusher_.get());
   const std::string impossible = r.prepare();
   if (!impossible.empty()) {
     r.result.reason = impossible;

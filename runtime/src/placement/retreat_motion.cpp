@@ -1,17 +1,8 @@
 #include "dmgplace/runtime/placement/retreat_motion.hpp"
 
-#include <ompl/base/ProblemDefinition.h>
-#include <ompl/base/ScopedState.h>
-
-#include <chrono>
-
 #include "dmgplace/runtime/motion/segment_check.hpp"
 
-#include "dmgplace/runtime/motion/arm_space.hpp"
-#include "dmgplace/runtime/motion/multi_goal_rrt_connect.hpp"
-
 namespace dmgplace::runtime {
-namespace ob = ompl::base;
 
 bool retreat_state_free(const RetreatScene& s, const Eigen::VectorXd& q) {
   if (!s.arm->is_free(q)) return false;
@@ -48,27 +39,7 @@ JointPath retrace_approach(const RetreatScene& s, const Eigen::VectorXd& from, c
 
 JointPath plan_retreat_motion(const RetreatScene& s, const Eigen::VectorXd& from, const Eigen::VectorXd& to,
                               const RetreatBudget& budget) {
-  const auto valid = [&s](const Eigen::VectorXd& q) { return retreat_state_free(s, q); };
-  if (!valid(from) || !valid(to)) return {};
-  auto si = make_arm_space(*s.kin, valid, budget.resolution);
-  auto pdef = std::make_shared<ob::ProblemDefinition>(si);
-  ob::ScopedState<> start(si->getStateSpace());
-  for (int i = 0; i < s.kin->dof(); ++i) start[unsigned(i)] = from[i];
-  pdef->addStartState(start);
-  MultiGoalRRTConnect planner(si);
-  planner.setProblemDefinition(pdef);
-  planner.set_seed(budget.seed);
-  planner.set_anytime(false);
-  planner.setup();
-  if (!planner.add_goal(0, std::vector<double>(to.data(), to.data() + to.size()))) return {};
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(budget.seconds);
-  long polls = 0;
-  // The iteration count ends the search first in practice, so the same inputs give the same path.
-  planner.solve(ob::PlannerTerminationCondition(
-      [&] { return ++polls > budget.iterations || std::chrono::steady_clock::now() >= deadline; }));
-  auto paths = planner.take_paths();
-  if (paths.empty()) return {};
-  return std::move(paths.front().path);
+  return plan_free_motion(*s.kin, [&s](const Eigen::VectorXd& q) { return retreat_state_free(s, q); }, from, to, budget);
 }
 
 }  // namespace dmgplace::runtime

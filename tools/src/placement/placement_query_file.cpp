@@ -116,6 +116,27 @@ ObjectiveTerm read_term(const YAML::Node& n, const std::string& file, std::size_
       throw Error(file, where + "." + other, "does not belong to term '" + name + "'");
   return t;
 }
+// pusher: {arm: BASE:TIP, tcp: [x, y, z, qx, qy, qz, qw], standoff, step, plan_time, plan_iterations}
+runtime::PusherSpec read_pusher(const YAML::Node& n, const std::string& file) {
+  if (!n.IsMap() || !n["arm"]) throw Error(file, "pusher", "expected {arm: BASE_LINK:TIP_LINK, tcp: [x, y, z, qx, qy, qz, qw]}");
+  require_known_keys(n, {"arm", "tcp", "standoff", "step", "plan_time", "plan_iterations"}, file, "pusher");
+  runtime::PusherSpec p;
+  const auto arm = n["arm"].as<std::string>();
+  const auto colon = arm.find(':');
+  if (colon == std::string::npos || colon == 0 || colon + 1 == arm.size() || arm.find(':', colon + 1) != std::string::npos)
+    throw Error(file, "pusher.arm", "expected BASE_LINK:TIP_LINK, got '" + arm + "'");
+  p.base = arm.substr(0, colon);
+  p.tip = arm.substr(colon + 1);
+  if (n["tcp"]) {
+    const auto v = numbers(n["tcp"], 7, file, "pusher.tcp");
+    p.tcp = formats::pose_from_xyz_quaternion(std::span<const double, 7>(v.data(), 7), file, "pusher.tcp");
+  }
+  if (n["standoff"]) p.standoff = ranged(n["standoff"], 1e-3, 0.5, file, "pusher.standoff");
+  if (n["step"]) p.step = ranged(n["step"], 1e-4, 0.05, file, "pusher.step");
+  if (n["plan_time"]) p.plan_time = ranged(n["plan_time"], 1e-3, 60, file, "pusher.plan_time");
+  if (n["plan_iterations"]) p.plan_iterations = int(integer(n["plan_iterations"], 1, 1000000, file, "pusher.plan_iterations"));
+  return p;
+}
 }  // namespace
 
 std::filesystem::path resolve_artifact_path(const std::string& text, const std::filesystem::path& root, bool allow_outside,
@@ -143,7 +164,7 @@ PlacementQueryFile read_placement_query(const std::filesystem::path& path, const
   const YAML::Node root = load_yaml_file(path);
   if (!root.IsMap()) throw Error(file, "", "expected a map (robot, object, environment, start, initial_grasp, ...)");
   require_known_keys(root, {"robot", "object", "environment", "start", "initial_grasp", "volume", "objective", "time_limit", "seed",
-                            "variant", "options", "retreat_configuration"},
+                            "variant", "options", "retreat_configuration", "pusher"},
                      file, "");
   PlacementQueryFile f;
   f.path = path;
@@ -201,6 +222,7 @@ PlacementQueryFile read_placement_query(const std::filesystem::path& path, const
       for (std::size_t i = 0; i < r.size(); ++i) q[Eigen::Index(i)] = real(r[i], file, "retreat_configuration[" + std::to_string(i) + "]");
       f.query.retreat_configuration = q;
     }
+    if (const YAML::Node n = root["pusher"]) f.query.pusher = read_pusher(n, file);
   } catch (const YAML::Exception& e) {
     throw Error(file, e.mark.is_null() ? "" : "line " + std::to_string(e.mark.line + 1), std::string("malformed query: ") + e.msg);
   }

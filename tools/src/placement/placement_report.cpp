@@ -40,7 +40,9 @@ ordered_json counters_json(const PlacementCounters& c) {
           {"planner_calls", c.planner_calls},
           {"paths", c.paths},
           {"paths_rejected", c.paths_rejected},
-          {"retreat_failures", c.retreat_failures}};
+          {"retreat_failures", c.retreat_failures},
+          {"push_failures", c.push_failures},
+          {"push_plans", c.push_plans}};
 }
 
 ordered_json solution_json(const PlacementSolution& s) {
@@ -73,6 +75,20 @@ ordered_json solution_json(const PlacementSolution& s) {
     actions.push_back(x);
   }
   j["in_hand"] = actions;
+  ordered_json pushes = ordered_json::array();
+  for (const auto& p : s.pushes)
+    pushes.push_back({{"action", p.action},
+                      {"contact", vec_json(p.contact)},
+                      {"direction", vec_json(p.direction)},
+                      {"object_before", pose_json(p.object_before)},
+                      {"object_after", pose_json(p.object_after)},
+                      {"grasp_after", pose_json(p.grasp_after)},
+                      {"push_begin", p.push_begin},
+                      {"push_end", p.push_end},
+                      {"duration", p.trajectory.duration()},
+                      {"path", p.path},
+                      {"trajectory", ordered_json::parse(trajectory_json_text(p.trajectory))}});
+  if (!s.pushes.empty()) j["pushes"] = pushes;
   j["path"] = s.path;
   j["retreat"] = s.retreat;
   j["release_opening"] = s.release_opening;
@@ -106,6 +122,9 @@ std::string result_json(const PlacementQueryFile& q, const runtime::PlacementRes
                 {"threads", q.query.options.threads},
                 {"start", std::vector<double>(q.query.q0.data(), q.query.q0.data() + q.query.q0.size())},
                 {"initial_grasp", pose_json(q.query.g0)}};
+  if (q.query.pusher)
+    j["query"]["pusher"] = {{"arm", q.query.pusher->base + ":" + q.query.pusher->tip}, {"tcp", pose_json(q.query.pusher->tcp)}};
+  if (const auto others = world_joint_values(q, kin.model()); !others.empty()) j["query"]["joint_values"] = others;
   if (q.query.volume)
     j["query"]["volume"] = {q.query.volume->min().x(), q.query.volume->min().y(), q.query.volume->min().z(),
                             q.query.volume->max().x(), q.query.volume->max().y(), q.query.volume->max().z()};
@@ -122,15 +141,21 @@ std::string result_json(const PlacementQueryFile& q, const runtime::PlacementRes
   j["snap_distance"] = r.snap_distance;
   j["initial_opening"] = r.initial_opening;
   j["counters"] = counters_json(r.counters);
+  if (!r.pusher_joints.empty()) j["push_seconds"] = r.counters.push_seconds;  // counters are counts; this is time
   if (r.solved()) {
     j["best"] = solution_json(r.best());
-    if (!r.best().in_hand.empty()) j["in_hand_execution"] = {{"planned", false}, {"note", runtime::kInHandExecutionNote}};
+    const bool planned = !r.best().pushes.empty();
+    if (!r.best().in_hand.empty())
+      j["in_hand_execution"] = {{"planned", planned}, {"note", planned ? runtime::kInHandPlannedNote : runtime::kInHandExecutionNote}};
+    if (planned) j["pusher_joint_names"] = r.pusher_joints;
   }
   ordered_json imp = ordered_json::array();
   for (const auto& s : r.improvements) {
     ordered_json x = solution_json(s);
     x.erase("path");
     x.erase("retreat");
+    if (x.contains("pushes"))
+      for (auto& p : x["pushes"]) p.erase("path"), p.erase("trajectory");
     imp.push_back(x);
   }
   j["improvements"] = imp;
@@ -167,12 +192,24 @@ void write_placement_result(const std::filesystem::path& dir, const PlacementQue
   const runtime::Trajectory none;
   const runtime::Trajectory& approach = r.solved() ? r.best().trajectory : none;
   const runtime::Trajectory& retreat = r.solved() ? r.best().retreat_trajectory : none;
+  // The pusher's trajectories (one per in-hand action) before the grasping arm's: the order they run in.
+  std::string pushes;
+  const std::vector<runtime::PushPlan> no_pushes;
+  const auto& plans = r.solved() ? r.best().pushes : no_pushes;
+  for (const auto& p : plans) pushes += (pushes.empty() ? "" : ",\n") + trajectory_json_text(p.trajectory);
   formats::write_file_atomically(dir / "trajectory.json",
                                  "{\"joint_names\": " + nlohmann::json(kin.joint_names()).dump() + ",\n\"approach\": " +
-                                     trajectory_json_text(approach) + ",\n\"retreat\": " + trajectory_json_text(retreat) + "}\n");
+                                     trajectory_json_text(approach) + ",\n\"retreat\": " + trajectory_json_text(retreat) +
+                                     (plans.empty() ? std::string()
+                                                    : ",\n\"pusher_joint_names\": " + nlohmann::json(r.pusher_joints).dump() +
+                                                          ",\n\"pushes\": [" + pushes + "]") +
+                                     "}\n");
   if (format == TrajectoryFormat::MoveIt) {
     formats::write_file_atomically(dir / "trajectory_approach.yaml", moveit_trajectory_yaml(approach, kin.joint_names()));
     formats::write_file_atomically(dir / "trajectory_retreat.yaml", moveit_trajectory_yaml(retreat, kin.joint_names()));
+    for (std::size_t i = 0; i < plans.size(); ++i)
+      formats::write_file_atomically(dir / ("trajectory_push_" + std::to_string(i + 1) + ".yaml"),
+                                     moveit_trajectory_yaml(plans[i].trajectory, r.pusher_joints));
   }
   // Last: result.json marks the run complete (a resumed experiment skips runs that have it).
   formats::write_file_atomically(dir / "result.json", result_json(q, r, kin));

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "dmgplace/formats/error.hpp"
+#include "dmgplace/runtime/placement/push_geometry.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
 
 namespace dmgplace::tools::viewer {
@@ -48,6 +49,40 @@ std::vector<const Joint*> finger_joints(const runtime::Kinematics& kin) {
   return out;
 }
 
+// The pusher's in-hand actions first, as they run: the grasping arm at the start configuration,
+// the object carried by each push from its pose before the action to its pose after.
+void push_frames(const ViewResult& r, const formats::RobotArtifact& robot, const std::vector<const Joint*>& fingers, double step,
+                 ArmMotion& m) {
+  if (r.pushes.empty()) return;
+  runtime::Kinematics pusher(robot.model, robot.model.arm_base, r.pusher_tip);
+  if (pusher.joint_names() != r.pusher_joint_names)
+    throw Error(r.file.string(), "/pusher_joint_names", "not the chain " + robot.model.arm_base + " -> " + r.pusher_tip);
+  const runtime::Kinematics arm(robot.model, robot.model.arm_base, robot.model.arm_tip);
+  for (std::size_t j = 0; j < arm.joint_names().size(); ++j) pusher.set_joint_value(arm.joint_names()[j], r.start[Eigen::Index(j)]);
+  for (const auto& [name, value] : r.joint_values)
+    if (pusher.chain_slot(robot.model.joint_index(name)) < 0) pusher.set_joint_value(name, value);
+  for (const Joint* j : fingers) pusher.set_joint_value(j->name, std::clamp(0.5 * r.opening, j->lower, j->upper));
+  std::vector<Eigen::Isometry3d> poses;
+  for (const auto& p : r.pushes) {
+    const Eigen::Isometry3d tcp = arm.tip_pose(r.start);
+    const runtime::ObjectMotion motion = runtime::object_motion(tcp, p.object_before.inverse() * tcp, p.object_after.inverse() * tcp);
+    const auto frame = [&](const Eigen::VectorXd& q, double at) {
+      pusher.link_poses(q, poses);
+      for (int l : m.links) push_pose(m.link_poses, poses[std::size_t(l)]);
+      const double s = p.end > p.begin ? std::clamp((at - p.begin) / (p.end - p.begin), 0.0, 1.0) : 1.0;
+      push_pose(m.object_poses, motion.at(s) * p.object_before);
+      ++m.frames;
+    };
+    for (std::size_t i = 0; i < p.path.size(); ++i) {
+      if (i > 0) {
+        const Eigen::VectorXd d = p.path[i] - p.path[i - 1];
+        const int n = std::max(1, int(std::ceil(d.cwiseAbs().maxCoeff() / step)));
+        for (int k = 1; k < n; ++k) frame(p.path[i - 1] + d * (double(k) / n), double(i - 1) + double(k) / n);
+      }
+      frame(p.path[i], double(i));
+    }
+  }
+}
 }  // namespace
 
 ArmMotion sample_arm_motion(const ViewResult& r, const formats::RobotArtifact& robot, double open_width, double max_step,
@@ -57,6 +92,7 @@ ArmMotion sample_arm_motion(const ViewResult& r, const formats::RobotArtifact& r
     throw Error(r.file.string(), "/joint_names", "not the arm chain of " + r.robot.string() + " (" + robot.model.arm_base +
                                                      " -> " + robot.model.arm_tip + ")");
   const auto fingers = finger_joints(kin);
+  for (const auto& [name, value] : r.joint_values) kin.set_joint_value(name, value);
   ArmMotion m;
   for (std::size_t l = 0; l < robot.model.links.size(); ++l)
     if (!robot.model.links[l].collision.empty()) m.links.push_back(int(l));
@@ -77,6 +113,8 @@ ArmMotion sample_arm_motion(const ViewResult& r, const formats::RobotArtifact& r
     return m;
   }
   double total = 0;
+  for (const auto& p : r.pushes)
+    for (std::size_t i = 1; i < p.path.size(); ++i) total += (p.path[i] - p.path[i - 1]).cwiseAbs().maxCoeff();
   for (const auto* seg : {&r.path, &r.retreat})
     for (std::size_t i = 1; i < seg->size(); ++i) total += ((*seg)[i] - (*seg)[i - 1]).cwiseAbs().maxCoeff();
   const double step = std::max(max_step, total / std::max(1, max_frames));
@@ -91,6 +129,7 @@ ArmMotion sample_arm_motion(const ViewResult& r, const formats::RobotArtifact& r
       add_frame(wps[i], opening, rest);
     }
   };
+  push_frames(r, robot, fingers, step, m);
   sweep(r.path, r.opening, nullptr);
   if (!r.retreat.empty()) {
     m.retreat_frame = m.frames;

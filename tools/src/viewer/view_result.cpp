@@ -115,6 +115,8 @@ ViewResult read_view_result(const std::filesystem::path& result_dir, const std::
   const auto start = r.numbers(j, "/query/start", v.joint_names.size());
   v.start = Eigen::Map<const Eigen::VectorXd>(start.data(), Eigen::Index(start.size()));
   v.initial_grasp = r.pose(j, "/query/initial_grasp");
+  if (j["query"].contains("joint_values"))
+    for (const auto& [name, value] : r.at(j, "/query/joint_values").items()) v.joint_values[name] = r.number(j, "/query/joint_values/" + name);
   if (j["query"].contains("volume")) {
     const auto b = r.numbers(j, "/query/volume", 6);
     v.volume = Eigen::AlignedBox3d(Eigen::Vector3d(b[0], b[1], b[2]), Eigen::Vector3d(b[3], b[4], b[5]));
@@ -142,6 +144,24 @@ ViewResult read_view_result(const std::filesystem::path& result_dir, const std::
   v.path = r.joint_path(j, "/best/path", v.joint_names.size());
   v.retreat = r.joint_path(j, "/best/retreat", v.joint_names.size());
   if (v.path.empty()) r.fail("/best/path", "empty: a solution starts at the start configuration");
+  if (j["best"].contains("pushes")) {
+    const std::string arm = r.text(j, "/query/pusher/arm");
+    v.pusher_tip = arm.substr(arm.find(':') + 1);
+    for (std::size_t i = 0; i < r.at(j, "/pusher_joint_names").size(); ++i)
+      v.pusher_joint_names.push_back(r.text(j, "/pusher_joint_names/" + std::to_string(i)));
+    for (std::size_t i = 0; i < r.at(j, "/best/pushes").size(); ++i) {
+      const std::string at = "/best/pushes/" + std::to_string(i);
+      ViewResult::Push p;
+      p.path = r.joint_path(j, at + "/path", v.pusher_joint_names.size());
+      p.begin = int(r.number(j, at + "/push_begin"));
+      p.end = int(r.number(j, at + "/push_end"));
+      if (p.path.empty() || p.begin < 0 || p.end < p.begin || p.end >= int(p.path.size()))
+        r.fail(at, "push_begin/push_end not within the path");
+      p.object_before = r.pose(j, at + "/object_before");
+      p.object_after = r.pose(j, at + "/object_after");
+      v.pushes.push_back(std::move(p));
+    }
+  }
   return v;
 }
 

@@ -86,12 +86,26 @@ const std::vector<PlacementOptionSpec>& placement_option_specs();
 std::string number_text(double v);
 void check_placement_options(const PlacementOptions& o, const std::string& source);
 
+// A second arm that performs the in-hand actions as the paper executes them: the grasping arm
+// holds q0 while the pusher's tool pushes the object in the closed gripper (placement/push_plan.hpp).
+struct PusherSpec {
+  std::string base, tip;  // the pusher's chain; base is the grasping arm's base or rigid with it
+  Eigen::Isometry3d tcp = Eigen::Isometry3d::Identity();  // the tool's contact point in the tip frame, z the push direction
+  double standoff = 0.03;        // m: the tool starts and ends each push this far from the object
+  double step = 0.005;           // m: Cartesian step of the pushes, each solved by IK
+  double plan_time = 0.5;        // s: budget of each free motion to and from a push
+  int plan_iterations = 3000;    // and its planner iterations (deterministic runs end on these)
+};
+
 struct PlacementQuery {
   Eigen::VectorXd q0;                                   // arm chain joints, the kinematics' order
   Eigen::Isometry3d g0 = Eigen::Isometry3d::Identity();  // initial grasp: TCP pose in the object frame
   std::optional<double> g0_opening;                     // m; unset: the grasp graph's own
   std::optional<Eigen::AlignedBox3d> volume;            // target volume; unset: the environment's
   std::optional<Eigen::VectorXd> retreat_configuration; // where the arm retreats to; unset: q0
+  // Plans each in-hand action for this arm; unset: the actions are reported for a second arm or a
+  // fixture to perform. The pusher starts and ends at its joints' values in the world.
+  std::optional<PusherSpec> pusher;
   std::vector<ObjectiveTerm> objective{ObjectiveTerm{}};
   PlacementVariant variant = PlacementVariant::Full;
   std::uint64_t seed = 1;

@@ -19,6 +19,25 @@ inline constexpr const char* kInHandExecutionNote =
     "arm or a fixture to push the object (as the paper executes them), which dmgplace does not plan: no pusher "
     "trajectory is given";
 
+// Said instead when the pushes are planned for the query's pusher arm.
+inline constexpr const char* kInHandPlannedNote =
+    "the in-hand actions are performed by the pusher arm while the grasping arm holds q0: see pushes (one timed "
+    "trajectory of the pusher per action)";
+
+// One in-hand action as the pusher performs it (the grasping arm at q0): from its start
+// configuration to a pre-push pose `standoff` from the object, in to the contact, the push (the
+// contact moving with the object), back out along the push, and home again.
+struct PushPlan {
+  int action = 0;                                            // index in PlacementSolution::in_hand
+  Eigen::Vector3d contact = Eigen::Vector3d::Zero();         // world: where the tool touches the object
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();       // world, unit: the tool's push at the contact
+  Eigen::Isometry3d object_before = Eigen::Isometry3d::Identity(), object_after = Eigen::Isometry3d::Identity();  // world
+  Eigen::Isometry3d grasp_after = Eigen::Isometry3d::Identity();  // TCP in the object frame after the action
+  JointPath path;                 // the pusher's joints (PlacementResult::pusher_joints)
+  int push_begin = 0, push_end = 0;  // waypoints of `path` in contact with the object: [push_begin, push_end]
+  Trajectory trajectory;          // `path` timed under the pusher's limits
+};
+
 struct PlacementCounters {
   long iterations = 0;        // outer loop rounds
   long samples = 0;           // poses sampled by MCTS rollouts
@@ -37,6 +56,9 @@ struct PlacementCounters {
   long paths = 0;             // paths the motion planner returned
   long paths_rejected = 0;    // arm paths the exact re-check refused (their goals are dropped)
   long retreat_failures = 0;  // reached placements dropped because the hand could not withdraw
+  long push_failures = 0;     // grasps left out because the pusher could not perform an action to them
+  long push_plans = 0;        // in-hand actions planned for the pusher (each once per run)
+  double push_seconds = 0;    // time spent planning them (s)
 };
 
 struct PlacementSolution {
@@ -53,6 +75,7 @@ struct PlacementSolution {
   double release_opening = 0;     // m: the fingers open this far to let go (the retreat is checked so)
   Trajectory trajectory;          // `path` timed under the arm's limits (options' scaling)
   Trajectory retreat_trajectory;  // `retreat` timed the same way (empty when it is)
+  std::vector<PushPlan> pushes;   // one per in_hand action when the query has a pusher
   double time = 0;    // seconds since run() started
   PlacementCounters counters;
 };
@@ -72,6 +95,7 @@ struct PlacementResult {
   int initial_state = -1;     // the grasp-graph state nearest g0: in-hand sequences start there
   double snap_distance = 0;   // how far g0 is from it (GraspGraph::snap's score: m + 0.05 m/rad)
   double initial_opening = 0; // g0's finger opening (given, or measured on the object's mesh)
+  std::vector<std::string> pusher_joints;  // the pusher's joints, PushPlan::path's order (empty: no pusher)
   std::string reason;  // why there is no solution (empty when there is one)
   bool solved() const { return !improvements.empty(); }
   const PlacementSolution& best() const { return improvements.back(); }

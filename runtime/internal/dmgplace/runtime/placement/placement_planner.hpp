@@ -33,6 +33,7 @@ class PlacementPlanner {
   struct Run;
   const PlacementWorld* world_;
   PlacementQuery query_;
+  std::unique_ptr<class PushPlanner> pusher_;  // when the query names a pusher arm
 };
 
 }  // namespace dmgplace::runtime

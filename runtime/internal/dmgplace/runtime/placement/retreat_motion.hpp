@@ -7,12 +7,12 @@
 // object's bounding ball, and asks the exact checker (object included, nothing may touch it)
 // only where a sphere reaches that ball.
 #include <Eigen/Geometry>
-#include <cstdint>
 #include <vector>
 
 #include "dmgplace/formats/robot_artifact.hpp"
 #include "dmgplace/runtime/collision/exact_checker.hpp"
 #include "dmgplace/runtime/collision/two_layer_checker.hpp"
+#include "dmgplace/runtime/motion/free_motion.hpp"
 #include "dmgplace/runtime/types.hpp"
 
 namespace dmgplace::runtime {
@@ -26,12 +26,7 @@ struct RetreatScene {
   double object_radius = 0;
 };
 
-struct RetreatBudget {
-  double resolution = 0.05;  // joint-space check step (rad)
-  long iterations = 5000;    // planner iterations: the budget that keeps synchronous runs deterministic
-  double seconds = 1.0;      // and a wall-clock cap
-  std::uint64_t seed = 1;
-};
+using RetreatBudget = MotionBudget;
 
 // Whether q is free of the scene and of the placed object.
 bool retreat_state_free(const RetreatScene& scene, const Eigen::VectorXd& q);

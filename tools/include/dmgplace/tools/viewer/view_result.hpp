@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <map>
 #include <vector>
 
 namespace dmgplace::tools::viewer {
@@ -39,6 +40,18 @@ struct ViewResult {
   double release_opening = 0;  // how far the fingers open to let go; 0: not in the result (older ones)
   std::vector<InHandStep> in_hand;
   std::vector<Eigen::VectorXd> path, retreat;
+  // The world's joints outside the arm chain (a query's named start: another arm's park pose).
+  std::map<std::string, double> joint_values;
+  // The pusher arm's in-hand actions (a query with a pusher): its chain tip, its joints, and per
+  // action its path, the waypoints in contact and the object's poses before and after.
+  struct Push {
+    std::vector<Eigen::VectorXd> path;
+    int begin = 0, end = 0;
+    Eigen::Isometry3d object_before = Eigen::Isometry3d::Identity(), object_after = Eigen::Isometry3d::Identity();
+  };
+  std::string pusher_tip;
+  std::vector<std::string> pusher_joint_names;
+  std::vector<Push> pushes;
   std::vector<Improvement> improvements;
 };
 
