@@ -22,11 +22,14 @@ bool PerGraspCheckers::usable(int g) {
   }
   // Exact, object against the palm too: a wrong "usable" would hand the planner a start state it
   // cannot leave, and the per-grasp spaces no longer check object against hand.
-  const bool ok = world_->grasp_exact(grasps_[std::size_t(g)].pose, grasps_[std::size_t(g)].opening).is_free(q0_) &&
-                  (!in_hand_check_ || in_hand_check_(g));
+  const bool ok = world_->grasp_exact(grasps_[std::size_t(g)].pose, grasps_[std::size_t(g)].opening).is_free(q0_);
   std::lock_guard<std::mutex> lock(mutex_);
-  usable_[g] = ok;
-  return ok;
+  return usable_.emplace(g, ok).first->second;  // an exclusion made meanwhile stands
+}
+
+void PerGraspCheckers::exclude(int g) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  usable_[g] = false;
 }
 
 }  // namespace dmgplace::runtime

@@ -106,6 +106,7 @@ struct PlacementPlanner::Run {
   long retreat_plans = 0;
 
   PushPlanner* pusher = nullptr;
+  std::map<int, bool> pushable;  // per grasp: pushes_possible's answer
   long push_failures = 0, push_plans_before = 0;
   double push_seconds_before = 0;
 
@@ -197,15 +198,7 @@ struct PlacementPlanner::Run {
     result.snap_distance = reach.snap_distance;
     result.initial_opening = grasps[0].opening;
     per_grasp = std::make_unique<PerGraspCheckers>(world, std::move(grasps), q.q0);
-    if (pusher) {
-      result.pusher_joints = pusher->kinematics().joint_names();
-      per_grasp->set_in_hand_check([this](int g) {
-        const auto actions = reach.actions_to(world.grasp_graph(), per_grasp->grasp(g).state);
-        if (actions.empty() || pusher->plan(actions, timing())) return true;
-        ++push_failures;
-        return false;
-      });
-    }
+    if (pusher) result.pusher_joints = pusher->kinematics().joint_names();
     if (!world.exact().is_free(q.q0)) return "the start configuration q0 is in collision: " + world.exact().check(q.q0).contact;
     if (q.variant == PlacementVariant::NoRegrasp && !per_grasp->usable(0))
       return "holding the object with g0, the start configuration is in collision: " +
@@ -227,7 +220,24 @@ struct PlacementPlanner::Run {
     return {};
   }
 
+  // Whether the pusher (if any) can perform the in-hand actions to grasp g. Asked at the grasp's
+  // first valid goal, so grasps that never reach one cost no push planning; a grasp it cannot
+  // serve leaves the search.
+  bool pushes_possible(int g) {
+    if (!pusher) return true;
+    if (const auto it = pushable.find(g); it != pushable.end()) return it->second;
+    const auto actions = reach.actions_to(world.grasp_graph(), per_grasp->grasp(g).state);
+    const bool ok = actions.empty() || pusher->plan(actions, timing()).has_value();
+    pushable[g] = ok;
+    if (!ok) {
+      ++push_failures;
+      per_grasp->exclude(g);
+    }
+    return ok;
+  }
+
   void add_goal(const GoalCheck& c, const PlacementSample& s) {
+    if (!pushes_possible(c.grasp)) return;
     const int id = next_goal++;
     Goal g{c.grasp, s.face, s.region, s.node, s.pose, c.objective, c.q};
     if (!motion->add_goal(c.grasp, id, std::vector<double>(c.q.data(), c.q.data() + c.q.size()))) return;

@@ -124,6 +124,10 @@ PushPlanner::PushPlanner(const PlacementWorld& world, const PusherSpec& spec, co
   const ExactCheck at_start = exact_->check(start_);
   if (!at_start.free()) throw Error(source, "pusher", "the pusher's start configuration is in collision: " + at_start.contact);
   tool_ = rigid_tool_links(*kin_);
+  Eigen::AlignedBox3d box;
+  for (Eigen::Index i = 0; i < world.object().mesh.vertices.rows(); ++i)
+    box.extend(Eigen::Vector3d(world.object().mesh.vertices.row(i).transpose()));
+  contact_spacing_ = kContactSpacing * box.diagonal().norm();
   if (tool_.empty()) throw Error(source, el, "no link with collision geometry is rigid with the pusher's tip: nothing to push with");
 }
 
@@ -174,11 +178,7 @@ std::optional<PushPlan> PushPlanner::plan_action(const InHandAction& a) {
   const double opening = std::max(graph.opening(a.from_state), graph.opening(a.to_state));
   const Kinematics& arm = world_.kinematics_at(opening);
   const ObjectMotion motion = object_motion(arm.tip_pose(q0_), before, after);
-  Eigen::AlignedBox3d box;
-  for (Eigen::Index i = 0; i < world_.object().mesh.vertices.rows(); ++i)
-    box.extend(Eigen::Vector3d(world_.object().mesh.vertices.row(i).transpose()));
-  const std::vector<PushContact> contacts =
-      push_contacts(world_.object().mesh, motion, kContacts, kContactSpacing * box.diagonal().norm());
+  const std::vector<PushContact> contacts = push_contacts(world_.object().mesh, motion, kContacts, contact_spacing_);
   if (contacts.empty()) return std::nullopt;
 
   // The pusher with the grasping fingers at this action's opening, and the object as an obstacle
@@ -212,12 +212,10 @@ std::optional<PushPlan> PushPlanner::plan_action(const InHandAction& a) {
 
   for (const PushContact& c : contacts) {
     // The push: the contact carried by the object, the tool turning with it.
-    const double travel = motion.angle * (c.point - motion.pivot).norm() + motion.shift.norm();
+    const double travel = motion.sweep((c.point - motion.pivot).norm());
     const int n_push = std::max({1, int(std::ceil(travel / spec_.step)), int(std::ceil(motion.angle / kMaxTurnStep))});
     const Eigen::Vector3d end_direction = motion.at(1).linear() * c.direction;
-    int k = -1;
     for (const Eigen::Isometry3d& at_contact : tool_frames(c.point, c.direction)) {
-      ++k;
       // Waypoints of the TCP and the validity each must meet: in (strict), push (touch), out.
       struct Waypoint {
         Eigen::Isometry3d tcp;

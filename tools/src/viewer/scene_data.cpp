@@ -127,7 +127,9 @@ std::string scene_data_json(const ViewResult& r, const ArmMotion& motion, const 
   j["motion"] = {{"frames", motion.frames},
                  {"links", base64(motion.link_poses)},
                  {"object", base64(motion.object_poses)},
+                 {"times", motion.frame_times},
                  {"waypoints", motion.waypoint_frames},
+                 {"pushes", motion.push_frames},
                  {"retreat", motion.retreat_frame}};
   if (r.solved) {
     j["best"] = {{"objective", r.objective}, {"time", r.time},    {"region", r.region},

@@ -1,6 +1,7 @@
 #include "dmgplace/tools/viewer/view_result.hpp"
 #include "dmgplace/formats/pose_input.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -63,11 +64,32 @@ class Reader {
     for (std::size_t i = 0; i < at(j, ptr).size(); ++i) out.push_back(vec3(j, ptr + "/" + std::to_string(i)));
     return out;
   }
+  // {time, positions}: times from 0, not decreasing; one row of `dof` positions per time.
+  runtime::Trajectory trajectory(const json& j, const std::string& ptr, std::size_t dof) const {
+    runtime::Trajectory t;
+    t.time = numbers(j, ptr + "/time");
+    for (const auto& q : joint_path(j, ptr + "/positions", dof)) t.positions.emplace_back(q.data(), q.data() + q.size());
+    if (t.positions.size() != t.time.size()) fail(ptr, "time and positions differ in length");
+    for (std::size_t i = 0; i < t.time.size(); ++i)
+      if (!std::isfinite(t.time[i]) || t.time[i] < (i ? t.time[i - 1] : 0.0))
+        fail(ptr + "/time/" + std::to_string(i), "not finite, or before the previous time (or below 0)");
+    return t;
+  }
   [[noreturn]] void fail(const std::string& ptr, const std::string& why) const { throw Error(file_, ptr, why); }
 
  private:
   std::string file_;
 };
+
+json parse_json(const std::filesystem::path& path, const std::string& missing) {
+  std::ifstream in(path);
+  if (!in) throw Error(path.string(), "", "cannot open" + missing);
+  try {
+    return json::parse(in);
+  } catch (const json::exception& e) {
+    throw Error(path.string(), "", std::string("not valid JSON: ") + e.what());
+  }
+}
 
 InHandStep read_step(const Reader& r, const json& j, const std::string& at) {
   InHandStep s;
@@ -92,14 +114,7 @@ ViewResult read_view_result(const std::filesystem::path& result_dir, const std::
   ViewResult v;
   v.file = result_dir / "result.json";
   const std::string file = v.file.string();
-  std::ifstream in(v.file);
-  if (!in) throw Error(file, "", "cannot open (write it with `dmgplace place QUERY --out DIR`)");
-  json j;
-  try {
-    j = json::parse(in);
-  } catch (const json::exception& e) {
-    throw Error(file, "", std::string("not valid JSON: ") + e.what());
-  }
+  const json j = parse_json(v.file, " (write it with `dmgplace place QUERY --out DIR`)");
   const Reader r(file);
   const auto artifact = [&](const char* key) {
     const std::filesystem::path p = r.text(j, std::string("/query/") + key);
@@ -155,12 +170,22 @@ ViewResult read_view_result(const std::filesystem::path& result_dir, const std::
       p.path = r.joint_path(j, at + "/path", v.pusher_joint_names.size());
       p.begin = int(r.number(j, at + "/push_begin"));
       p.end = int(r.number(j, at + "/push_end"));
+      if (j.contains(json::json_pointer(at + "/trajectory")))
+        p.timing = r.trajectory(j, at + "/trajectory", v.pusher_joint_names.size());
       if (p.path.empty() || p.begin < 0 || p.end < p.begin || p.end >= int(p.path.size()))
         r.fail(at, "push_begin/push_end not within the path");
       p.object_before = r.pose(j, at + "/object_before");
       p.object_after = r.pose(j, at + "/object_after");
       v.pushes.push_back(std::move(p));
     }
+  }
+  // The grasping arm's timed trajectories: older results have no trajectory.json.
+  const std::filesystem::path timing = result_dir / "trajectory.json";
+  if (std::filesystem::exists(timing)) {
+    const json t = parse_json(timing, "");
+    const Reader tr(timing.string());
+    v.path_timing = tr.trajectory(t, "/approach", v.joint_names.size());
+    v.retreat_timing = tr.trajectory(t, "/retreat", v.joint_names.size());
   }
   return v;
 }

@@ -6,7 +6,6 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 const D = JSON.parse(document.getElementById('dmgplace-data').textContent);
 const $ = (id) => document.getElementById(id);
 const BG = [0xf4, 0xf5, 0xf7];
-const FPS = 30;  // densified frames per second (C++ steps joints by <= 0.04 rad)
 
 // ---- typed arrays and geometry
 function buffer(b64) {
@@ -124,17 +123,27 @@ function blend(o, A, a0, b0, w) {
   qb.set(A[b0 + 3], A[b0 + 4], A[b0 + 5], A[b0 + 6]);
   o.quaternion.copy(qa.slerp(qb, w));
 }
+// Frames carry their time (s, real time from the first push or the transport); t is a time.
+const T = M.times, duration = T[T.length - 1] || 0;
+function frameAt(t) {  // the last frame at or before t
+  let lo = 0, hi = M.frames - 1;
+  while (lo < hi) { const mid = (lo + hi + 1) >> 1; if (T[mid] <= t) lo = mid; else hi = mid - 1; }
+  return lo;
+}
 function applyFrame(t) {
-  const i = Math.max(0, Math.min(Math.floor(t), M.frames - 1)), j = Math.min(i + 1, M.frames - 1), w = t - i;
+  const i = frameAt(t), j = Math.min(i + 1, M.frames - 1);
+  const w = j > i && T[j] > T[i] ? Math.min(1, Math.max(0, (t - T[i]) / (T[j] - T[i]))) : 0;
   for (let l = 0; l < L; l++) blend(links[l], linkPoses, (i * L + l) * 7, (j * L + l) * 7, w);
   blend(carried, objectPoses, i * 7, j * 7, w);
 }
 function phaseText(t) {
   if (!D.solved) return 'start configuration (no solution)';
-  const wp = M.waypoints.filter((f) => f <= t + 1e-6).length;  // waypoints reached
-  const P = D.path_waypoints;
-  if (M.retreat < 0 || t < M.retreat) return `path: waypoint ${Math.max(1, wp)} / ${P}`;
-  return `released; retreat: waypoint ${wp - P} / ${D.steps - P}`;
+  const f = frameAt(t), clock = `${t.toFixed(2)} / ${duration.toFixed(2)} s · `;
+  const P = D.path_waypoints, pushes = M.pushes.filter((p) => p <= f).length;
+  if (pushes && f < M.waypoints[0]) return clock + `pusher: in-hand action ${pushes} / ${M.pushes.length}`;
+  const wp = M.waypoints.filter((w) => w <= f).length;  // waypoints reached
+  if (M.retreat < 0 || f < M.retreat) return clock + `path: waypoint ${Math.max(1, wp)} / ${P}`;
+  return clock + `released; retreat: waypoint ${wp - P} / ${D.steps - P}`;
 }
 
 // ---- panel
@@ -153,6 +162,7 @@ if (D.solved) {
   const items = (D.in_hand || []).map((s) => s.type === 'push'
     ? `push ${(s.distance * 1000).toFixed(1)} mm along (${fmt(s.direction, 2)})`
     : `rotate ${(s.angle * 180 / Math.PI).toFixed(1)}° about (${fmt(s.axis, 2)}) at (${fmt(s.pivot.map((x) => x * 1000), 1)}) mm`);
+  if (M.pushes.length) items.push(`the pusher performs the ${M.pushes.length} in-hand action(s) (the arm holds its start)`);
   items.push(`carry along ${D.path_waypoints} waypoints, release, retreat ${D.steps - D.path_waypoints}`);
   const ol = document.createElement('ol');
   for (const text of items) ol.appendChild(document.createElement('li')).textContent = text;
@@ -208,7 +218,7 @@ addEventListener('resize', () => {
 
 // ---- playback
 const slider = $('slider'), play = $('play'), status = $('dmgplace-status');
-slider.max = String(Math.max(0, M.frames - 1));
+slider.max = String(duration);
 let t = 0, playing = M.frames > 1, hold = 0, last = performance.now();
 play.textContent = playing ? 'Pause' : 'Play';
 play.disabled = M.frames <= 1;
@@ -236,11 +246,11 @@ function frame(now) {
   const dt = Math.min(0.1, Math.max(0, (now - last) / 1000));
   last = now;
   if (playing) {
-    if (t >= M.frames - 1) {
+    if (t >= duration) {
       hold += dt;
       if (hold > 1.5) { t = 0; hold = 0; }
     } else {
-      t = Math.min(M.frames - 1, t + dt * FPS);
+      t = Math.min(duration, t + dt);
     }
     slider.value = String(t);
   }

@@ -87,7 +87,7 @@ std::string number_text(double v);
 void check_placement_options(const PlacementOptions& o, const std::string& source);
 
 // A second arm that performs the in-hand actions as the paper executes them: the grasping arm
-// holds q0 while the pusher's tool pushes the object in the closed gripper (placement/push_plan.hpp).
+// holds q0 while the pusher's tool pushes the object in the closed gripper (PlacementSolution::pushes).
 struct PusherSpec {
   std::string base, tip;  // the pusher's chain; base is the grasping arm's base or rigid with it
   Eigen::Isometry3d tcp = Eigen::Isometry3d::Identity();  // the tool's contact point in the tip frame, z the push direction

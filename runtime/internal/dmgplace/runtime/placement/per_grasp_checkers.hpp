@@ -2,7 +2,6 @@
 // One collision space per grasp (the object held differently, the fingers at that grasp's
 // opening), made on first use and shared by the goal validator, the motion planner's workers and
 // the local optimiser. Thread-safe.
-#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -19,12 +18,11 @@ class PerGraspCheckers {
   const ReachableGrasp& grasp(int g) const { return grasps_[std::size_t(g)]; }
   const std::vector<ReachableGrasp>& grasps() const { return grasps_; }
   std::shared_ptr<const TwoLayerChecker> checker(int g);
-  // The start configuration is collision-free with the object held this way (and the in-hand
-  // check, when set, passes).
+  // The start configuration is collision-free with the object held this way, and the grasp was
+  // not excluded.
   bool usable(int g);
-  // A further test of usable grasps, asked once per grasp after the collision test: the pusher
-  // can perform the in-hand actions to it. Set before the search starts.
-  void set_in_hand_check(std::function<bool(int g)> check) { in_hand_check_ = std::move(check); }
+  // Leaves grasp g out from now on (usable(g) is false): the pusher cannot perform its in-hand actions.
+  void exclude(int g);
   const CheckCounters& counters() const { return *counters_; }
 
  private:
@@ -35,7 +33,6 @@ class PerGraspCheckers {
   std::mutex mutex_;
   std::map<int, std::shared_ptr<const TwoLayerChecker>> checkers_;
   std::map<int, bool> usable_;
-  std::function<bool(int)> in_hand_check_;
 };
 
 }  // namespace dmgplace::runtime

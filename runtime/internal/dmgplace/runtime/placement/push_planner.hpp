@@ -8,9 +8,10 @@
 // every pusher state against the scene and against the whole robot (the grasping arm, its hand
 // and fingers, the pusher itself: the SRDF's allowed pairs apart); against the object at its pose
 // before the action up to the push's midpoint and after it from there, where only the pusher's
-// tool (the links rigid with its TCP, see tool_links) may touch it, and only from the contact to
-// the end of the push; every segment at the motion resolution. The object's own sweep through the
-// push is not checked against the scene: it moves within the closed gripper.
+// tool (tool_links(): the links rigid with its TCP) may touch it, and only from half the standoff
+// before the contact to half the standoff after the push; every segment at the motion resolution.
+// The object's own sweep through the push is not checked against the scene: it moves within the
+// closed gripper.
 #include <map>
 #include <memory>
 #include <mutex>
@@ -61,6 +62,7 @@ class PushPlanner {
   std::unique_ptr<ExactChecker> exact_;
   Eigen::VectorXd start_;
   std::vector<int> tool_;
+  double contact_spacing_ = 0;  // m between candidate contacts: a share of the object's size
   mutable std::mutex mutex_;
   std::map<std::pair<int, int>, std::optional<PushPlan>> cache_;
   long planned_ = 0;

@@ -7,6 +7,8 @@
 #include <map>
 #include <vector>
 
+#include "dmgplace/runtime/motion/trajectory.hpp"
+
 namespace dmgplace::tools::viewer {
 
 struct InHandStep {
@@ -40,12 +42,15 @@ struct ViewResult {
   double release_opening = 0;  // how far the fingers open to let go; 0: not in the result (older ones)
   std::vector<InHandStep> in_hand;
   std::vector<Eigen::VectorXd> path, retreat;
+  // Their timed trajectories (trajectory.json beside result.json); empty where the result has none.
+  runtime::Trajectory path_timing, retreat_timing;
   // The world's joints outside the arm chain (a query's named start: another arm's park pose).
   std::map<std::string, double> joint_values;
   // The pusher arm's in-hand actions (a query with a pusher): its chain tip, its joints, and per
   // action its path, the waypoints in contact and the object's poses before and after.
   struct Push {
     std::vector<Eigen::VectorXd> path;
+    runtime::Trajectory timing;  // the path timed; empty where the result has none
     int begin = 0, end = 0;
     Eigen::Isometry3d object_before = Eigen::Isometry3d::Identity(), object_after = Eigen::Isometry3d::Identity();
   };
@@ -55,7 +60,7 @@ struct ViewResult {
   std::vector<Improvement> improvements;
 };
 
-// Reads RESULT_DIR/result.json; with `artifacts` non-empty, the artifact files are looked up in that
+// Reads RESULT_DIR/result.json and, when present, RESULT_DIR/trajectory.json; with `artifacts` non-empty, the artifact files are looked up in that
 // folder by file name instead. Throws dmgplace::Error naming the file (and the JSON element).
 ViewResult read_view_result(const std::filesystem::path& result_dir, const std::filesystem::path& artifacts = {});
 
