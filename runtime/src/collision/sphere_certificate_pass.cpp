@@ -69,16 +69,11 @@ void SphereFieldChecker::Pass::certificate() {
       // the exact primitives (one distance) can prove much more than its spheres against the field.
       const bool exact = c.exact_scene();
       if (c.obstacles_ && !exact && !it->exact_centre && it->clearance + b.radius + c.padding_ > kBandShare * c.band_) {
-        it->exact_centre = true;
-        const double e = c.obstacles_->distance(s.body_center[it->index]) - b.radius - c.padding_;
-        if (e > it->clearance) {
-          it->clearance = e;
-          it->t = it->speed.time_to_move(e, limit);
-          s.times[at] = it->t;
-          if (it->t >= limit) {
-            keep(at);
-            continue;
-          }
+        exact_centre_bound(*it, limit);
+        s.times[at] = it->t;
+        if (it->t >= limit) {  // (candidates still listed are short of the limit)
+          keep(at);
+          continue;
         }
       }
       centres(it->index);
@@ -98,6 +93,15 @@ void SphereFieldChecker::Pass::certificate() {
   if (skipped) fd = std::min(fd, enough);
   out.free_distance = std::isfinite(fd) ? fd : 1e9;
   out.isotropic_distance = std::min(out.free_distance, isotropic);
+}
+
+void SphereFieldChecker::Pass::exact_centre_bound(Candidate& k, double limit) {
+  const Body& b = c.bodies_[k.index];
+  k.exact_centre = true;
+  const double e = c.obstacles_->distance(s.body_center[k.index]) - b.radius - c.padding_;
+  if (e <= k.clearance) return;
+  k.clearance = e;
+  k.t = k.speed.time_to_move(e, limit);
 }
 
 // The smallest gap between a pair's spheres. A root only where it can lower the minimum:

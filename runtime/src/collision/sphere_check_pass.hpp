@@ -81,6 +81,7 @@ struct SphereFieldChecker::Pass {
   bool environment();
   bool body_clear(std::size_t bi, bool exact);           // environment's steps
   bool environment_spheres(std::size_t bi, bool exact);
+  void flag_environment_link(std::size_t bi);  // (once per body and query)
   bool self_pairs();
   enum class PairSpheres { Apart, Touching, ProvenCollision };
   PairSpheres pair_spheres(const Pair& p, double need, double& gap, bool& beyond);  // self_pairs' step
@@ -116,6 +117,9 @@ struct SphereFieldChecker::Pass {
   double pair_sphere_gap(const Pair& p);  // certificate's step for a pair
   double exact_sphere_gaps(std::size_t bi);
   double field_sphere_gaps(const Candidate& cand, double limit);
+  // A body's candidate measured by its bounding sphere against the exact primitives (once; where
+  // the field has clamped at its band that proves more): raises its clearance and time.
+  void exact_centre_bound(Candidate& k, double limit);
   // A sphere's exact distance to the scene, as the environment pass read it or now.
   double exact_distance(std::size_t bi, int sphere);
   // Exact scenes: a lower bound on each of a body's spheres' distances to the scene, all at once

@@ -54,6 +54,18 @@ bool SphereFieldChecker::Pass::body_clear(std::size_t bi, bool exact) {
   return false;
 }
 
+// Body bi's link goes to the exact layer, which certifies it from its exact distance.
+void SphereFieldChecker::Pass::flag_environment_link(std::size_t bi) {
+  const Body& b = c.bodies_[bi];
+  if (certify) {
+    mark(bi, kFlagged);
+    s.body_clear[bi] = std::numeric_limits<double>::infinity();
+  }
+  if (b.attached) out.attached_near_env = true;
+  else if (out.env_link_count < SphereCheck::kMaxPairs) out.env_links[std::size_t(out.env_link_count++)] = b.link;
+  else out.env_overflow = true;
+}
+
 // Body bi sphere by sphere: the grid, then the exact primitives where it cannot tell; a sphere
 // neither clears flags the body's link for the exact layer. False on a proven collision.
 bool SphereFieldChecker::Pass::environment_spheres(std::size_t bi, bool exact) {
@@ -120,16 +132,8 @@ bool SphereFieldChecker::Pass::environment_spheres(std::size_t bi, bool exact) {
     if (!out_of_grid) out.min_clearance = std::min(out.min_clearance, clearance);
     out.environment_free = false;
     out.outside_grid |= out_of_grid && !c.obstacles_;
-    if (!flagged) {
-      flagged = true;
-      if (certify) {  // the exact layer certifies this link from its exact distance
-        mark(bi, kFlagged);
-        s.body_clear[bi] = std::numeric_limits<double>::infinity();
-      }
-      if (b.attached) out.attached_near_env = true;
-      else if (out.env_link_count < SphereCheck::kMaxPairs) out.env_links[std::size_t(out.env_link_count++)] = b.link;
-      else out.env_overflow = true;
-    }
+    if (!flagged) flag_environment_link(bi);
+    flagged = true;
     if (!masks) break;
     mask |= c.obstacles_->touching(w, sp.radius + c.padding_);
   }

@@ -172,6 +172,67 @@ std::optional<std::vector<PushPlan>> PushPlanner::plan(const std::vector<InHandA
   return out;
 }
 
+// A TCP pose on the push and what the pusher may touch there: nothing (strict) or only the object
+// with its tool.
+struct PushWaypoint {
+  Eigen::Isometry3d tcp;
+  const ExactChecker* check;
+};
+
+namespace {
+struct PushCheckers {
+  const ExactChecker &strict_before, &strict_after, &touch_before, &touch_after;
+};
+
+// The TCP's waypoints with a tool frame `at_contact` at contact c: `n_in` steps in over the
+// standoff, `n_push` along the push (the contact carried by the object, the tool turning with
+// it), `n_in` back out along the contact normal at the push's end.
+std::vector<PushWaypoint> push_waypoints(const Eigen::Isometry3d& at_contact, const PushContact& c, const ObjectMotion& motion,
+                                         double standoff, int n_in, int n_push, const PushCheckers& k) {
+  std::vector<PushWaypoint> way;
+  for (int i = 0; i <= n_in; ++i) {
+    Eigen::Isometry3d f = at_contact;
+    f.translation() -= standoff * (1 - double(i) / n_in) * c.direction;
+    way.push_back({f, 2 * i < n_in ? &k.strict_before : &k.touch_before});
+  }
+  for (int i = 1; i <= n_push; ++i) {
+    const double s = double(i) / n_push;
+    way.push_back({motion.at(s) * at_contact, s <= 0.5 ? &k.touch_before : &k.touch_after});
+  }
+  const Eigen::Isometry3d at_end = way.back().tcp;
+  const Eigen::Vector3d end_direction = motion.at(1).linear() * c.direction;
+  for (int i = 1; i <= n_in; ++i) {
+    Eigen::Isometry3d f = at_end;
+    f.translation() -= standoff * double(i) / n_in * end_direction;
+    way.push_back({f, 2 * i <= n_in ? &k.touch_after : &k.strict_after});
+  }
+  return way;
+}
+}  // namespace
+
+JointPath PushPlanner::cartesian_path(const std::vector<PushWaypoint>& way, const Kinematics& kin, std::mt19937_64& rng) const {
+  IkOptions first_ik;
+  first_ik.max_restarts = 8;
+  IkOptions step_ik;
+  step_ik.max_restarts = 0;
+  const IkSolver solve_first(kin, first_ik), solve_step(kin, step_ik);
+  const Eigen::Isometry3d tcp_inv = spec_.tcp.inverse();
+  const IkResult first = solve_first.solve(way[0].tcp * tcp_inv, start_, rng);
+  if (!first.success || !way[0].check->is_free(first.q)) return {};
+  JointPath cart{std::vector<double>(first.q.data(), first.q.data() + first.q.size())};
+  Eigen::VectorXd prev = first.q;
+  for (std::size_t w = 1; w < way.size(); ++w) {
+    const IkResult r = solve_step.solve(way[w].tcp * tcp_inv, prev, rng);
+    const ExactChecker* check = way[w].check;
+    if (!r.success || (r.q - prev).cwiseAbs().maxCoeff() > kMaxJointStep ||
+        !segment_valid(prev, r.q, resolution_, [check](const Eigen::VectorXd& q) { return check->is_free(q); }))
+      return {};
+    cart.emplace_back(r.q.data(), r.q.data() + r.q.size());
+    prev = r.q;
+  }
+  return cart;
+}
+
 std::optional<PushPlan> PushPlanner::plan_action(const InHandAction& a) {
   const GraspGraph& graph = world_.grasp_graph();
   const Eigen::Isometry3d before = graph.tcp_pose(a.from_state), after = graph.tcp_pose(a.to_state);
@@ -198,61 +259,19 @@ std::optional<PushPlan> PushPlanner::plan_action(const InHandAction& a) {
   const ExactChecker strict_after = pusher.with_attached(mesh, kin.base_link(), motion.after, world_.hand().links);
   const ExactChecker touch_before = pusher.with_attached(mesh, kin.base_link(), motion.before, hand_and_tool);
   const ExactChecker touch_after = pusher.with_attached(mesh, kin.base_link(), motion.after, hand_and_tool);
+  const PushCheckers checkers{strict_before, strict_after, touch_before, touch_after};
   const ValidityFn free_before = [&](const Eigen::VectorXd& q) { return strict_before.is_free(q); };
   const ValidityFn free_after = [&](const Eigen::VectorXd& q) { return strict_after.is_free(q); };
 
   std::mt19937_64 rng(seed_ ^ (std::uint64_t(a.from_state) * 0x9E3779B97F4A7C15ull + std::uint64_t(a.to_state)));
-  IkOptions first_ik;
-  first_ik.max_restarts = 8;
-  IkOptions step_ik;
-  step_ik.max_restarts = 0;
-  const IkSolver solve_first(kin, first_ik), solve_step(kin, step_ik);
-  const Eigen::Isometry3d tcp_inv = spec_.tcp.inverse();
   const int n_in = std::max(1, int(std::ceil(spec_.standoff / spec_.step)));
-
   for (const PushContact& c : contacts) {
-    // The push: the contact carried by the object, the tool turning with it.
     const double travel = motion.sweep((c.point - motion.pivot).norm());
     const int n_push = std::max({1, int(std::ceil(travel / spec_.step)), int(std::ceil(motion.angle / kMaxTurnStep))});
-    const Eigen::Vector3d end_direction = motion.at(1).linear() * c.direction;
     for (const Eigen::Isometry3d& at_contact : tool_frames(c.point, c.direction)) {
-      // Waypoints of the TCP and the validity each must meet: in (strict), push (touch), out.
-      struct Waypoint {
-        Eigen::Isometry3d tcp;
-        const ExactChecker* check;
-      };
-      std::vector<Waypoint> way;
-      for (int i = 0; i <= n_in; ++i) {
-        Eigen::Isometry3d f = at_contact;
-        f.translation() -= spec_.standoff * (1 - double(i) / n_in) * c.direction;
-        way.push_back({f, 2 * i < n_in ? &strict_before : &touch_before});
-      }
-      for (int i = 1; i <= n_push; ++i) {
-        const double s = double(i) / n_push;
-        way.push_back({motion.at(s) * at_contact, s <= 0.5 ? &touch_before : &touch_after});
-      }
-      const Eigen::Isometry3d at_end = way.back().tcp;
-      for (int i = 1; i <= n_in; ++i) {
-        Eigen::Isometry3d f = at_end;
-        f.translation() -= spec_.standoff * double(i) / n_in * end_direction;
-        way.push_back({f, 2 * i <= n_in ? &touch_after : &strict_after});
-      }
-      const IkResult first = solve_first.solve(way[0].tcp * tcp_inv, start_, rng);
-      if (!first.success || !strict_before.is_free(first.q)) continue;
-      JointPath cart{std::vector<double>(first.q.data(), first.q.data() + first.q.size())};
-      Eigen::VectorXd prev = first.q;
-      bool ok = true;
-      for (std::size_t w = 1; w < way.size() && ok; ++w) {
-        const IkResult r = solve_step.solve(way[w].tcp * tcp_inv, prev, rng);
-        const ExactChecker* check = way[w].check;
-        ok = r.success && (r.q - prev).cwiseAbs().maxCoeff() <= kMaxJointStep &&
-             segment_valid(prev, r.q, resolution_, [check](const Eigen::VectorXd& q) { return check->is_free(q); });
-        if (ok) {
-          cart.emplace_back(r.q.data(), r.q.data() + r.q.size());
-          prev = r.q;
-        }
-      }
-      if (!ok) continue;
+      const JointPath cart =
+          cartesian_path(push_waypoints(at_contact, c, motion, spec_.standoff, n_in, n_push, checkers), kin, rng);
+      if (cart.empty()) continue;
       MotionBudget budget;
       budget.resolution = resolution_;
       budget.iterations = spec_.plan_iterations;

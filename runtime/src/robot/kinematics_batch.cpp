@@ -52,102 +52,99 @@ DMGPLACE_LANES_INLINE lanes::VectorOf<T> splat_as(double v) {
   else return lanes::splatf(float(v));
 }
 
-// T = double: two vectors of 4 lanes per step. T = float: one vector of all 8 (the joint values
-// in doubles, sin and cos from them by fast_sincos_f8, a prismatic joint's value rounded once).
-// Wide: compiled for AVX2.
+// The joint's value in every lane, into vd. AVX2: built in registers and stored a whole vector at
+// a time; stored lane by lane, sincos' vector loads of them waited on failed store forwarding. The
+// portable build keeps the lane loop: there the vectors were slower.
+template <bool Wide>
+DMGPLACE_LANES_INLINE void joint_values(const JointPlan& j, const double* const* q, double* vd) {
+  if constexpr (Wide) {
+    for (int h = 0; h < N; h += lanes::W) {
+      lanes::D x = lanes::splat(j.offset);
+      if (j.slot >= 0) {
+        const int at = j.slot;
+        x += lanes::splat(j.mult) * lanes::D{q[h][at], q[h + 1][at], q[h + 2][at], q[h + 3][at]};
+      }
+      lanes::store(vd + h, x);
+    }
+  } else {
+    for (int k = 0; k < N; ++k) vd[k] = j.slot >= 0 ? j.mult * q[k][j.slot] + j.offset : j.offset;
+  }
+}
+
+// What the joint's transform needs of its values: sin and cos (revolute) or the value (prismatic)
+// in T, from the doubles vd (into sd/cd, then sf/cf/vf rounded once, for floats).
 template <class T, bool Wide>
-inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>& plan, const std::vector<int>& roots, int base,
-                                                   bool base_is_root, const double* const* q, PoseBatchOf<T>& out) {
+DMGPLACE_LANES_INLINE void joint_terms(const JointPlan& j, const double* vd, double* sd, double* cd, T* sf, T* cf, T* vf) {
+  if constexpr (std::is_same_v<T, double>) {
+    if (j.type == 1) sincos_lanes(vd, sd, cd);
+  } else if (j.type == 1) {
+    // The portable build keeps the double core, rounded: its float vectors are SSE pairs, and
+    // fast_sincos_f8 there made the float batch slower.
+    if constexpr (Wide) {
+      sincos_lanes_f(vd, sf, cf);
+    } else {
+      sincos_lanes(vd, sd, cd);
+      for (int k = 0; k < N; ++k) sf[k] = T(sd[k]), cf[k] = T(cd[k]);
+    }
+  } else if (j.type == 2) {
+    for (int k = 0; k < N; ++k) vf[k] = T(vd[k]);
+  }
+}
+
+// Child pose = parent pose x the joint's transform at its values (v, s, c), W lanes at a time.
+template <class T, class Pose>
+DMGPLACE_LANES_INLINE void compose_joint(const JointPlan& j, const Pose& A, Pose& C, const T* v, const T* s, const T* c) {
   using D = lanes::VectorOf<T>;
   constexpr int W = int(sizeof(D) / sizeof(T));
   static_assert(N % W == 0);
-  auto& P = out.pose;
-  for (int r : roots)
-    for (int e = 0; e < 12; ++e) P[std::size_t(r)][std::size_t(e)].fill(e == 0 || e == 4 || e == 8 ? 1.0 : 0.0);
-  // Every step below is written in lanes.hpp vectors (doubles: half the lanes at a time), with
-  // the joint's constants splatted into registers: as plain loops over lanes GCC kept some scalar
-  // (it cannot tell the child's stores from the plan's constants).
-  alignas(64) double vd[N], sd[N], cd[N];
-  alignas(64) T vf[N], sf[N], cf[N];  // floats: the doubles rounded once
-  const T *v = vf, *s = sf, *c = cf;
-  if constexpr (std::is_same_v<T, double>) v = vd, s = sd, c = cd;
   auto splat = [](double x) __attribute__((always_inline)) { return splat_as<T>(x); };
-  for (const JointPlan& j : plan) {
-    const auto& A = P[std::size_t(j.parent)];
-    auto& C = P[std::size_t(j.child)];
-    // AVX2: the joint's values built in registers and stored a whole vector at a time; stored
-    // lane by lane, sincos' vector loads of them waited on failed store forwarding. The portable
-    // build keeps the lane loop: there the vectors were slower.
-    if constexpr (Wide) {
-      for (int h = 0; h < N; h += lanes::W) {
-        lanes::D x = lanes::splat(j.offset);
-        if (j.slot >= 0) {
-          const int at = j.slot;
-          x += lanes::splat(j.mult) * lanes::D{q[h][at], q[h + 1][at], q[h + 2][at], q[h + 3][at]};
-        }
-        lanes::store(vd + h, x);
-      }
-    } else {
-      for (int k = 0; k < N; ++k) vd[k] = j.slot >= 0 ? j.mult * q[k][j.slot] + j.offset : j.offset;
+  const D t0 = splat(j.t[0]), t1 = splat(j.t[1]), t2 = splat(j.t[2]);
+  for (int h = 0; h < N; h += W) {
+    auto a = [&](int e) __attribute__((always_inline)) { return lanes::load(A[std::size_t(e)].data() + h); };
+    auto put = [&](int e, D x) __attribute__((always_inline)) { lanes::store(C[std::size_t(e)].data() + h, x); };
+    // Translation: parent R (t + v a) + parent t.
+    D tx = t0, ty = t1, tz = t2;
+    if (j.type == 2) {
+      const D m = lanes::load(v + h);
+      tx += m * splat(j.a[0]), ty += m * splat(j.a[1]), tz += m * splat(j.a[2]);
     }
-    if constexpr (std::is_same_v<T, double>) {
-      if (j.type == 1) sincos_lanes(vd, sd, cd);
-    } else if (j.type == 1) {
-      // The portable build keeps the double core, rounded: its float vectors are SSE pairs, and
-      // fast_sincos_f8 there made the float batch slower.
-      if constexpr (Wide) {
-        sincos_lanes_f(vd, sf, cf);
-      } else {
-        sincos_lanes(vd, sd, cd);
-        for (int k = 0; k < N; ++k) sf[k] = T(sd[k]), cf[k] = T(cd[k]);
-      }
-    } else if (j.type == 2) {
-      for (int k = 0; k < N; ++k) vf[k] = T(vd[k]);
-    }
-    const D t0 = splat(j.t[0]), t1 = splat(j.t[1]), t2 = splat(j.t[2]);
-    for (int h = 0; h < N; h += W) {
-      auto a = [&](int e) __attribute__((always_inline)) { return lanes::load(A[std::size_t(e)].data() + h); };
-      auto put = [&](int e, D x) __attribute__((always_inline)) { lanes::store(C[std::size_t(e)].data() + h, x); };
-      // Translation: parent R (t + v a) + parent t.
-      D tx = t0, ty = t1, tz = t2;
-      if (j.type == 2) {
-        const D m = lanes::load(v + h);
-        tx += m * splat(j.a[0]), ty += m * splat(j.a[1]), tz += m * splat(j.a[2]);
-      }
-      for (int r = 0; r < 3; ++r) put(9 + r, a(3 * r) * tx + a(3 * r + 1) * ty + a(3 * r + 2) * tz + a(9 + r));
-      if (j.quarter) {
-        // The parent's columns permuted (a quarter-turn origin); a revolute joint then turns the
-        // two columns across its axis: (u, w) -> (c u + s w, c w - s u). Kinematics::compose.
-        const int ia = (j.axis + 1) % 3, ib = (j.axis + 2) % 3;
-        const D sg0 = splat(j.sign[0]), sg1 = splat(j.sign[1]), sg2 = splat(j.sign[2]);
-        for (int r = 0; r < 3; ++r) {
-          D x[3] = {sg0 * a(3 * r + j.perm[0]), sg1 * a(3 * r + j.perm[1]), sg2 * a(3 * r + j.perm[2])};
-          if (j.type == 1) {
-            const D ck = lanes::load(c + h), sk = splat(j.axis_sign) * lanes::load(s + h);
-            const D u = x[ia], w = x[ib];
-            x[ia] = ck * u + sk * w;
-            x[ib] = ck * w - sk * u;
-          }
-          for (int col = 0; col < 3; ++col) put(3 * r + col, x[col]);
-        }
-        continue;
-      }
-      // The joint's rotation (origin, then Rodrigues about the axis), then parent R x it.
-      D R[9];
-      if (j.type == 1) {
-        const D sk = lanes::load(s + h), ck = splat(1.0) - lanes::load(c + h);
-        for (int e = 0; e < 9; ++e) R[e] = splat(j.O[e]) + sk * splat(j.OK[e]) + ck * splat(j.OKK[e]);
-      } else {
-        for (int e = 0; e < 9; ++e) R[e] = splat(j.O[e]);
-      }
+    for (int r = 0; r < 3; ++r) put(9 + r, a(3 * r) * tx + a(3 * r + 1) * ty + a(3 * r + 2) * tz + a(9 + r));
+    if (j.quarter) {
+      // The parent's columns permuted (a quarter-turn origin); a revolute joint then turns the
+      // two columns across its axis: (u, w) -> (c u + s w, c w - s u). Kinematics::compose.
+      const int ia = (j.axis + 1) % 3, ib = (j.axis + 2) % 3;
+      const D sg0 = splat(j.sign[0]), sg1 = splat(j.sign[1]), sg2 = splat(j.sign[2]);
       for (int r = 0; r < 3; ++r) {
-        const D p0 = a(3 * r), p1 = a(3 * r + 1), p2 = a(3 * r + 2);
-        for (int col = 0; col < 3; ++col) put(3 * r + col, p0 * R[col] + p1 * R[3 + col] + p2 * R[6 + col]);
+        D x[3] = {sg0 * a(3 * r + j.perm[0]), sg1 * a(3 * r + j.perm[1]), sg2 * a(3 * r + j.perm[2])};
+        if (j.type == 1) {
+          const D ck = lanes::load(c + h), sk = splat(j.axis_sign) * lanes::load(s + h);
+          const D u = x[ia], w = x[ib];
+          x[ia] = ck * u + sk * w;
+          x[ib] = ck * w - sk * u;
+        }
+        for (int col = 0; col < 3; ++col) put(3 * r + col, x[col]);
       }
+      continue;
+    }
+    // The joint's rotation (origin, then Rodrigues about the axis), then parent R x it.
+    D R[9];
+    if (j.type == 1) {
+      const D sk = lanes::load(s + h), ck = splat(1.0) - lanes::load(c + h);
+      for (int e = 0; e < 9; ++e) R[e] = splat(j.O[e]) + sk * splat(j.OK[e]) + ck * splat(j.OKK[e]);
+    } else {
+      for (int e = 0; e < 9; ++e) R[e] = splat(j.O[e]);
+    }
+    for (int r = 0; r < 3; ++r) {
+      const D p0 = a(3 * r), p1 = a(3 * r + 1), p2 = a(3 * r + 2);
+      for (int col = 0; col < 3; ++col) put(3 * r + col, p0 * R[col] + p1 * R[3 + col] + p2 * R[6 + col]);
     }
   }
-  if (base_is_root) return;
-  // Express every link in the base frame: pose = inverse(base) x pose, per lane.
+}
+
+// Every link expressed in the base frame: pose = inverse(base) x pose, per lane.
+template <class T>
+DMGPLACE_LANES_INLINE void to_base_frame(PoseBatchOf<T>& out, int base) {
+  auto& P = out.pose;
   alignas(64) T Bi[12][N];
   const auto& B = P[std::size_t(base)];
   for (int r = 0; r < 3; ++r)
@@ -171,6 +168,29 @@ inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>&
     for (int e = 0; e < 12; ++e)
       for (int k = 0; k < N; ++k) L[std::size_t(e)][std::size_t(k)] = X[e][k];
   }
+}
+
+// T = double: two vectors of 4 lanes per step. T = float: one vector of all 8 (the joint values
+// in doubles, sin and cos from them by fast_sincos_f8, a prismatic joint's value rounded once).
+// Wide: compiled for AVX2. Every step is written in lanes.hpp vectors (doubles: half the lanes at
+// a time), with the joint's constants splatted into registers: as plain loops over lanes GCC kept
+// some scalar (it cannot tell the child's stores from the plan's constants).
+template <class T, bool Wide>
+inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>& plan, const std::vector<int>& roots, int base,
+                                                   bool base_is_root, const double* const* q, PoseBatchOf<T>& out) {
+  auto& P = out.pose;
+  for (int r : roots)
+    for (int e = 0; e < 12; ++e) P[std::size_t(r)][std::size_t(e)].fill(e == 0 || e == 4 || e == 8 ? 1.0 : 0.0);
+  alignas(64) double vd[N], sd[N], cd[N];
+  alignas(64) T vf[N], sf[N], cf[N];  // floats: the doubles rounded once
+  const T *v = vf, *s = sf, *c = cf;
+  if constexpr (std::is_same_v<T, double>) v = vd, s = sd, c = cd;
+  for (const JointPlan& j : plan) {
+    joint_values<Wide>(j, q, vd);
+    joint_terms<T, Wide>(j, vd, sd, cd, sf, cf, vf);
+    compose_joint<T>(j, P[std::size_t(j.parent)], P[std::size_t(j.child)], v, s, c);
+  }
+  if (!base_is_root) to_base_frame(out, base);
 }
 
 template <class T>

@@ -7,6 +7,8 @@
 
 #include "analytic_sdf.hpp"
 #include "dmgplace/runtime/collision/kernels/lane_points.hpp"
+#include "dmgplace/runtime/collision/kernels/sphere_box.hpp"
+#include "dmgplace/runtime/collision/kernels/sphere_cylinder.hpp"
 #include "dmgplace/runtime/collision/kernels/sphere_field.hpp"
 #include "dmgplace/runtime/collision/kernels/sphere_sphere.hpp"
 #include "test_support.hpp"
@@ -111,4 +113,51 @@ TEST(LaneKernels, ClearOfFieldAgreesWithTheScalarNodeBounds) {
   }
   EXPECT_GT(clear, 1000);
   EXPECT_GT(found, 1000);
+}
+
+// Outside: the squared distance to the box (Eigen's exterior distance); inside: minus the distance
+// to the nearest face.
+TEST(LaneKernels, BoxGapIsTheExactDistanceToTheBox) {
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> size(0.01, 0.4);
+  int inside = 0, outside = 0;
+  for (int round = 0; round < 2000; ++round) {
+    const float half[3] = {float(size(rng)), float(size(rng)), float(size(rng))};
+    const Eigen::Vector3d h(half[0], half[1], half[2]);
+    const Eigen::AlignedBox3d box(-h, h);
+    const LaneXyz p = random_points(rng, 0.5);
+    const kernels::LaneGap g = kernels::box_gap(lanes::load(p.x), lanes::load(p.y), lanes::load(p.z), half);
+    for (int k = 0; k < N; ++k) {
+      const Eigen::Vector3d q = lane(p, k);
+      const double depth = (h - q.cwiseAbs()).minCoeff();  // > 0 inside: to the nearest face
+      EXPECT_NEAR(g.out2[k], box.squaredExteriorDistance(q), 1e-6) << q.transpose();
+      EXPECT_NEAR(g.inside[k], depth > 0 ? -depth : 0.0, 1e-6) << q.transpose();
+      (depth > 0 ? inside : outside)++;
+    }
+  }
+  EXPECT_GT(inside, 500);
+  EXPECT_GT(outside, 5000);
+}
+
+// The cylinder in (radius, height) coordinates is a rectangle: the same distances in 2-D.
+TEST(LaneKernels, CylinderGapIsTheExactDistanceToTheCylinder) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> size(0.01, 0.4);
+  int inside = 0, outside = 0;
+  for (int round = 0; round < 2000; ++round) {
+    const float radius = float(size(rng)), half_length = float(size(rng));
+    const Eigen::AlignedBox2d section(Eigen::Vector2d(-radius, -half_length), Eigen::Vector2d(radius, half_length));
+    const LaneXyz p = random_points(rng, 0.5);
+    const kernels::LaneGap g = kernels::cylinder_gap(lanes::load(p.x), lanes::load(p.y), lanes::load(p.z), radius, half_length);
+    for (int k = 0; k < N; ++k) {
+      const Eigen::Vector3d q = lane(p, k);
+      const Eigen::Vector2d rz(std::hypot(q.x(), q.y()), q.z());
+      const double depth = std::min(double(radius) - rz.x(), double(half_length) - std::abs(rz.y()));
+      EXPECT_NEAR(g.out2[k], section.squaredExteriorDistance(rz), 1e-6) << q.transpose();
+      EXPECT_NEAR(g.inside[k], depth > 0 ? -depth : 0.0, 1e-6) << q.transpose();
+      (depth > 0 ? inside : outside)++;
+    }
+  }
+  EXPECT_GT(inside, 500);
+  EXPECT_GT(outside, 5000);
 }

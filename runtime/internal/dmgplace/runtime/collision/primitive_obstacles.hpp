@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "dmgplace/formats/geometry_types.hpp"
+#include "dmgplace/runtime/collision/kernels/sphere_box.hpp"
+#include "dmgplace/runtime/collision/kernels/sphere_cylinder.hpp"
 #include "dmgplace/runtime/system/lanes.hpp"
 
 namespace dmgplace::runtime {
@@ -159,18 +161,10 @@ class PrimitiveObstacles {
       py = R(3) * dx + R(4) * dy + R(5) * dz;
       pz = R(6) * dx + R(7) * dy + R(8) * dz;
     }
-    const F oz = lanes::abs(pz) - splatf(s.half[2]);
-    if (s.type == ShapeType::Box) {
-      const F ox = lanes::abs(px) - splatf(s.half[0]), oy = lanes::abs(py) - splatf(s.half[1]);
-      const F cx = lanes::max0(ox), cy = lanes::max0(oy), cz = lanes::max0(oz);
-      g.out2 = cx * cx + cy * cy + cz * cz;
-      g.inside = lanes::min(lanes::max(ox, lanes::max(oy, oz)), F{});
-    } else {  // a cylinder
-      const F orad = lanes::sqrt(px * px + py * py) - splatf(s.half[0]);
-      const F cr = lanes::max0(orad), cz = lanes::max0(oz);
-      g.out2 = cr * cr + cz * cz;
-      g.inside = lanes::min(lanes::max(orad, oz), F{});
-    }
+    const kernels::LaneGap k = s.type == ShapeType::Box ? kernels::box_gap(px, py, pz, s.half)
+                                                        : kernels::cylinder_gap(px, py, pz, s.half[0], s.half[2]);
+    g.out2 = k.out2;
+    g.inside = k.inside;
     return g;
   }
   // The smallest signed distance from each of lanes::WF points to `prims` (distances(); defined,

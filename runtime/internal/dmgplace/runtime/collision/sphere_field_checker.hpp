@@ -322,6 +322,7 @@ class SphereFieldChecker {
   // the portable build compares lane by lane, where bits per test cost less.
   static std::uint32_t free_lanes_body(const SphereFieldChecker& c, const double* const* q, int count, const float* widen,
                                        const LaneMotion* motion, bool wide);
+  struct LanePass;  // free_lanes_body's query: environment, then self pairs (src/collision/sphere_lane_pass.hpp)
   // free_lanes works in floats: lanes whose body centres stay within lane_limit_ metres of the
   // origin on every axis, every test that can say "free" widened by lane_margin() metres, which
   // bounds the rounding there: lane_rounding_ for the steps after the poses (set with the robot's

@@ -28,6 +28,8 @@
 
 namespace dmgplace::runtime {
 
+struct PushWaypoint;
+
 class PushPlanner {
  public:
   // Checks `spec` against the world (dmgplace::Error naming `source` and the pusher element):
@@ -53,6 +55,9 @@ class PushPlanner {
 
  private:
   std::optional<PushPlan> plan_action(const InHandAction& a);
+  // IK along the TCP waypoints (from the start configuration, then each from the last), every
+  // state and segment valid under its waypoint's checker; empty where a step fails or jumps.
+  JointPath cartesian_path(const std::vector<PushWaypoint>& way, const Kinematics& kin, std::mt19937_64& rng) const;
   const PlacementWorld& world_;
   PusherSpec spec_;
   Eigen::VectorXd q0_;
