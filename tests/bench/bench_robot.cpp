@@ -99,13 +99,13 @@ void BM_FkPlusFastSphereCheckBatch8(benchmark::State& st) {
   runtime::force_simd_path(st.range(0) ? runtime::SimdPath::Avx2 : runtime::SimdPath::Portable);
   std::size_t i = 0;
   long free = 0;
-  const double* q[runtime::PoseBatch::kLanes];
+  const double* q[runtime::LinkPoseLanesD::kLanes];
   for (auto _ : st) {
-    for (int k = 0; k < runtime::PoseBatch::kLanes; ++k) q[k] = w.configs[i++ & 4095].data();
+    for (int k = 0; k < runtime::LinkPoseLanesD::kLanes; ++k) q[k] = w.configs[i++ & 4095].data();
     free += __builtin_popcount(w.fast->free_lanes(q));
   }
-  st.SetItemsProcessed(st.iterations() * runtime::PoseBatch::kLanes);
-  st.counters["free_fraction"] = double(free) / double(st.iterations() * runtime::PoseBatch::kLanes);
+  st.SetItemsProcessed(st.iterations() * runtime::LinkPoseLanesD::kLanes);
+  st.counters["free_fraction"] = double(free) / double(st.iterations() * runtime::LinkPoseLanesD::kLanes);
   st.counters["margin_um"] = 1e6 * w.fast->lane_margin();
   st.SetLabel(runtime::to_string(runtime::simd_path()));
   runtime::force_simd_path(runtime::SimdPath::Avx2);
@@ -128,12 +128,12 @@ BENCHMARK(BM_Fk);
 template <class T>
 void fk_batches(benchmark::State& st) {
   auto& w = world();
-  runtime::PoseBatchOf<T> poses;
+  runtime::LinkPoseLanes<T> poses;
   std::size_t i = 0;
-  const double* q[runtime::PoseBatch::kLanes];
+  const double* q[runtime::LinkPoseLanesD::kLanes];
   for (auto _ : st) {
-    for (int k = 0; k < runtime::PoseBatch::kLanes; ++k) q[k] = w.configs[i++ & 4095].data();
-    w.kin->link_poses_batch(q, poses);
+    for (int k = 0; k < runtime::LinkPoseLanesD::kLanes; ++k) q[k] = w.configs[i++ & 4095].data();
+    w.kin->lanes().link_poses(q, poses);
     benchmark::DoNotOptimize(poses.pose.data());
   }
 }
@@ -143,7 +143,7 @@ void BM_FkBatch8(benchmark::State& st) {
   runtime::force_simd_path(st.range(0) ? runtime::SimdPath::Avx2 : runtime::SimdPath::Portable);
   if (st.range(1)) fk_batches<float>(st);
   else fk_batches<double>(st);
-  st.SetItemsProcessed(st.iterations() * runtime::PoseBatch::kLanes);
+  st.SetItemsProcessed(st.iterations() * runtime::LinkPoseLanesD::kLanes);
   st.SetLabel(runtime::to_string(runtime::simd_path()));
   runtime::force_simd_path(runtime::SimdPath::Avx2);
 }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "dmgplace/runtime/robot/kinematics.hpp"
+#include "dmgplace/runtime/robot/kinematics_lanes.hpp"
 #include "dmgplace/runtime/system/simd_dispatch.hpp"
 
 namespace dmgplace::test {
@@ -31,12 +32,12 @@ void batches_on_every_path(const runtime::Kinematics& kin, std::uint64_t seed, i
     runtime::force_simd_path(path);
     for (int round = 0; round < rounds; ++round) {
       std::vector<Eigen::VectorXd> qs;
-      const double* ptr[runtime::PoseBatch::kLanes];
-      for (int k = 0; k < runtime::PoseBatch::kLanes; ++k) {
+      const double* ptr[runtime::LinkPoseLanesD::kLanes];
+      for (int k = 0; k < runtime::LinkPoseLanesD::kLanes; ++k) {
         qs.push_back(random_q(kin, rng));
         widen(round, qs.back());
       }
-      for (int k = 0; k < runtime::PoseBatch::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
+      for (int k = 0; k < runtime::LinkPoseLanesD::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
       check(qs, ptr);
       if (::testing::Test::HasFatalFailure()) break;  // an ASSERT in check returns from check only
     }

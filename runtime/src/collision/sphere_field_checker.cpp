@@ -61,7 +61,7 @@ void SphereFieldChecker::build_bodies() {
     shape_body(b);
     chain_body(b, parent_joint);
   }
-  build_batch_bodies();
+  build_lane_bodies();
   set_lane_bounds();
   build_pair_spheres();
   lever_count_ = 0;
@@ -219,15 +219,15 @@ void SphereFieldChecker::build_static_reach() {
   }
 }
 
-void SphereFieldChecker::build_batch_bodies() {
-  framed_version_ = kin_->plan_version();
+void SphereFieldChecker::build_lane_bodies() {
+  framed_version_ = kin_->lanes().version;
   for (const bool framed : {true, false}) {
-    BatchBodies& out = framed ? framed_ : own_;
+    LaneBodies& out = framed ? framed_ : own_;
     out = {};
     out.spheres.resize(spheres_.size());
     for (const Body& b : bodies_) {
-      const Eigen::Isometry3d T = framed ? kin_->batch_frame_offset(b.link) : Eigen::Isometry3d::Identity();
-      out.link.push_back(framed ? kin_->batch_frame(b.link) : b.link);
+      const Eigen::Isometry3d T = framed ? kin_->lanes().frame_offset(b.link) : Eigen::Isometry3d::Identity();
+      out.link.push_back(framed ? kin_->lanes().frame(b.link) : b.link);
       out.center.push_back(T * b.center);
       Capsule k = b.capsule;
       k.from = T * k.from, k.to = T * k.to;
@@ -238,10 +238,10 @@ void SphereFieldChecker::build_batch_bodies() {
         const formats::LinkSphere& sp = spheres_[std::size_t(i)];
         const Eigen::Vector3d c = T * sp.center;
         LaneSphere& l = out.spheres[std::size_t(i)];
-        std::fill_n(l.x, PoseBatch::kLanes, float(c.x()));
-        std::fill_n(l.y, PoseBatch::kLanes, float(c.y()));
-        std::fill_n(l.z, PoseBatch::kLanes, float(c.z()));
-        std::fill_n(l.r, PoseBatch::kLanes, float(sp.radius));
+        std::fill_n(l.x, LinkPoseLanesD::kLanes, float(c.x()));
+        std::fill_n(l.y, LinkPoseLanesD::kLanes, float(c.y()));
+        std::fill_n(l.z, LinkPoseLanesD::kLanes, float(c.z()));
+        std::fill_n(l.r, LinkPoseLanesD::kLanes, float(sp.radius));
       }
     }
   }

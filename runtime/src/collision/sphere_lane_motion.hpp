@@ -29,15 +29,15 @@ struct SphereFieldChecker::LaneMotion {
   // world; per body (lever_begin), each chain joint's lever arm about the body centre, its norm
   // plus rounding, and that rounding.
   LaneXyz *axis = nullptr, *origin = nullptr, *arm = nullptr;
-  std::array<float, PoseBatch::kLanes>* arm_norm = nullptr;
-  std::array<float, PoseBatch::kLanes>* arm_error = nullptr;
+  std::array<float, LinkPoseLanesD::kLanes>* arm_norm = nullptr;
+  std::array<float, LinkPoseLanesD::kLanes>* arm_error = nullptr;
   char *slot_done = nullptr, *body_done = nullptr;
 
   // A LaneMotion for one batch of `c` along `direction` over `reach`, on this thread's scratch.
   static LaneMotion start(const SphereFieldChecker& c, const Eigen::VectorXd& direction, double reach) {
     struct Scratch {
       std::vector<LaneXyz> axis, origin, arm;
-      std::vector<std::array<float, PoseBatch::kLanes>> arm_norm, arm_error;
+      std::vector<std::array<float, LinkPoseLanesD::kLanes>> arm_norm, arm_error;
       std::vector<char> slot_done, body_done;
     };
     thread_local Scratch s;
@@ -52,7 +52,7 @@ struct SphereFieldChecker::LaneMotion {
     LaneMotion m;
     m.dir = direction.data();
     m.t = reach;
-    m.axis_error = float(c.kin_->float_pose_error(1.0) + 1e-6);
+    m.axis_error = float(c.kin_->lanes().float_pose_error(1.0) + 1e-6);
     m.point_error = float(2 * c.lane_margin());
     m.axis = s.axis.data();
     m.origin = s.origin.data();
@@ -71,7 +71,7 @@ struct SphereFieldChecker::LaneMotion {
   // The largest displacement of body bi's bounding ball over [-t, t] along dir, over the lanes in
   // `lanes`, rounded up; NaN where a lane's geometry is not finite (the caller keeps its static
   // bound then). `centre`: every body's centre in every lane.
-  DMGPLACE_LANES_INLINE float body(const SphereFieldChecker& c, std::size_t bi, const PoseBatchF& poses,
+  DMGPLACE_LANES_INLINE float body(const SphereFieldChecker& c, std::size_t bi, const LinkPoseLanesF& poses,
                                    const LaneXyz* centre, std::uint32_t lanes) const {
     const Body& b = c.bodies_[bi];
     Sums s;
@@ -79,7 +79,7 @@ struct SphereFieldChecker::LaneMotion {
     return farthest(s, lanes);
   }
   // The same for pair pi: how far its two balls can move relative to each other (PairMoves).
-  DMGPLACE_LANES_INLINE float pair(const SphereFieldChecker& c, std::size_t pi, const PoseBatchF& poses,
+  DMGPLACE_LANES_INLINE float pair(const SphereFieldChecker& c, std::size_t pi, const LinkPoseLanesF& poses,
                                    const LaneXyz* centre, std::uint32_t lanes) const {
     const Pair& p = c.pairs_[pi];
     const PairMoves& m = c.pair_moves_[pi];
@@ -105,7 +105,7 @@ struct SphereFieldChecker::LaneMotion {
   // BallMotion's sums (displacement_bound.cpp) for body bi's ball moved by `joints` (its chain,
   // or a subset in chain order; `at`: their places in the chain, null for the whole chain), added
   // to s.
-  DMGPLACE_LANES_INLINE void ball(const SphereFieldChecker& c, std::size_t bi, const PoseBatchF& poses,
+  DMGPLACE_LANES_INLINE void ball(const SphereFieldChecker& c, std::size_t bi, const LinkPoseLanesF& poses,
                                   const LaneXyz* centre, const std::vector<ChainJoint>& joints, const int* at,
                                   Sums& s) const {
     levers(c, bi, poses, centre);
@@ -164,10 +164,10 @@ struct SphereFieldChecker::LaneMotion {
     const F gronwall = s.v0 * splatf(float(g1 * (1 + 1e-6)));
     const F taylor = s.first * splatf(float(t)) + s.second * splatf(float(0.5 * t * t)) + s.v0 * splatf(float(g2 * (1 + 1e-6)));
     const F d = lanes::min(lanes::min(gronwall, taylor), splatf(float(s.reach_speed * t))) * splatf(1 + 1e-5f);
-    alignas(32) float out[PoseBatch::kLanes];
+    alignas(32) float out[LinkPoseLanesD::kLanes];
     lanes::store(out, d);
     float most = 0;
-    for (int k = 0; k < PoseBatch::kLanes; ++k)
+    for (int k = 0; k < LinkPoseLanesD::kLanes; ++k)
       if (lanes >> k & 1u) {
         if (!std::isfinite(out[k])) return std::nanf("");
         most = std::max(most, out[k]);
@@ -176,7 +176,7 @@ struct SphereFieldChecker::LaneMotion {
   }
 
   // Body bi's lever arms about its chain's revolute joints, every lane, once per batch.
-  DMGPLACE_LANES_INLINE void levers(const SphereFieldChecker& c, std::size_t bi, const PoseBatchF& poses,
+  DMGPLACE_LANES_INLINE void levers(const SphereFieldChecker& c, std::size_t bi, const LinkPoseLanesF& poses,
                                     const LaneXyz* centre) const {
     if (body_done[bi]) return;
     body_done[bi] = 1;
@@ -205,7 +205,7 @@ struct SphereFieldChecker::LaneMotion {
 
   // Joint j's axis and origin in the world, every lane: its child link's pose applied to the axis
   // it holds at its origin.
-  DMGPLACE_LANES_INLINE void joint(const ChainJoint& j, const PoseBatchF& poses) const {
+  DMGPLACE_LANES_INLINE void joint(const ChainJoint& j, const LinkPoseLanesF& poses) const {
     const auto slot = std::size_t(j.slot);
     if (slot_done[slot]) return;
     slot_done[slot] = 1;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "dmgplace/runtime/collision/kernels/lane_points.hpp"
+#include "dmgplace/runtime/collision/kernels/sphere_capsule.hpp"
 #include "dmgplace/runtime/collision/kernels/sphere_field.hpp"
 #include "dmgplace/runtime/collision/kernels/sphere_sphere.hpp"
 #include "dmgplace/runtime/collision/sphere_field_checker.hpp"
@@ -20,14 +21,14 @@
 namespace dmgplace::runtime {
 
 struct SphereFieldChecker::LanePass {
-  static constexpr int N = PoseBatch::kLanes;
+  static constexpr int N = LinkPoseLanesD::kLanes;
   static_assert(N == lanes::WF, "one float vector per coordinate");
   using F = lanes::F;
   using Xyz = LaneXyz;
 
   // Per-thread scratch, sized per query: no allocation once warm.
   struct Scratch {
-    PoseBatchF poses;
+    LinkPoseLanesF poses;
     std::vector<Xyz> world, centre, cap_from, cap_dir;
     std::vector<char> done;  // per body: 1 its spheres' centres, 2 its capsule, are in the world
   };
@@ -41,7 +42,7 @@ struct SphereFieldChecker::LanePass {
   const float* widen;  // per body, then per pair: the static widening (null: none)
   bool wide;
   const double* in[N];
-  const BatchBodies& at;
+  const LaneBodies& at;
   Scratch& s;
   const std::uint32_t all;
   std::uint32_t alive;
@@ -54,13 +55,13 @@ struct SphereFieldChecker::LanePass {
 
   DMGPLACE_LANE_PASS_INLINE LanePass(const SphereFieldChecker& checker, const double* const* q, int count, const float* w,
                                      const LaneMotion* m, bool wide_lanes)
-      : c(checker), motion(m), widen(w), wide(wide_lanes), at(checker.batch_bodies()), s(scratch()),
+      : c(checker), motion(m), widen(w), wide(wide_lanes), at(checker.lane_bodies()), s(scratch()),
         all((1u << count) - 1), alive(all), prims(checker.obstacles_.get()) {
     for (int k = 0; k < N; ++k) in[k] = q[k < count ? k : 0];  // idle lanes repeat the first
     // The bodies in their batch frames (FK then skips the links no chain joint moves) unless a
     // joint value was set since they were carried there.
-    if (&at == &c.framed_) c.kin_->frame_poses_batch(in, s.poses);
-    else c.kin_->link_poses_batch(in, s.poses);
+    if (&at == &c.framed_) c.kin_->lanes().frame_poses(in, s.poses);
+    else c.kin_->lanes().link_poses(in, s.poses);
     s.world.resize(c.spheres_.size());
     s.centre.resize(c.bodies_.size());
     s.cap_from.resize(c.bodies_.size());
@@ -69,7 +70,7 @@ struct SphereFieldChecker::LanePass {
     margin = float(c.lane_margin());
     limit = float(c.lane_limit_);
     // A pair's two spheres (or bounding spheres) each carry their own link's pose error.
-    pair_margin = float(c.lane_margin() + c.kin_->float_pose_error(c.link_reach_));
+    pair_margin = float(c.lane_margin() + c.kin_->lanes().float_pose_error(c.link_reach_));
     capsule_margin = float(c.capsule_rounding_);
   }
 
@@ -118,7 +119,7 @@ struct SphereFieldChecker::LanePass {
   }
   DMGPLACE_LANE_PASS_INLINE std::uint32_t near_capsule(const Xyz& p, const CapsuleLanes& k, float reach_to) const {
     const float r = reach_to + k.radius;
-    return lanes::bits(lanes::near_segment(lanes::load(p.x), lanes::load(p.y), lanes::load(p.z), k.fx, k.fy, k.fz, k.dx, k.dy,
+    return lanes::bits(kernels::near_segment(lanes::load(p.x), lanes::load(p.y), lanes::load(p.z), k.fx, k.fy, k.fz, k.dx, k.dy,
                                            k.dz, k.inv_len2, lanes::splatf(r * r)),
                        wide);
   }

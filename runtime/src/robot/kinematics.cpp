@@ -1,7 +1,7 @@
 #include "dmgplace/runtime/robot/kinematics.hpp"
+#include "dmgplace/runtime/robot/kinematics_lanes.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -132,7 +132,7 @@ Kinematics::Kinematics(const RobotModel& model, const std::string& base, const s
     m.quarter = permuted && (m.axis >= 0 || jt.type == JointType::Fixed || jt.type == JointType::Prismatic);
   }
   base_is_root_ = parent_joint[std::size_t(base_)] < 0;
-  build_batch_plan();
+  lanes_ = std::make_shared<const Lanes>(*this);
 }
 
 void Kinematics::set_joint_value(const std::string& joint, double value) {
@@ -140,7 +140,7 @@ void Kinematics::set_joint_value(const std::string& joint, double value) {
   if (j < 0) throw Error(model_->name, "joint", "no joint named '" + joint + "'");
   if (chain_slot_[std::size_t(j)] >= 0) throw Error(model_->name, "joint '" + joint + "'", "is driven by the chain");
   fixed_values_[std::size_t(j)] = value;
-  build_batch_plan();
+  lanes_ = std::make_shared<const Lanes>(*this);
 }
 
 double Kinematics::joint_value(int j, const Eigen::VectorXd& q) const {
@@ -289,50 +289,6 @@ std::vector<char> Kinematics::moving_links() const {
     for (std::size_t l = 0; l < a.size(); ++l) moving[l] |= !a[l].isApprox(b[l], 1e-12);
   }
   return moving;
-}
-
-// A joint the chain does not drive (fixed, or set outside the chain) carries its child rigidly
-// with its parent: the child joins the parent's frame, at the parent's offset composed with the
-// joint at its value. Only when the base is the root: poses are then the root-relative ones FK
-// composes, and the base's own pose is not needed to re-express them.
-void Kinematics::build_batch_frames() {
-  using Rows = Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>;  // BatchJoint's row-major arrays
-  using Vec = Eigen::Map<Eigen::Vector3d>;
-  static std::atomic<std::uint64_t> versions{0};
-  plan_version_ = ++versions;
-  const std::size_t n = model_->links.size();
-  frame_of_.resize(n);
-  for (std::size_t l = 0; l < n; ++l) frame_of_[l] = int(l);
-  frame_offset_.assign(n, Eigen::Isometry3d::Identity());
-  frame_plan_.clear();
-  for (BatchJoint f : batch_plan_) {
-    const auto parent = std::size_t(f.parent);
-    if (base_is_root_ && (f.type == 0 || f.slot < 0)) {
-      // Its value is f.offset (no slot): the plan's own rotation and translation terms at it.
-      const double v = f.offset;
-      Eigen::Isometry3d joint = Eigen::Isometry3d::Identity();
-      joint.linear() = Rows(f.O);
-      if (f.type == 1) joint.linear() += std::sin(v) * Rows(f.OK) + (1 - std::cos(v)) * Rows(f.OKK);
-      joint.translation() = Vec(f.t);
-      if (f.type == 2) joint.translation() += v * Vec(f.a);
-      frame_of_[std::size_t(f.child)] = frame_of_[parent];
-      frame_offset_[std::size_t(f.child)] = frame_offset_[parent] * joint;
-      continue;
-    }
-    if (frame_of_[parent] != f.parent) {
-      // A chain joint below links it would carry hangs off their frame, its origin carried there.
-      const Eigen::Isometry3d& F = frame_offset_[parent];
-      const Eigen::Matrix3d R = F.linear();
-      f.parent = frame_of_[parent];
-      Rows(f.O) = R * Rows(f.O);
-      Rows(f.OK) = R * Rows(f.OK);
-      Rows(f.OKK) = R * Rows(f.OKK);
-      Vec(f.t) = R * Vec(f.t) + F.translation();
-      Vec(f.a) = R * Vec(f.a);
-      if (R != Eigen::Matrix3d::Identity()) f.quarter = false;  // O is no longer a signed permutation
-    }
-    frame_plan_.push_back(f);
-  }
 }
 
 bool Kinematics::within_limits(const Eigen::VectorXd& q, double tol) const {

@@ -1,16 +1,19 @@
-// geometry/capsule.hpp: the capsule holds every sphere it was fitted to, and the lanes' segment
-// test never calls a point apart that is within reach, beyond its stated rounding.
+// geometry/capsule.hpp and collision/kernels/sphere_capsule.hpp: the capsule holds every sphere it
+// was fitted to, and the lanes' segment test never calls a point apart that is within reach,
+// beyond its stated rounding.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 #include <random>
 
+#include "dmgplace/runtime/collision/kernels/sphere_capsule.hpp"
 #include "dmgplace/runtime/geometry/capsule.hpp"
 
 using dmgplace::runtime::bounding_capsule;
 using dmgplace::runtime::distance_to_segment;
 namespace lanes = dmgplace::runtime::lanes;
+namespace kernels = dmgplace::runtime::kernels;
 
 namespace {
 
@@ -25,13 +28,13 @@ __attribute__((target("avx2,fma"))) std::uint32_t near_fma(const float* p, const
                                                             float reach2) {
   using lanes::load;
   using lanes::splatf;
-  return lanes::bits(lanes::near_segment(load(p), load(p + 8), load(p + 16), load(f), load(f + 8), load(f + 16), load(d),
+  return lanes::bits(kernels::near_segment(load(p), load(p + 8), load(p + 16), load(f), load(f + 8), load(f + 16), load(d),
                                          load(d + 8), load(d + 16), splatf(inv), splatf(reach2)));
 }
 std::uint32_t near_plain(const float* p, const float* f, const float* d, float inv, float reach2) {
   using lanes::load;
   using lanes::splatf;
-  return lanes::bits(lanes::near_segment(load(p), load(p + 8), load(p + 16), load(f), load(f + 8), load(f + 16), load(d),
+  return lanes::bits(kernels::near_segment(load(p), load(p + 8), load(p + 16), load(f), load(f + 8), load(f + 16), load(d),
                                          load(d + 8), load(d + 16), splatf(inv), splatf(reach2)));
 }
 
@@ -116,7 +119,7 @@ TEST(Capsule, LaneSegmentTestIsWithinItsRoundingOfTheExactDistance) {
       const float inv = float(1.0 / df.cast<double>().squaredNorm());
       const std::uint32_t bits = test(p, f, d, inv, float(reach * reach));
       for (int k = 0; k < 8; ++k) {
-        const double slack = lanes::kSegmentRounding * u * ((pts[std::size_t(k)] - ff).cast<double>().norm() + df.norm()) + 2 * u * reach;
+        const double slack = kernels::kSegmentRounding * u * ((pts[std::size_t(k)] - ff).cast<double>().norm() + df.norm()) + 2 * u * reach;
         if (bits >> k & 1) {
           ++near;
           ASSERT_LT(exact[k], reach + slack) << "near, though the exact distance is well past the reach";

@@ -42,12 +42,12 @@ TEST(FastLayerWithoutField, AnswersAsWithAFieldItNeverReads) {
   int free = 0;
   for (int round = 0; round < 400; ++round) {
     std::vector<Eigen::VectorXd> qs;
-    const double* ptr[PoseBatch::kLanes];
-    for (int k = 0; k < PoseBatch::kLanes; ++k) qs.push_back(random_q(w.kin, rng));
-    for (int k = 0; k < PoseBatch::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
+    const double* ptr[LinkPoseLanesD::kLanes];
+    for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) qs.push_back(random_q(w.kin, rng));
+    for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
     const Eigen::VectorXd dir = random_q(w.kin, rng) - qs[0];
     ASSERT_EQ(with_field.free_lanes(ptr), without.free_lanes(ptr));
-    ASSERT_EQ(with_field.free_lanes_along(ptr, PoseBatch::kLanes, dir, 0.05), without.free_lanes_along(ptr, PoseBatch::kLanes, dir, 0.05));
+    ASSERT_EQ(with_field.free_lanes_along(ptr, LinkPoseLanesD::kLanes, dir, 0.05), without.free_lanes_along(ptr, LinkPoseLanesD::kLanes, dir, 0.05));
     const SphereCheck a = with_field.check_along(qs[0], dir), b = without.check_along(qs[0], dir);
     ASSERT_EQ(a.free(), b.free());
     ASSERT_EQ(a.env_link_count, b.env_link_count);

@@ -39,8 +39,8 @@ Scene shelf_scene() {
 }
 
 RandomLanes::RandomLanes(const Kinematics& kin, std::mt19937_64& rng, std::normal_distribution<double>& n) {
-  for (int k = 0; k < PoseBatch::kLanes; ++k) qs.push_back(random_q(kin, rng));
-  for (int k = 0; k < PoseBatch::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
+  for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) qs.push_back(random_q(kin, rng));
+  for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
   u.resize(kin.dof());
   for (int i = 0; i < u.size(); ++i) u[i] = n(rng);
   u.normalize();

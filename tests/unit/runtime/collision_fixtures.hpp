@@ -46,7 +46,7 @@ struct ShelfWorld {
 // direction (from n, which keeps its spare draw between batches), drawn in that order.
 struct RandomLanes {
   std::vector<Eigen::VectorXd> qs;
-  const double* ptr[runtime::PoseBatch::kLanes];
+  const double* ptr[runtime::LinkPoseLanesD::kLanes];
   Eigen::VectorXd u;
   RandomLanes(const runtime::Kinematics& kin, std::mt19937_64& rng, std::normal_distribution<double>& n);
   RandomLanes(const RandomLanes&) = delete;  // ptr points into qs

@@ -26,10 +26,10 @@ TEST(Lanes, ForwardKinematicsEqualsTheScalarOneOnEveryPath) {
     Kinematics kin(arm.model, base, "dmgarm_tcp");
     kin.set_joint_value("dmgarm_finger_joint1", 0.021);  // a mimic follows it
     batches_on_every_path(kin, 3, 50, [](int, Eigen::VectorXd&) {}, [&](const std::vector<Eigen::VectorXd>& qs, const double* const* ptr) {
-      PoseBatch batch;
-      kin.link_poses_batch(ptr, batch);
+      LinkPoseLanesD batch;
+      kin.lanes().link_poses(ptr, batch);
       std::vector<Eigen::Isometry3d> poses;
-      for (int k = 0; k < PoseBatch::kLanes; ++k) {
+      for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) {
         kin.link_poses(qs[std::size_t(k)], poses);
         for (std::size_t l = 0; l < poses.size(); ++l)
           for (int e = 0; e < 12; ++e) {
@@ -51,7 +51,7 @@ TEST(Lanes, FloatForwardKinematicsStaysWithinItsErrorBound) {
   for (const char* base : {"dmgarm_link0", "dmgarm_link2"}) {
     Kinematics kin(arm.model, base, "dmgarm_tcp");
     kin.set_joint_value("dmgarm_finger_joint1", 0.021);
-    const double bound = kin.float_pose_error(reach);
+    const double bound = kin.lanes().float_pose_error(reach);
     EXPECT_GT(bound, 0.0);
     EXPECT_LT(bound, 1e-4) << "a bound this loose would cost the batch its proofs";
     double worst = 0;
@@ -59,10 +59,10 @@ TEST(Lanes, FloatForwardKinematicsStaysWithinItsErrorBound) {
       if (round % 4 == 0) q *= 40.0;  // sin and cos far from the first turn
     };
     batches_on_every_path(kin, 5, 200, wide_angles, [&](const std::vector<Eigen::VectorXd>& qs, const double* const* ptr) {
-      PoseBatchF batch;
-      kin.link_poses_batch(ptr, batch);
+      LinkPoseLanesF batch;
+      kin.lanes().link_poses(ptr, batch);
       std::vector<Eigen::Isometry3d> poses;
-      for (int k = 0; k < PoseBatch::kLanes; ++k) {
+      for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) {
         kin.link_poses(qs[std::size_t(k)], poses);
         for (std::size_t l = 0; l < poses.size(); ++l)
           for (int axis = 0; axis < 7; ++axis) {
@@ -111,10 +111,10 @@ TEST(Lanes, FreeLanesAreFreeForTheScalarLayerAndFclAndMostAreProven) {
       int scalar_free = 0, batch_free = 0;
       for (int round = 0; round < 1500; ++round) {
         std::vector<Eigen::VectorXd> qs;
-        const double* ptr[PoseBatch::kLanes];
-        for (int k = 0; k < PoseBatch::kLanes; ++k) qs.push_back(random_q(w.kin, rng));
-        for (int k = 0; k < PoseBatch::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
-        const int count = 1 + round % PoseBatch::kLanes;  // partial batches too
+        const double* ptr[LinkPoseLanesD::kLanes];
+        for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) qs.push_back(random_q(w.kin, rng));
+        for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
+        const int count = 1 + round % LinkPoseLanesD::kLanes;  // partial batches too
         const std::uint32_t mask = checker->free_lanes(ptr, count);
         EXPECT_EQ(mask >> count, 0u);
         for (int k = 0; k < count; ++k) {
@@ -152,7 +152,7 @@ TEST(Lanes, FloatLanesStayConservativeAtTheEdgeOfTheScene) {
     std::mt19937_64 rng(5);
     for (int batch = 0; batch < 60; ++batch) {
       std::vector<Eigen::VectorXd> qs;
-      while (int(qs.size()) < PoseBatch::kLanes) {
+      while (int(qs.size()) < LinkPoseLanesD::kLanes) {
         Eigen::VectorXd a = random_q(w.kin, rng), b = random_q(w.kin, rng);
         if (!checker.is_free(a) || checker.is_free(b)) continue;
         for (int i = 0; i < 45; ++i) {  // a stays free, b not
@@ -162,8 +162,8 @@ TEST(Lanes, FloatLanesStayConservativeAtTheEdgeOfTheScene) {
         const SphereCheck edge = checker.check(b);
         if (!edge.environment_free && edge.self_free) qs.push_back(b);
       }
-      const double* ptr[PoseBatch::kLanes];
-      for (int k = 0; k < PoseBatch::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
+      const double* ptr[LinkPoseLanesD::kLanes];
+      for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
       ASSERT_EQ(checker.free_lanes(ptr), 0u) << "the batch said free just past the scene's edge";
     }
   }
@@ -213,7 +213,7 @@ TEST(Lanes, FreeLanesFollowJointsSetAfterTheCheckerWasBuilt) {
     const std::uint32_t a = before.free_lanes(ptr), b = fresh.free_lanes(ptr);
     before_free[at] += __builtin_popcount(a);
     fresh_free[at] += __builtin_popcount(b);
-    for (int k = 0; k < PoseBatch::kLanes; ++k) {
+    for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) {
       if (!((a | b) >> k & 1u)) continue;
       ASSERT_TRUE(exact.is_free(qs[std::size_t(k)])) << to_string(simd_path()) << " " << qs[std::size_t(k)].transpose();
     }
@@ -249,10 +249,10 @@ TEST(Lanes, LanesAlongADirectionProveEveryStateWithinTheirReach) {
         const auto& ptr = batch.ptr;
         const auto& u = batch.u;
         const double reach = round % 2 ? 0.08 : 0.03;
-        const std::uint32_t alone = checker->free_lanes(ptr), along = checker->free_lanes_along(ptr, PoseBatch::kLanes, u, reach);
-        ASSERT_EQ(checker->free_lanes_along(ptr, PoseBatch::kLanes, u, 0.0), alone);
+        const std::uint32_t alone = checker->free_lanes(ptr), along = checker->free_lanes_along(ptr, LinkPoseLanesD::kLanes, u, reach);
+        ASSERT_EQ(checker->free_lanes_along(ptr, LinkPoseLanesD::kLanes, u, 0.0), alone);
         ASSERT_EQ(along & ~alone, 0u) << "proven along but not alone";
-        for (int k = 0; k < PoseBatch::kLanes; ++k) {
+        for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) {
           if (!(alone >> k & 1u)) continue;
           bool all_free = true;
           for (double t = -reach; t <= reach + 1e-12 && all_free; t += 0.0025) all_free = judge(qs[std::size_t(k)] + t * u);
@@ -304,10 +304,10 @@ TEST(Lanes, MotionBoundsCoverEveryPointOfEachBodyAndPair) {
     const auto& ptr = batch.ptr;
     const auto& u = batch.u;
     const double reach = std::array{0.01, 0.04, 0.12}[std::size_t(round % 3)];
-    const auto bounds = c.held.motion_bounds(ptr, PoseBatch::kLanes, u, reach);
+    const auto bounds = c.held.motion_bounds(ptr, LinkPoseLanesD::kLanes, u, reach);
     if (bounds.empty()) continue;
     ++batches;
-    for (int k = 0; k < PoseBatch::kLanes; ++k) {
+    for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) {
       w.kin.link_poses(qs[std::size_t(k)], p0);
       for (int step = -10; step <= 10; ++step) {
         if (step == 0) continue;
@@ -374,12 +374,12 @@ TEST(Lanes, LanesHeadingForACollisionAreNotProvenPastIt) {
         const double reach = std::min(0.04, hit / 2);
         auto short_of = [&](int k) { return reach * (0.15 + 0.125 * k); };  // 0.15 .. 1.025 reaches short of it
         std::vector<Eigen::VectorXd> qs;
-        const double* ptr[PoseBatch::kLanes];
-        for (int k = 0; k < PoseBatch::kLanes; ++k) qs.push_back(q + (hit - short_of(k)) * u);
-        for (int k = 0; k < PoseBatch::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
-        const std::uint32_t along = checker->free_lanes_along(ptr, PoseBatch::kLanes, u, reach);
+        const double* ptr[LinkPoseLanesD::kLanes];
+        for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) qs.push_back(q + (hit - short_of(k)) * u);
+        for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
+        const std::uint32_t along = checker->free_lanes_along(ptr, LinkPoseLanesD::kLanes, u, reach);
         const std::uint32_t alone = checker->free_lanes(ptr);
-        for (int k = 0; k < PoseBatch::kLanes; ++k) {
+        for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) {
           if (!(short_of(k) < reach)) continue;
           free_alone += alone >> k & 1u;
           ASSERT_FALSE(along >> k & 1u) << to_string(path) << ": lane " << k << " proven " << short_of(k) / reach

@@ -9,6 +9,7 @@
 #include "dmgplace/runtime/geometry/fast_sincos.hpp"
 #include "dmgplace/runtime/robot/ik.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
+#include "dmgplace/runtime/robot/kinematics_lanes.hpp"
 #include "dmgplace/runtime/system/simd_dispatch.hpp"
 #include "fixtures.hpp"
 #include "lane_batches.hpp"
@@ -184,15 +185,15 @@ TEST(Kinematics, QuarterTurnJointsEqualTheirPlainProduct) {
     force_simd_path(path);
     for (int round = 0; round < 40; ++round) {
       std::vector<Eigen::VectorXd> qs;
-      const double* ptr[PoseBatch::kLanes];
-      for (int lane = 0; lane < PoseBatch::kLanes; ++lane) qs.push_back(random_q(k, rng));
-      for (int lane = 0; lane < PoseBatch::kLanes; ++lane) ptr[lane] = qs[std::size_t(lane)].data();
-      PoseBatch batch;
-      k.link_poses_batch(ptr, batch);
-      PoseBatchF floats;  // the batch sphere check's kinematics: within its error bound
-      k.link_poses_batch(ptr, floats);
-      const double reach = 1.0, bound = k.float_pose_error(reach);
-      for (int lane = 0; lane < PoseBatch::kLanes; ++lane) {
+      const double* ptr[LinkPoseLanesD::kLanes];
+      for (int lane = 0; lane < LinkPoseLanesD::kLanes; ++lane) qs.push_back(random_q(k, rng));
+      for (int lane = 0; lane < LinkPoseLanesD::kLanes; ++lane) ptr[lane] = qs[std::size_t(lane)].data();
+      LinkPoseLanesD batch;
+      k.lanes().link_poses(ptr, batch);
+      LinkPoseLanesF floats;  // the batch sphere check's kinematics: within its error bound
+      k.lanes().link_poses(ptr, floats);
+      const double reach = 1.0, bound = k.lanes().float_pose_error(reach);
+      for (int lane = 0; lane < LinkPoseLanesD::kLanes; ++lane) {
         const Eigen::VectorXd& q = qs[std::size_t(lane)];
         k.link_poses(q, poses);
         Eigen::Isometry3d want = Eigen::Isometry3d::Identity();
@@ -238,26 +239,26 @@ static void expect_frames_place_every_link(const Kinematics& k, std::uint64_t se
     const Joint* pj = parent_joint >= 0 ? &m.joints[std::size_t(parent_joint)] : nullptr;
     const bool moved = pj && pj->type != JointType::Fixed && (k.chain_slot(parent_joint) >= 0 || (pj->mimic >= 0 && k.chain_slot(pj->mimic) >= 0));
     const bool root_base = std::none_of(m.joints.begin(), m.joints.end(), [&](const Joint& j) { return j.child == k.base_link(); });
-    if (root_base) EXPECT_EQ(k.batch_frame(int(l)) == int(l), parent_joint < 0 || moved) << "link " << m.links[l].name;
-    else EXPECT_EQ(k.batch_frame(int(l)), int(l)) << "the base is not the root: every link its own frame";
+    if (root_base) EXPECT_EQ(k.lanes().frame(int(l)) == int(l), parent_joint < 0 || moved) << "link " << m.links[l].name;
+    else EXPECT_EQ(k.lanes().frame(int(l)), int(l)) << "the base is not the root: every link its own frame";
   }
   std::vector<Eigen::Isometry3d> poses;
   test::batches_on_every_path(k, seed, 60, [&](const std::vector<Eigen::VectorXd>& qs, const double* const* ptr) {
-    PoseBatchF frames;
-    k.frame_poses_batch(ptr, frames);
-    for (int lane = 0; lane < PoseBatch::kLanes; ++lane) {
+    LinkPoseLanesF frames;
+    k.lanes().frame_poses(ptr, frames);
+    for (int lane = 0; lane < LinkPoseLanesD::kLanes; ++lane) {
       k.link_poses(qs[std::size_t(lane)], poses);
       for (std::size_t l = 0; l < poses.size(); ++l) {
-        const auto& f = frames.pose[std::size_t(k.batch_frame(int(l)))];
+        const auto& f = frames.pose[std::size_t(k.lanes().frame(int(l)))];
         auto at = [&](int e) { return f[std::size_t(e)][std::size_t(lane)]; };
         for (int axis = 0; axis < 7; ++axis) {
           Eigen::Vector3d p = Eigen::Vector3d::Zero();
           if (axis < 6) p[axis % 3] = axis < 3 ? 0.3 : -0.3;
-          const Eigen::Vector3f in_frame = (k.batch_frame_offset(int(l)) * p).cast<float>();
+          const Eigen::Vector3f in_frame = (k.lanes().frame_offset(int(l)) * p).cast<float>();
           Eigen::Vector3d got;
           for (int r = 0; r < 3; ++r)
             got[r] = double(at(3 * r) * in_frame.x() + at(3 * r + 1) * in_frame.y() + at(3 * r + 2) * in_frame.z() + at(9 + r));
-          ASSERT_LE((got - poses[l] * p).norm(), k.float_pose_error(in_frame.cast<double>().norm()))
+          ASSERT_LE((got - poses[l] * p).norm(), k.lanes().float_pose_error(in_frame.cast<double>().norm()))
               << to_string(simd_path()) << " link " << m.links[l].name << " point " << axis;
         }
       }
@@ -293,11 +294,11 @@ TEST(Kinematics, BatchFramesPlaceEveryLinkWithinTheFloatBound) {
   joint("j4", JointType::Revolute, 7, 9, Eigen::Vector3d::UnitZ());
   Kinematics k(m, "base", "wrist");
   ASSERT_EQ(k.dof(), 4);
-  EXPECT_EQ(k.batch_frame(8), 5) << "the finger rides l3 (through the fixed hand)";
-  EXPECT_EQ(k.batch_frame(4), 3);
-  const std::uint64_t before = k.plan_version();
+  EXPECT_EQ(k.lanes().frame(8), 5) << "the finger rides l3 (through the fixed hand)";
+  EXPECT_EQ(k.lanes().frame(4), 3);
+  const std::uint64_t before = k.lanes().version;
   k.set_joint_value("finger", 0.03);
-  EXPECT_NE(k.plan_version(), before);
+  EXPECT_NE(k.lanes().version, before);
   expect_frames_place_every_link(k, 5);
   k.set_joint_value("finger", 0.01);
   expect_frames_place_every_link(k, 6);
@@ -329,24 +330,24 @@ TEST(Kinematics, FloatBatchHandlesWoundAndNanJointsInSomeLanes) {
     m.joints.push_back(jt);
   }
   Kinematics k(m, "l0", "l3");
-  const double bound = k.float_pose_error(0.0);
+  const double bound = k.lanes().float_pose_error(0.0);
   std::vector<Eigen::Isometry3d> poses;
   const ScopedSimdPath restore_simd;  // forced paths end with the test
   for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
     force_simd_path(path);
-    for (int wild_lane = 0; wild_lane < PoseBatch::kLanes; ++wild_lane) {
+    for (int wild_lane = 0; wild_lane < LinkPoseLanesD::kLanes; ++wild_lane) {
       std::vector<Eigen::VectorXd> qs;
-      const double* ptr[PoseBatch::kLanes];
-      for (int lane = 0; lane < PoseBatch::kLanes; ++lane) {
+      const double* ptr[LinkPoseLanesD::kLanes];
+      for (int lane = 0; lane < LinkPoseLanesD::kLanes; ++lane) {
         Eigen::VectorXd q = Eigen::Vector3d(0.3 * lane - 1, 2.0 - 0.5 * lane, 0.7 * lane);
         if (lane == wild_lane) q[lane % 3] = lane % 2 ? 3.5e14 + lane : -2.25e5;
-        if (lane == (wild_lane + 3) % PoseBatch::kLanes) q[1] = std::nan("");
+        if (lane == (wild_lane + 3) % LinkPoseLanesD::kLanes) q[1] = std::nan("");
         qs.push_back(q);
       }
-      for (int lane = 0; lane < PoseBatch::kLanes; ++lane) ptr[lane] = qs[std::size_t(lane)].data();
-      PoseBatchF floats;
-      k.link_poses_batch(ptr, floats);
-      for (int lane = 0; lane < PoseBatch::kLanes; ++lane) {
+      for (int lane = 0; lane < LinkPoseLanesD::kLanes; ++lane) ptr[lane] = qs[std::size_t(lane)].data();
+      LinkPoseLanesF floats;
+      k.lanes().link_poses(ptr, floats);
+      for (int lane = 0; lane < LinkPoseLanesD::kLanes; ++lane) {
         const bool nan_lane = std::isnan(qs[std::size_t(lane)][1]);
         if (!nan_lane) k.link_poses(qs[std::size_t(lane)], poses);
         for (std::size_t l = 2; l <= 3; ++l) {  // past the NaN joint

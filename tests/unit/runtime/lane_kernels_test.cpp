@@ -11,13 +11,15 @@
 #include "dmgplace/runtime/collision/kernels/sphere_cylinder.hpp"
 #include "dmgplace/runtime/collision/kernels/sphere_field.hpp"
 #include "dmgplace/runtime/collision/kernels/sphere_sphere.hpp"
+#include "dmgplace/runtime/collision/kernels/table_lookup.hpp"
+#include "dmgplace/formats/robot_artifact.hpp"
 #include "test_support.hpp"
 
 using namespace dmgplace;
 using namespace dmgplace::runtime;
 
 namespace {
-constexpr int N = PoseBatch::kLanes;
+constexpr int N = LinkPoseLanesD::kLanes;
 
 LaneXyz random_points(std::mt19937_64& rng, double extent) {
   std::uniform_real_distribution<double> u(-extent, extent);
@@ -160,4 +162,47 @@ TEST(LaneKernels, CylinderGapIsTheExactDistanceToTheCylinder) {
   }
   EXPECT_GT(inside, 500);
   EXPECT_GT(outside, 5000);
+}
+
+// The lanes' table reads agree with the scalar lookup (formats::SelfDistanceTable::lower_bound on
+// the same values) in every lane: 1-D and 2-D tables, joints in any slot, points off the grid and
+// NaN.
+TEST(LaneKernels, TableApartAgreesWithTheScalarLookup) {
+  std::mt19937_64 rng(19);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int apart = 0, near = 0;
+  for (int round = 0; round < 400; ++round) {
+    formats::SelfDistanceTable t;
+    const bool two = round % 2 == 0;
+    t.lower = {-2.0 + unit(rng), -1.5 + unit(rng)};
+    t.step = {0.02 + 0.1 * unit(rng), 0.02 + 0.1 * unit(rng)};
+    t.slope = {0.3 * unit(rng), 0.3 * unit(rng)};
+    t.count = {2 + int(40 * unit(rng)), two ? 2 + int(40 * unit(rng)) : 1};
+    std::vector<std::uint16_t> tenths(std::size_t(t.count[0] * t.count[1]));
+    for (auto& v : tenths) v = std::uint16_t(2000 * unit(rng));  // up to 0.2 m
+    t.distance.clear();
+    for (auto v : tenths) t.distance.push_back(float(1e-4 * v));
+    const int slot[2] = {int(round % 3), two ? int(3 + round % 2) : -1};
+    const double inv_step[2] = {1 / t.step[0], 1 / t.step[1]};
+    std::array<std::array<double, 5>, N> qs;
+    const double* q[N];
+    for (int k = 0; k < N; ++k) {
+      for (double& v : qs[std::size_t(k)]) v = -3 + 6 * unit(rng);  // beyond the grid too
+      if (round % 17 == 0 && k == 3) qs[std::size_t(k)][std::size_t(slot[0])] = std::numeric_limits<double>::quiet_NaN();
+      q[k] = qs[std::size_t(k)].data();
+    }
+    const double padding = 0.1 * unit(rng);
+    const std::uint32_t mask =
+        kernels::table_apart({slot, t.lower, t.step, inv_step, t.slope, t.count, tenths.data()}, q, padding, false);
+    for (int k = 0; k < N; ++k) {
+      const double x0 = q[k][slot[0]], x1 = slot[1] >= 0 ? q[k][slot[1]] : 0.0;
+      // The scalar lookup on the float distances: the same node and loss; values within rounding.
+      const double bound = t.lower_bound(x0, x1);
+      if (std::abs(bound - padding) < 1e-6) continue;
+      EXPECT_EQ(bool(mask >> k & 1u), bound > padding) << "round " << round << " lane " << k << ": " << bound << " vs " << padding;
+      (bound > padding ? apart : near)++;
+    }
+  }
+  EXPECT_GT(apart, 300);
+  EXPECT_GT(near, 300);
 }

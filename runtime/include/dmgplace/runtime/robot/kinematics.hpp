@@ -3,8 +3,6 @@
 // geometric Jacobian. Our own Eigen code (no KDL: see docs). Hot-path calls do not allocate once
 // the output containers have their size.
 #include <Eigen/Geometry>
-#include <array>
-#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -14,20 +12,6 @@
 namespace dmgplace::runtime {
 
 using Jacobian = Eigen::Matrix<double, 6, Eigen::Dynamic>;  // rows: linear velocity, angular velocity
-
-// Link poses of kLanes configurations at once, structure of arrays: element e of link l's pose in
-// lane k is pose[l][e][k], e = 0..8 the rotation row-major, 9..11 the translation. One lane per
-// configuration, so each arithmetic step runs over all lanes in SIMD registers.
-template <class T>
-struct PoseBatchOf {
-  static constexpr int kLanes = 8;
-  using Lanes = std::array<T, kLanes>;
-  std::vector<std::array<Lanes, 12>> pose;
-};
-using PoseBatch = PoseBatchOf<double>;
-// In single precision: all 8 lanes in one AVX register per step. Kinematics::float_pose_error
-// bounds how far its positions are from the double ones.
-using PoseBatchF = PoseBatchOf<float>;
 
 class Kinematics {
  public:
@@ -58,26 +42,10 @@ class Kinematics {
   // to it through their ancestors (the whole tree is expressed in the base frame).
   void link_poses(const Eigen::VectorXd& q, std::vector<Eigen::Isometry3d>& poses) const;
   Eigen::Isometry3d tip_pose(const Eigen::VectorXd& q) const;
-  // link_poses for PoseBatch::kLanes configurations q[0..kLanes) (each dof() values) in one pass:
-  // AVX2 + FMA where the CPU has them (system/simd_dispatch.hpp).
-  void link_poses_batch(const double* const* q, PoseBatch& out) const;
-  // The same in floats (joint values, sin and cos still in doubles, each rounded once).
-  void link_poses_batch(const double* const* q, PoseBatchF& out) const;
-  // Batch frames: a link that no chain joint moves relative to its parent (a flange, a hand, its
-  // fingers at their set values) keeps one pose in the frame of its nearest ancestor that one
-  // does move (or the root): batch_frame(link), at batch_frame_offset(link). frame_poses_batch
-  // computes only the frame links' poses (the others are left as they were), so a caller that
-  // carries its points into their frames skips FK for the rest. Every link is its own frame when
-  // the base is not the model's root. plan_version() changes whenever the offsets may have (a
-  // joint value set; unique across objects): a caller keeping points in frames checks it first.
-  int batch_frame(int link) const { return frame_of_[std::size_t(link)]; }
-  const Eigen::Isometry3d& batch_frame_offset(int link) const { return frame_offset_[std::size_t(link)]; }
-  void frame_poses_batch(const double* const* q, PoseBatchF& out) const;
-  std::uint64_t plan_version() const { return plan_version_; }
-  // A bound, in metres, on how far a point within `reach` of its link's origin, placed by a
-  // PoseBatchF pose in floats (rotation times point plus translation), can be from where the
-  // double poses put it (prismatic joints within their limits; any angle).
-  double float_pose_error(double reach) const;
+  // Forward kinematics in SIMD lanes, for the runtime's own collision checks (not installed:
+  // robot/kinematics_lanes.hpp); rebuilt whenever a joint value is set.
+  struct Lanes;
+  const Lanes& lanes() const { return *lanes_; }
   // Geometric Jacobian of the tip origin in the base frame.
   void jacobian(const Eigen::VectorXd& q, Jacobian& J) const;
   // Tip pose and Jacobian in one pass.
@@ -118,33 +86,7 @@ class Kinematics {
   std::vector<JointMotionTerms> terms_;
   std::vector<int> roots_;  // links without a parent joint
 
- public:
-  // link_poses_batch's view of each joint in topological order, rebuilt when a set value changes:
-  // value = mult * q[slot] + offset (slot < 0: offset alone), mimic chains folded in.
-  struct BatchJoint {
-    int type = 0;  // 0 fixed, 1 revolute, 2 prismatic
-    int parent = 0, child = 0, slot = -1;
-    double mult = 1, offset = 0;
-    double O[9], OK[9], OKK[9], t[3], a[3];  // origin rotation (row-major), Rodrigues terms, translation, O * axis
-    bool quarter = false;  // JointMotionTerms' quarter-turn form
-    int perm[3] = {0, 1, 2}, axis = -1;
-    double sign[3] = {1, 1, 1}, axis_sign = 1;
-  };
-
- private:
-  std::vector<BatchJoint> batch_plan_;
-  void build_batch_plan();
-  // The batch frames (batch_frame): per link its frame and its pose there, and batch_plan_'s
-  // joints whose child is a frame, carried to their parent's frame (frame_poses_batch's plan).
-  // Built with batch_plan_.
-  std::vector<int> frame_of_;
-  std::vector<Eigen::Isometry3d> frame_offset_;
-  std::vector<BatchJoint> frame_plan_;
-  std::uint64_t plan_version_ = 0;
-  void build_batch_frames();
-  void bound_float_error();
-  // float_pose_error's terms, over all links: rotation error (Frobenius), translation error.
-  double float_rotation_error_ = 0, float_translation_error_ = 0;
+  std::shared_ptr<const Lanes> lanes_;  // shared by copies until a joint value is set
 
   std::shared_ptr<const RobotModel> model_;  // shared by copies (e.g. one per finger opening)
   int base_ = -1, tip_ = -1;

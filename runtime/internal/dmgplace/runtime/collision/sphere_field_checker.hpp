@@ -19,7 +19,7 @@
 #include "dmgplace/runtime/collision/primitive_obstacles.hpp"
 #include "dmgplace/runtime/geometry/capsule.hpp"
 #include "dmgplace/runtime/geometry/grid3.hpp"
-#include "dmgplace/runtime/robot/kinematics.hpp"
+#include "dmgplace/runtime/robot/kinematics_lanes.hpp"
 
 namespace dmgplace::runtime {
 
@@ -128,13 +128,13 @@ class SphereFieldChecker {
   bool pair_speed(const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b, const Eigen::VectorXd& direction,
                   DisplacementBound& bound) const;
 
-  // Which of `count` (<= PoseBatch::kLanes) configurations q[0..count) the spheres alone prove
+  // Which of `count` (<= LinkPoseLanesD::kLanes) configurations q[0..count) the spheres alone prove
   // free, in one pass over all of them (batch forward kinematics, sphere centres in SIMD lanes):
   // bit k for q[k]. Proven means every body clear of the scene (the field's bound inside the grid,
   // then the exact primitives when set, anywhere) and every checked pair apart (spheres, or its
   // self-distance table's bound). An unset bit is undecided, never "in collision": check() that
   // configuration. Certificates stay with check_along().
-  std::uint32_t free_lanes(const double* const* q, int count = PoseBatch::kLanes) const;
+  std::uint32_t free_lanes(const double* const* q, int count = LinkPoseLanesD::kLanes) const;
   // As free_lanes, but bit k says more: every configuration within `reach` (joint-space length)
   // of q[k] along +-direction is free. Each body's test is widened by how far it can move over
   // that length, each pair's (and its table's) by how far they can move relative to each other
@@ -154,7 +154,7 @@ class SphereFieldChecker {
   struct MotionBound {
     int link_a = -1, link_b = -1;
     bool attached = false;  // the held object's body, or a pair with it
-    std::array<double, PoseBatch::kLanes> metres{};
+    std::array<double, LinkPoseLanesD::kLanes> metres{};
   };
   std::vector<MotionBound> motion_bounds(const double* const* q, int count, const Eigen::VectorXd& direction,
                                          double reach) const;
@@ -220,7 +220,7 @@ class SphereFieldChecker {
       return v;
     }
     // Bit k set where lower_bound(q[k]) > padding, for 8 configurations in SIMD lanes (defined
-    // in sphere_batch.cpp, its only user; `wide` as in free_lanes_body).
+    // in sphere_lanes.cpp, its only user; `wide` as in free_lanes_body).
     std::uint32_t apart_lanes(const double* const* q, double padding, bool wide) const;
     // Start loading q's node before FK needs the cache (the lookup comes after it).
     void prefetch(const double* q) const { __builtin_prefetch(tenths_mm.data() + node(q, nullptr)); }
@@ -263,24 +263,24 @@ class SphereFieldChecker {
   // spheres_ as free_lanes reads them: centre and radius in floats, each already in all 8 lanes
   // (an operand load costs less than converting and broadcasting per use). Built with the bodies.
   struct alignas(32) LaneSphere {
-    float x[PoseBatch::kLanes], y[PoseBatch::kLanes], z[PoseBatch::kLanes], r[PoseBatch::kLanes];
+    float x[LinkPoseLanesD::kLanes], y[LinkPoseLanesD::kLanes], z[LinkPoseLanesD::kLanes], r[LinkPoseLanesD::kLanes];
   };
-  // The bodies as free_lanes places them: per body the link whose batch pose carries it, its
+  // The bodies as free_lanes places them: per body the link whose lane pose carries it, its
   // centre and capsule there; per sphere its LaneSphere there. `framed`: each body in its link's
-  // batch frame (Kinematics::batch_frame), so FK skips the links no chain joint moves; valid while
-  // the kinematics' plan_version() is framed_version_. `own`: in the link's own frame, for a
+  // lane frame (Kinematics::Lanes::frame), so FK skips the links no chain joint moves; valid while
+  // the kinematics' lanes().version is framed_version_. `own`: in the link's own frame, for a
   // kinematics whose set values changed since (valid for any). Built with the bodies.
-  struct BatchBodies {
+  struct LaneBodies {
     std::vector<int> link;
     std::vector<Eigen::Vector3d> center;
     std::vector<Capsule> capsule;
     std::vector<LaneSphere> spheres;
   };
-  BatchBodies framed_, own_;
+  LaneBodies framed_, own_;
   std::uint64_t framed_version_ = 0;
   // free_lanes' view for the kinematics as they are now.
-  const BatchBodies& batch_bodies() const { return kin_->plan_version() == framed_version_ ? framed_ : own_; }
-  void build_batch_bodies();
+  const LaneBodies& lane_bodies() const { return kin_->lanes().version == framed_version_ ? framed_ : own_; }
+  void build_lane_bodies();
   // spheres_ again for pair_contact, per body in its link frame: x, y, z and radius, four arrays of
   // the body's sphere count rounded up to 4 (spare lanes far away, radius 0). Built with the bodies.
   std::vector<double> pair_spheres_;
@@ -330,7 +330,7 @@ class SphereFieldChecker {
   // self pair's tests: one per body).
   void set_lane_bounds();
   double lane_limit_ = 0, lane_rounding_ = 0;
-  // A capsule test's own rounding on top (lanes::near_segment), for points and segment ends of
+  // A capsule test's own rounding on top (kernels::near_segment), for points and segment ends of
   // bodies whose centres are within lane_limit_.
   double capsule_rounding_ = 0;
   // PrimitiveObstacles::float_error for points within lane_limit_: the scalar passes' exact

@@ -3,20 +3,20 @@
 // ground (one lane per configuration of a batch, lanes.hpp). Inline only: no vector crosses a call.
 #include <array>
 
-#include "dmgplace/runtime/robot/kinematics.hpp"
+#include "dmgplace/runtime/robot/kinematics_lanes.hpp"
 #include "dmgplace/runtime/system/lanes.hpp"
 
 namespace dmgplace::runtime {
 
 // Points in every lane.
 struct alignas(32) LaneXyz {
-  float x[PoseBatch::kLanes], y[PoseBatch::kLanes], z[PoseBatch::kLanes];
+  float x[LinkPoseLanesD::kLanes], y[LinkPoseLanesD::kLanes], z[LinkPoseLanesD::kLanes];
 };
 
 namespace kernels {
 
-// A link's pose in every lane (PoseBatchF): rotation row-major, then the translation.
-using LinkPose = std::array<PoseBatchF::Lanes, 12>;
+// A link's pose in every lane (LinkPoseLanesF): rotation row-major, then the translation.
+using LinkPose = std::array<LinkPoseLanesF::Lanes, 12>;
 
 // A link's pose loaded into vectors once for all its spheres: the stores of their centres could
 // alias the pose's arrays for all the compiler knows, so it would reload all 12 per sphere.

@@ -1,7 +1,7 @@
 // SphereFieldChecker::free_lanes_along: span batches, each lane proving every configuration within
 // a reach of it along a direction. Each body's (each pair's) tests are widened by how far it can
 // move over the reach: first by the static bound (the chain reaches), then, where that leaves a
-// test undecided, by the lanes' own (sphere_lane_motion.hpp) inside the kernel (sphere_batch.cpp).
+// test undecided, by the lanes' own (sphere_lane_motion.hpp) inside the kernel (sphere_lanes.cpp).
 #include <algorithm>
 #include <cmath>
 
@@ -49,7 +49,7 @@ std::uint32_t SphereFieldChecker::free_lanes_along(const double* const* q, int c
                                                    double reach) const {
   if (!(reach > 0)) return free_lanes(q, count);
   if (count <= 0 || !certifiable_ || direction.size() != kin_->dof() || !direction.allFinite()) return 0;
-  count = std::min(count, PoseBatch::kLanes);
+  count = std::min(count, LinkPoseLanesD::kLanes);
   thread_local std::vector<float> widen;
   if (!static_widening(direction, reach, widen)) return 0;
   const LaneMotion motion = LaneMotion::start(*this, direction, reach);
@@ -62,18 +62,18 @@ std::vector<SphereFieldChecker::MotionBound> SphereFieldChecker::motion_bounds(c
                                                                                double reach) const {
   std::vector<MotionBound> out;
   if (count <= 0 || !(reach > 0) || !certifiable_ || direction.size() != kin_->dof() || !direction.allFinite()) return out;
-  count = std::min(count, PoseBatch::kLanes);
+  count = std::min(count, LinkPoseLanesD::kLanes);
   std::vector<float> widen;
   if (!static_widening(direction, reach, widen)) return out;
-  const double* in[PoseBatch::kLanes];
-  for (int k = 0; k < PoseBatch::kLanes; ++k) in[k] = q[k < count ? k : 0];
-  PoseBatchF poses;
-  kin_->link_poses_batch(in, poses);
+  const double* in[LinkPoseLanesD::kLanes];
+  for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) in[k] = q[k < count ? k : 0];
+  LinkPoseLanesF poses;
+  kin_->lanes().link_poses(in, poses);
   std::vector<LaneXyz> centre(bodies_.size());
   for (std::size_t bi = 0; bi < bodies_.size(); ++bi) {
     const auto& T = poses.pose[std::size_t(bodies_[bi].link)];
     const Eigen::Vector3f c = bodies_[bi].center.cast<float>();
-    for (int k = 0; k < PoseBatch::kLanes; ++k) {
+    for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) {
       centre[bi].x[k] = T[0][k] * c.x() + T[1][k] * c.y() + T[2][k] * c.z() + T[9][k];
       centre[bi].y[k] = T[3][k] * c.x() + T[4][k] * c.y() + T[5][k] * c.z() + T[10][k];
       centre[bi].z[k] = T[6][k] * c.x() + T[7][k] * c.y() + T[8][k] * c.z() + T[11][k];

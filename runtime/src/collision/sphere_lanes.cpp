@@ -1,6 +1,6 @@
 // SphereFieldChecker::free_lanes: the fast layer's "proven free" for 8 configurations at once.
 // Every step runs in floats across all 8 lanes (lanes::F, one AVX register): forward kinematics
-// (Kinematics::frame_poses_batch into a PoseBatchF, the bodies carried into their batch frames),
+// (Kinematics::frame_poses_batch into a LinkPoseLanesF, the bodies carried into their batch frames),
 // then one body or sphere at a time: centres, bounds, exact primitive distances, pair distances.
 // Every test that can say "free" adds a rounding margin (lane_margin(): the kinematics' own error
 // bound and the steps after it; a pair test adds a second pose error, one per body), so the
@@ -11,6 +11,7 @@
 #include <cmath>
 
 #include "dmgplace/formats/error.hpp"
+#include "dmgplace/runtime/collision/kernels/table_lookup.hpp"
 #include "dmgplace/runtime/collision/sphere_field_checker.hpp"
 #include "dmgplace/runtime/system/lanes.hpp"
 #include "sphere_lane_motion.hpp"
@@ -20,36 +21,14 @@
 namespace dmgplace::runtime {
 namespace {
 
-constexpr int N = PoseBatch::kLanes;
+constexpr int N = LinkPoseLanesD::kLanes;
 
 }  // namespace
 
-// Table::lower_bound for 8 configurations, four at a time in double lanes: the same nearest
-// node (clamped), loss and value, so the same answers as the scalar lookup.
+// Table::lower_bound for 8 configurations (kernels/table_lookup.hpp).
 inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::Table::apart_lanes(const double* const* q, double padding,
                                                                                             bool wide) const {
-  using lanes::D;
-  typedef int I __attribute__((vector_size(4 * sizeof(int))));
-  std::uint32_t out = 0;
-  for (int h = 0; h < N; h += lanes::W) {
-    D loss{};
-    I index{};
-    for (std::size_t k = 0; k < 2; ++k) {
-      const int at = slot[k];
-      const D x = at >= 0 ? D{q[h][at], q[h + 1][at], q[h + 2][at], q[h + 3][at]} : D{};
-      const D lower = lanes::splat(data.lower[k]);
-      D u = (x - lower) * lanes::splat(inv_step[k]);
-      u = u > D{} ? u : D{};  // also maps NaN to 0
-      u = lanes::min(u, lanes::splat(double(data.count[k] - 1)));
-      const I i = __builtin_convertvector(u + lanes::splat(0.5), I);  // u >= 0: truncation rounds
-      loss += lanes::splat(data.slope[k]) * lanes::abs(x - (lower + __builtin_convertvector(i, D) * lanes::splat(data.step[k])));
-      index = index * data.count[k] + i;
-    }
-    const D value = D{double(tenths_mm[std::size_t(index[0])]), double(tenths_mm[std::size_t(index[1])]),
-                      double(tenths_mm[std::size_t(index[2])]), double(tenths_mm[std::size_t(index[3])])};
-    out |= lanes::bits((lanes::M)(lanes::splat(1e-4) * value - loss - lanes::splat(padding) > D{}), wide) << h;
-  }
-  return out;
+  return kernels::table_apart({slot, data.lower, data.step, inv_step, data.slope, data.count, tenths_mm.data()}, q, padding, wide);
 }
 
 void SphereFieldChecker::set_lane_bounds() {
@@ -65,14 +44,14 @@ void SphereFieldChecker::set_lane_bounds() {
   lane_rounding_ = 64.0 * 0x1p-24 * (lane_limit_ + 2.0 * reach_ + 1.0);
   // |p - from| <= 2 (lane_limit_ + reach_) and |d| <= 2 reach_ there (every point of a body is
   // within reach_ of its centre).
-  capsule_rounding_ = lanes::kSegmentRounding * 0x1p-24 * (2.0 * lane_limit_ + 4.0 * reach_ + 1.0);
+  capsule_rounding_ = kernels::kSegmentRounding * 0x1p-24 * (2.0 * lane_limit_ + 4.0 * reach_ + 1.0);
   exact_float_error_ = obstacles_ ? obstacles_->float_error(lane_limit_) : 0.0;
 }
 
 double SphereFieldChecker::lane_margin() const {
   // The kinematics' float error bound as it is now: setting a joint outside the chain
   // (Kinematics::set_joint_value) rebuilds it, so it is asked per batch, not kept.
-  return lane_rounding_ + kin_->float_pose_error(link_reach_);
+  return lane_rounding_ + kin_->lanes().float_pose_error(link_reach_);
 }
 
 void SphereFieldChecker::set_exact_obstacles(std::shared_ptr<const PrimitiveObstacles> obstacles) {

@@ -1,22 +1,22 @@
-// Forward kinematics of 8 configurations at once (Kinematics::link_poses_batch): every step runs
-// in SIMD lanes (lanes.hpp vectors, sincos as a loop the compiler vectorises); compiled twice, for
-// AVX2 + FMA and for the portable x86-64 baseline, and chosen at run time (system/simd_dispatch).
+// Forward kinematics of 8 configurations at once (Kinematics::Lanes): every step runs in SIMD
+// lanes (lanes.hpp vectors, sincos as a loop the compiler vectorises); compiled twice, for AVX2 +
+// FMA and for the portable x86-64 baseline, and chosen at run time (system/simd_dispatch).
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <type_traits>
 
 #include "dmgplace/runtime/geometry/fast_sincos.hpp"
-#include "dmgplace/runtime/robot/kinematics.hpp"
+#include "dmgplace/runtime/robot/kinematics_lanes.hpp"
 #include "dmgplace/runtime/system/lanes.hpp"
 #include "dmgplace/runtime/system/simd_dispatch.hpp"
 
 namespace dmgplace::runtime {
 namespace {
 
-constexpr int N = PoseBatch::kLanes;
-using Lanes = PoseBatch::Lanes;
+constexpr int N = LinkPoseLanesD::kLanes;
 
-using JointPlan = Kinematics::BatchJoint;
+using JointPlan = Kinematics::Lanes::Joint;
 
 // sin and cos of every lane (fast_sincos' branch-free core); lanes beyond +-1e5 rad take libm.
 inline __attribute__((always_inline)) void sincos_lanes(const double* x, double* s, double* c) {
@@ -79,7 +79,7 @@ DMGPLACE_LANES_INLINE void joint_terms(const JointPlan& j, const double* vd, dou
     if (j.type == 1) sincos_lanes(vd, sd, cd);
   } else if (j.type == 1) {
     // The portable build keeps the double core, rounded: its float vectors are SSE pairs, and
-    // fast_sincos_f8 there made the float batch slower.
+    // fast_sincos_f8 there made the float lanes slower.
     if constexpr (Wide) {
       sincos_lanes_f(vd, sf, cf);
     } else {
@@ -143,7 +143,7 @@ DMGPLACE_LANES_INLINE void compose_joint(const JointPlan& j, const Pose& A, Pose
 
 // Every link expressed in the base frame: pose = inverse(base) x pose, per lane.
 template <class T>
-DMGPLACE_LANES_INLINE void to_base_frame(PoseBatchOf<T>& out, int base) {
+DMGPLACE_LANES_INLINE void to_base_frame(LinkPoseLanes<T>& out, int base) {
   auto& P = out.pose;
   alignas(64) T Bi[12][N];
   const auto& B = P[std::size_t(base)];
@@ -177,7 +177,7 @@ DMGPLACE_LANES_INLINE void to_base_frame(PoseBatchOf<T>& out, int base) {
 // some scalar (it cannot tell the child's stores from the plan's constants).
 template <class T, bool Wide>
 inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>& plan, const std::vector<int>& roots, int base,
-                                                   bool base_is_root, const double* const* q, PoseBatchOf<T>& out) {
+                                                   bool base_is_root, const double* const* q, LinkPoseLanes<T>& out) {
   auto& P = out.pose;
   for (int r : roots)
     for (int e = 0; e < 12; ++e) P[std::size_t(r)][std::size_t(e)].fill(e == 0 || e == 4 || e == 8 ? 1.0 : 0.0);
@@ -195,19 +195,19 @@ inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>&
 
 template <class T>
 __attribute__((target("avx2,fma"))) void fk_avx2(const std::vector<JointPlan>& plan, const std::vector<int>& roots, int base,
-                                                 bool base_is_root, const double* const* q, PoseBatchOf<T>& out) {
+                                                 bool base_is_root, const double* const* q, LinkPoseLanes<T>& out) {
   fk_body<T, true>(plan, roots, base, base_is_root, q, out);
 }
 
 template <class T>
 void fk_portable(const std::vector<JointPlan>& plan, const std::vector<int>& roots, int base, bool base_is_root,
-                 const double* const* q, PoseBatchOf<T>& out) {
+                 const double* const* q, LinkPoseLanes<T>& out) {
   fk_body<T, false>(plan, roots, base, base_is_root, q, out);
 }
 
 template <class T>
 void fk(const std::vector<JointPlan>& plan, const std::vector<int>& roots, int base, bool base_is_root,
-        const double* const* q, std::size_t links, PoseBatchOf<T>& out) {
+        const double* const* q, std::size_t links, LinkPoseLanes<T>& out) {
   out.pose.resize(links);
   if (simd_path() == SimdPath::Avx2) fk_avx2(plan, roots, base, base_is_root, q, out);
   else fk_portable(plan, roots, base, base_is_root, q, out);
@@ -215,13 +215,20 @@ void fk(const std::vector<JointPlan>& plan, const std::vector<int>& roots, int b
 
 }  // namespace
 
-void Kinematics::build_batch_plan() {
-  const auto& m = *model_;
-  batch_plan_.assign(order_.size(), {});
-  for (std::size_t i = 0; i < order_.size(); ++i) {
-    const int j = order_[i];
+Kinematics::Lanes::Lanes(const Kinematics& kin)
+    : roots_(kin.roots_), base_(kin.base_), base_is_root_(kin.base_is_root_), links_(kin.model_->links.size()) {
+  build_plan(kin);
+  bound_float_error(kin);
+  build_frames();
+}
+
+void Kinematics::Lanes::build_plan(const Kinematics& kin) {
+  const auto& m = *kin.model_;
+  plan_.assign(kin.order_.size(), {});
+  for (std::size_t i = 0; i < kin.order_.size(); ++i) {
+    const int j = kin.order_[i];
     const auto& jt = m.joints[std::size_t(j)];
-    BatchJoint& p = batch_plan_[i];
+    Joint& p = plan_[i];
     p.type = jt.type == JointType::Fixed ? 0 : jt.type == JointType::Prismatic ? 2 : 1;
     p.parent = jt.parent;
     p.child = jt.child;
@@ -233,10 +240,10 @@ void Kinematics::build_batch_plan() {
       p.mult *= mj.mimic_multiplier;
       d = mj.mimic;
     }
-    p.slot = chain_slot_[std::size_t(d)];
-    if (p.slot < 0) p.offset += p.mult * fixed_values_[std::size_t(d)], p.mult = 0;
+    p.slot = kin.chain_slot_[std::size_t(d)];
+    if (p.slot < 0) p.offset += p.mult * kin.fixed_values_[std::size_t(d)], p.mult = 0;
     const Eigen::Matrix3d O = jt.origin.linear();
-    const auto& terms = terms_[std::size_t(j)];
+    const auto& terms = kin.terms_[std::size_t(j)];
     for (int r = 0; r < 3; ++r)
       for (int col = 0; col < 3; ++col) {
         p.O[3 * r + col] = O(r, col);
@@ -249,8 +256,6 @@ void Kinematics::build_batch_plan() {
     p.axis_sign = terms.axis_sign;
     for (int c = 0; c < 3; ++c) p.perm[c] = terms.perm[c], p.sign[c] = terms.sign[c];
   }
-  bound_float_error();
-  build_batch_frames();
 }
 
 // Float forward kinematics' error, link by link down the plan (u = 2^-24, a float's unit roundoff;
@@ -264,17 +269,17 @@ void Kinematics::build_batch_plan() {
 // rounded constants: under 3u. The child's R = A Rj in floats: |E_child| <= |E_A| + |E_Rj| + 9u
 // (each element three roundings of partial sums under 2). Its translation A t' + t_A: off by
 // |E_A| |t'| from A's error, 5u |t'| from rounding t' and the dots, u |t_child| from the sum.
-// Composing with the base's inverse, when the base is not the root, adds as much again. The batch
-// frames' plan (frame_poses_batch) composes a subset: a chain joint below links fixed to their
+// Composing with the base's inverse, when the base is not the root, adds as much again. The lane
+// frames' plan (frame_poses) composes a subset: a chain joint below links fixed to their
 // parents has their offsets folded into its constants, rounded once, with |t'| no more than the
 // sum of the translations it replaces: the same bound holds.
-void Kinematics::bound_float_error() {
+void Kinematics::Lanes::bound_float_error(const Kinematics& kin) {
   const double u = 0x1p-24;
-  const auto& m = *model_;
+  const auto& m = *kin.model_;
   std::vector<double> rot(m.links.size(), 0.0), trans(m.links.size(), 0.0), extent(m.links.size(), 0.0);
-  for (const BatchJoint& j : batch_plan_) {
+  for (const Joint& j : plan_) {
     double travel = std::abs(j.offset);
-    if (j.slot >= 0) travel += std::abs(j.mult) * std::max(std::abs(lower_[j.slot]), std::abs(upper_[j.slot]));
+    if (j.slot >= 0) travel += std::abs(j.mult) * std::max(std::abs(kin.lower_[j.slot]), std::abs(kin.upper_[j.slot]));
     const double t = std::hypot(j.t[0], j.t[1], j.t[2]) + (j.type == 2 ? travel : 0.0);
     const auto a = std::size_t(j.parent), c = std::size_t(j.child);
     rot[c] = rot[a] + (j.type == 0 ? 3 * u : (14 + 3 * kSincosF8Error) * u) + 9 * u;
@@ -294,22 +299,67 @@ void Kinematics::bound_float_error() {
   }
 }
 
-double Kinematics::float_pose_error(double reach) const {
+double Kinematics::Lanes::float_pose_error(double reach) const {
   // R p + t in floats: |E_R| |p| from the rotation, 4u |p| from rounding p and the dots, and the
   // translation's error; u of the result's magnitude is inside the callers' own margins.
   return (float_rotation_error_ + 4 * 0x1p-24) * reach + float_translation_error_;
 }
 
-void Kinematics::link_poses_batch(const double* const* q, PoseBatch& out) const {
-  fk(batch_plan_, roots_, base_, base_is_root_, q, model_->links.size(), out);
+void Kinematics::Lanes::link_poses(const double* const* q, LinkPoseLanesD& out) const {
+  fk(plan_, roots_, base_, base_is_root_, q, links_, out);
 }
 
-void Kinematics::link_poses_batch(const double* const* q, PoseBatchF& out) const {
-  fk(batch_plan_, roots_, base_, base_is_root_, q, model_->links.size(), out);
+void Kinematics::Lanes::link_poses(const double* const* q, LinkPoseLanesF& out) const {
+  fk(plan_, roots_, base_, base_is_root_, q, links_, out);
 }
 
-void Kinematics::frame_poses_batch(const double* const* q, PoseBatchF& out) const {
-  fk(frame_plan_, roots_, base_, base_is_root_, q, model_->links.size(), out);
+void Kinematics::Lanes::frame_poses(const double* const* q, LinkPoseLanesF& out) const {
+  fk(frame_plan_, roots_, base_, base_is_root_, q, links_, out);
+}
+
+
+// A joint the chain does not drive (fixed, or set outside the chain) carries its child rigidly
+// with its parent: the child joins the parent's frame, at the parent's offset composed with the
+// joint at its value. Only when the base is the root: poses are then the root-relative ones FK
+// composes, and the base's own pose is not needed to re-express them.
+void Kinematics::Lanes::build_frames() {
+  using Rows = Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>;  // Joint's row-major arrays
+  using Vec = Eigen::Map<Eigen::Vector3d>;
+  static std::atomic<std::uint64_t> versions{0};
+  version = ++versions;
+  const std::size_t n = links_;
+  frame_of_.resize(n);
+  for (std::size_t l = 0; l < n; ++l) frame_of_[l] = int(l);
+  frame_offset_.assign(n, Eigen::Isometry3d::Identity());
+  frame_plan_.clear();
+  for (Joint f : plan_) {
+    const auto parent = std::size_t(f.parent);
+    if (base_is_root_ && (f.type == 0 || f.slot < 0)) {
+      // Its value is f.offset (no slot): the plan's own rotation and translation terms at it.
+      const double v = f.offset;
+      Eigen::Isometry3d joint = Eigen::Isometry3d::Identity();
+      joint.linear() = Rows(f.O);
+      if (f.type == 1) joint.linear() += std::sin(v) * Rows(f.OK) + (1 - std::cos(v)) * Rows(f.OKK);
+      joint.translation() = Vec(f.t);
+      if (f.type == 2) joint.translation() += v * Vec(f.a);
+      frame_of_[std::size_t(f.child)] = frame_of_[parent];
+      frame_offset_[std::size_t(f.child)] = frame_offset_[parent] * joint;
+      continue;
+    }
+    if (frame_of_[parent] != f.parent) {
+      // A chain joint below links it would carry hangs off their frame, its origin carried there.
+      const Eigen::Isometry3d& F = frame_offset_[parent];
+      const Eigen::Matrix3d R = F.linear();
+      f.parent = frame_of_[parent];
+      Rows(f.O) = R * Rows(f.O);
+      Rows(f.OK) = R * Rows(f.OK);
+      Rows(f.OKK) = R * Rows(f.OKK);
+      Vec(f.t) = R * Vec(f.t) + F.translation();
+      Vec(f.a) = R * Vec(f.a);
+      if (R != Eigen::Matrix3d::Identity()) f.quarter = false;  // O is no longer a signed permutation
+    }
+    frame_plan_.push_back(f);
+  }
 }
 
 }  // namespace dmgplace::runtime
