@@ -57,8 +57,8 @@ void check_region(const PlacementRegion& r, const EnvironmentArtifact& a, const 
   if (r.height < v.min().z() - kSlack || r.height > v.max().z() + kSlack)
     p.push_back(where + ": height " + detail::fmt(r.height) + " outside the volume");
   std::size_t outside = 0, unsupported = 0, bad_free = 0;
-  // A supported cell's centre lies on the surface: the interpolated distance there is at most a
-  // region cell (surface samples, scan noise, a centre past a surface's edge) plus a grid cell
+  // A supported cell's center lies on the surface: the interpolated distance there is at most a
+  // region cell (surface samples, scan noise, a center past a surface's edge) plus a grid cell
   // (interpolation near edges) away from zero. A region raised by more is in mid-air.
   const double support_tol = a.sdf.empty() ? 0 : r.resolution + a.sdf.resolution;
   for (int j = 0; j < r.depth; ++j)

@@ -48,12 +48,12 @@ TEST(Cli, BakesValidatesAndInspectsTheBuiltInObjects) {
   ASSERT_TRUE(doc["bounds_min"].is_array());
   EXPECT_NEAR(doc["bounds_min"][0].get<double>(), -0.065, 1e-6);
   EXPECT_TRUE(doc["mass_kg"].is_number());
-  // The eraser is a box: its volume integral is exact and its COM is its centre.
+  // The eraser is a box: its volume integral is exact and its COM is its center.
   auto obj = dmgplace::formats::load_object(dir / "eraser.h5");
   Eigen::Vector3d ext = obj.mesh.vertices.colwise().maxCoeff() - obj.mesh.vertices.colwise().minCoeff();
   EXPECT_NEAR(obj.mass.volume, ext.prod(), 1e-12);
   EXPECT_LT((obj.mass.com - 0.5 * (obj.mesh.vertices.colwise().maxCoeff() + obj.mesh.vertices.colwise().minCoeff()).transpose()).norm(), 1e-12);
-  // Inertia of a solid box about its centre: m/12 (b^2 + c^2).
+  // Inertia of a solid box about its center: m/12 (b^2 + c^2).
   EXPECT_NEAR(obj.mass.inertia(0, 0), obj.mass.mass / 12 * (ext.y() * ext.y() + ext.z() * ext.z()), 1e-12);
 
   CliRun com = run({"bake-object", dir / "bottle.stl", "--com", "0,0,0.05", "--mass", "0.2", "--out", dir / "bottle.h5", "--json"});

@@ -34,7 +34,7 @@ std::string read_text(const std::filesystem::path& p);
 std::string builtin_volume(const std::string& scene);
 // Running dmgplace or another program (argument vectors, no shell): run_cli.hpp.
 
-// An axis-aligned box primitive of full extents `size` centred at `at`.
+// An axis-aligned box primitive of full extents `size` centered at `at`.
 inline Shape box_shape(const Eigen::Vector3d& size, const Eigen::Vector3d& at) {
   Shape s;
   s.type = ShapeType::Box;

@@ -34,7 +34,7 @@ struct BakeObjectArgs {
   std::string out;
   bool json = false;
   double scale = 1.0;
-  std::string com_text;             // "x,y,z": overrides the computed centre of mass
+  std::string com_text;             // "x,y,z": overrides the computed center of mass
   double mass = 0;                  // <= 0: from volume at 1000 kg/m^3
   std::string gripper;              // YAML; empty: the built-in dmgarm hand
   tools::DmgOptions dmg;

@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
   c_obj->add_option("inputs", bake_object.inputs, "One mesh (STL, OBJ, PLY, DAE), or PCD scans of the object (each with its sensor VIEWPOINT)")->required();
   bind_options(c_obj, bake_object.options());
   c_obj->get_option("--out")->required();
-  c_obj->add_option("--com", bake_object.com_text, "Centre of mass x,y,z (m, mesh frame; object frame for scans), overrides the computed one");
+  c_obj->add_option("--com", bake_object.com_text, "Center of mass x,y,z (m, mesh frame; object frame for scans), overrides the computed one");
   c_obj->add_option("--crop", bake_object.crop_text, "Scans: keep points in the box xmin,ymin,zmin,xmax,ymax,zmax (m, scan frame)");
   c_obj->add_option("--cluster-near", bake_object.near_text, "Scans: take the cluster nearest x,y,z (m, scan frame)");
 
@@ -141,7 +141,7 @@ int main(int argc, char** argv) {
   BakeRobotArgs bake_robot;
   auto* c_robot = app.add_subcommand("bake-robot", "Analyse a robot (URDF + SRDF) once into ROBOT.h5");
   c_robot->add_option("urdf", bake_robot.urdf, "Robot URDF")->required();
-  c_robot->add_option("--tcp", bake_robot.tcp_text, "Tool centre point on the tip link x,y,z,qx,qy,qz,qw; becomes the chain's tip (<tip>_tcp)");
+  c_robot->add_option("--tcp", bake_robot.tcp_text, "Tool center point on the tip link x,y,z,qx,qy,qz,qw; becomes the chain's tip (<tip>_tcp)");
   bind_options(c_robot, bake_robot.options());
   c_robot->get_option("--out")->required();
   c_robot->get_option("--arm")->required();

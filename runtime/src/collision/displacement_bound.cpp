@@ -8,7 +8,7 @@
 namespace dmgplace::runtime {
 
 void BallMotion::add_revolute(const Eigen::Vector3d& axis, const Eigen::Vector3d& origin, double rate, double reach) {
-  const Eigen::Vector3d arm = axis.cross(center_ - origin);  // the centre's velocity per unit of rate
+  const Eigen::Vector3d arm = axis.cross(center_ - origin);  // the center's velocity per unit of rate
   add_revolute_arm(axis, arm, arm.norm(), rate, reach);
 }
 

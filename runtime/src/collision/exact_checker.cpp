@@ -358,10 +358,10 @@ constexpr double kGapTolerance = 1e-4;
 const std::vector<std::pair<double, std::size_t>>& by_ball_gap(const ConvexSolid& part, const Eigen::Isometry3d& pose,
                                                                 const std::vector<std::pair<ConvexSolid, Eigen::Isometry3d>>& env) {
   thread_local std::vector<std::pair<double, std::size_t>> order;
-  const Eigen::Vector3d c = pose * part.centre();
+  const Eigen::Vector3d c = pose * part.center();
   order.clear();
   for (std::size_t k = 0; k < env.size(); ++k)
-    order.emplace_back((c - env[k].second * env[k].first.centre()).norm() - part.radius() - env[k].first.radius(), k);
+    order.emplace_back((c - env[k].second * env[k].first.center()).norm() - part.radius() - env[k].first.radius(), k);
   std::sort(order.begin(), order.end());
   return order;
 }

@@ -69,7 +69,7 @@ class CubeLattice {
   Eigen::Vector3d center(int i, int j, int k) const { return start_ + cell_ * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5); }
   const std::vector<int>& near(int i, int j, int k) const { return near_[index(i, j, k)]; }
 
-  // inside_mesh at a cube centre: the same three axis rays, tested only against the triangles
+  // inside_mesh at a cube center: the same three axis rays, tested only against the triangles
   // whose box the ray's line passes through (no other can be crossed).
   bool inside(int i, int j, int k) const {
     const Eigen::Vector3d c = center(i, j, k);
@@ -84,7 +84,7 @@ class CubeLattice {
   }
 
  private:
-  // The first and last cube whose centre lies at or above `lo` (at or below `hi`), per axis.
+  // The first and last cube whose center lies at or above `lo` (at or below `hi`), per axis.
   Eigen::Array3i first_cube(const Eigen::Array3d& lo) const {
     Eigen::Array3i out;
     for (int a = 0; a < 3; ++a) out[a] = std::max(0, int(std::ceil((lo[a] - start_[a]) / cell_ - 0.5)));
@@ -136,7 +136,7 @@ SphereSet cover_object(const TriMesh& m, int cells_per_axis) {
         double d2 = std::numeric_limits<double>::infinity();
         for (int t : lattice.near(i, j, k)) {
           if (d2 <= radius * radius) break;
-          d2 = std::min(d2, (closest_point_on_triangle(c, vertex(m, t, 0), vertex(m, t, 1), vertex(m, t, 2)) - c).squaredNorm());
+          d2 = std::min(d2, (formats::closest_point_on_triangle(c, vertex(m, t, 0), vertex(m, t, 1), vertex(m, t, 2)) - c).squaredNorm());
         }
         // A cube touches the surface when the surface comes within its circumscribed sphere.
         if (d2 <= radius * radius || lattice.inside(i, j, k)) {

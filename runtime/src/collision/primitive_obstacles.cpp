@@ -32,7 +32,7 @@ double local_signed_distance(ShapeType type, const Eigen::Vector3d& half, const 
 Eigen::Vector3d half_extents(const Shape& s) {
   switch (s.type) {
     case ShapeType::Box: return 0.5 * s.size;
-    case ShapeType::Cylinder: return Eigen::Vector3d(s.size[0], 0, 0.5 * s.size[1]);  // FCL: axis z, centred
+    case ShapeType::Cylinder: return Eigen::Vector3d(s.size[0], 0, 0.5 * s.size[1]);  // FCL: axis z, centered
     case ShapeType::Sphere: return Eigen::Vector3d::Constant(s.size[0]);
     case ShapeType::Mesh: break;
   }
@@ -95,7 +95,7 @@ double inner_radius(const std::vector<Shape>& shapes, const Eigen::Vector3d& p) 
       const Eigen::Vector3d a = s.mesh.vertices.row(s.mesh.triangles(t, 0)).transpose();
       const Eigen::Vector3d b = s.mesh.vertices.row(s.mesh.triangles(t, 1)).transpose();
       const Eigen::Vector3d c = s.mesh.vertices.row(s.mesh.triangles(t, 2)).transpose();
-      d2 = std::min(d2, (closest_point_on_triangle(local, a, b, c) - local).squaredNorm());
+      d2 = std::min(d2, (formats::closest_point_on_triangle(local, a, b, c) - local).squaredNorm());
     }
     best = std::max(best, std::sqrt(d2));
   }

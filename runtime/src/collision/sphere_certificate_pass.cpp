@@ -68,15 +68,15 @@ void SphereFieldChecker::Pass::certificate() {
       // The field stops at its band: where it has clamped, the body's whole bounding sphere against
       // the exact primitives (one distance) can prove much more than its spheres against the field.
       const bool exact = c.exact_scene();
-      if (c.obstacles_ && !exact && !it->exact_centre && it->clearance + b.radius + c.padding_ > kBandShare * c.band_) {
-        exact_centre_bound(*it, limit);
+      if (c.obstacles_ && !exact && !it->exact_center && it->clearance + b.radius + c.padding_ > kBandShare * c.band_) {
+        exact_center_bound(*it, limit);
         s.times[at] = it->t;
         if (it->t >= limit) {  // (candidates still listed are short of the limit)
           keep(at);
           continue;
         }
       }
-      centres(it->index);
+      centers(it->index);
       clearance = exact ? exact_sphere_gaps(it->index) : field_sphere_gaps(*it, limit);
     }
     it->clearance = std::max(clearance, it->clearance);
@@ -95,9 +95,9 @@ void SphereFieldChecker::Pass::certificate() {
   out.isotropic_distance = std::min(out.free_distance, isotropic);
 }
 
-void SphereFieldChecker::Pass::exact_centre_bound(Candidate& k, double limit) {
+void SphereFieldChecker::Pass::exact_center_bound(Candidate& k, double limit) {
   const Body& b = c.bodies_[k.index];
-  k.exact_centre = true;
+  k.exact_center = true;
   const double e = c.obstacles_->distance(s.body_center[k.index]) - b.radius - c.padding_;
   if (e <= k.clearance) return;
   k.clearance = e;
@@ -108,8 +108,8 @@ void SphereFieldChecker::Pass::exact_centre_bound(Candidate& k, double limit) {
 // |wa - wb| - r < clearance, squared.
 double SphereFieldChecker::Pass::pair_sphere_gap(const Pair& p) {
   const Body &a = c.bodies_[std::size_t(p.a)], &b = c.bodies_[std::size_t(p.b)];
-  centres(std::size_t(p.a));
-  centres(std::size_t(p.b));
+  centers(std::size_t(p.a));
+  centers(std::size_t(p.b));
   double clearance = std::numeric_limits<double>::infinity();
   const Eigen::Vector3d& cb = s.body_center[std::size_t(p.b)];
   for (int i = a.begin; i < a.end; ++i) {

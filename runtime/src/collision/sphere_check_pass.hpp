@@ -2,7 +2,7 @@
 // One SphereFieldChecker query (check, check_along) as three passes over per-thread scratch, one
 // file each: the environment (every body against the scene: sphere_environment_pass.cpp), the
 // self pairs (sphere_self_pass.cpp) and, for check_along, the certificate
-// (sphere_certificate_pass.cpp). The passes share the query's sphere centres, computed at most
+// (sphere_certificate_pass.cpp). The passes share the query's sphere centers, computed at most
 // once per body. Private to the runtime.
 #include <limits>
 #include <vector>
@@ -34,7 +34,7 @@ struct SphereFieldChecker::Pass {
     int level;         // 0 static speed, 1 local speed, 2 local speed and sphere clearances (final
                        // unless `directional`)
     DisplacementBound speed;
-    bool exact_centre = false;  // a body's bounding sphere was measured against the exact primitives
+    bool exact_center = false;  // a body's bounding sphere was measured against the exact primitives
     bool directional = false;   // level 2 but short of the limit: a directional time may raise it
   };
   // Reused by every query of a thread (sized per query): no allocation once warm.
@@ -65,7 +65,7 @@ struct SphereFieldChecker::Pass {
   };
   static Scratch& thread_scratch();  // this thread's
   enum BodyFlag : std::uint8_t {
-    kWorld = 1,       // s.world holds its spheres (centres())
+    kWorld = 1,       // s.world holds its spheres (centers())
     kDistances = 2,   // s.sphere_exact holds its spheres' exact distances (exact_distances())
     kBoundsRead = 4,  // certified mode: the environment pass kept what it read for its spheres
     kLevers = 8,      // certified mode: its lever arms are in s.lever (levers())
@@ -85,7 +85,7 @@ struct SphereFieldChecker::Pass {
   bool self_pairs();
   enum class PairSpheres { Apart, Touching, ProvenCollision };
   PairSpheres pair_spheres(const Pair& p, double need, double& gap, bool& beyond);  // self_pairs' step
-  // self_pairs' verdicts on an overlapping sphere pair (global indices, centres s2 apart): a
+  // self_pairs' verdicts on an overlapping sphere pair (global indices, centers s2 apart): a
   // collision proven by the spheres' inner balls (out says so); the body pair left to the exact
   // layer (out.pairs_overflow when more pairs than fit).
   bool proven_overlap(int i, int j, double s2);
@@ -113,28 +113,28 @@ struct SphereFieldChecker::Pass {
   double directional_time(const Candidate& cand, double limit);
   // A body's smallest sphere gap to the scene, each sphere's into s.sphere_gap: from the exact
   // primitives (exact_scene()), or from the field with the primitives where its bounds fall
-  // short of lasting `limit`. centres() of the body must be set.
+  // short of lasting `limit`. centers() of the body must be set.
   double pair_sphere_gap(const Pair& p);  // certificate's step for a pair
   double exact_sphere_gaps(std::size_t bi);
   double field_sphere_gaps(const Candidate& cand, double limit);
   // A body's candidate measured by its bounding sphere against the exact primitives (once; where
   // the field has clamped at its band that proves more): raises its clearance and time.
-  void exact_centre_bound(Candidate& k, double limit);
+  void exact_center_bound(Candidate& k, double limit);
   // A sphere's exact distance to the scene, as the environment pass read it or now.
   double exact_distance(std::size_t bi, int sphere);
   // Exact scenes: a lower bound on each of a body's spheres' distances to the scene, all at once
   // (PrimitiveObstacles::distances, float lanes, less their rounding bound exact_float_error_),
   // into s.sphere_exact; at most once per query.
   void exact_distances(std::size_t bi);
-  // The same for every body's bounding-sphere centre, into s.body_exact.
+  // The same for every body's bounding-sphere center, into s.body_exact.
   void body_distances();
   template <class Point>
   void distances_of(int count, Point point, double* out) const;
 
   // T p as R p + t: Eigen multiplies an Isometry3d's whole 4x4 matrix into (p, 1).
   static Eigen::Vector3d moved(const Eigen::Isometry3d& T, const Eigen::Vector3d& p) { return T.linear() * p + T.translation(); }
-  // World sphere centres of a body, computed at most once per query.
-  void centres(std::size_t bi) {
+  // World sphere centers of a body, computed at most once per query.
+  void centers(std::size_t bi) {
     if (has(bi, kWorld)) return;
     const Body& b = c.bodies_[bi];
     const Eigen::Isometry3d& T = poses[std::size_t(b.link)];

@@ -11,11 +11,11 @@ namespace dmgplace::runtime {
 // Every moving body against the scene: its bounding sphere against the coarse, then the fine grid;
 // then sphere by sphere, the exact primitives where the grid cannot tell. In a scene of a few
 // primitives (exact_scene()) the same steps read the exact distances instead of the grid, every
-// body centre at once, then every sphere of a body at once (float lanes: distances_of). Bodies
+// body center at once, then every sphere of a body at once (float lanes: distances_of). Bodies
 // left undecided are flagged for the exact layer (with the primitives they may touch, when known).
 bool SphereFieldChecker::Pass::environment() {
   const bool exact = c.exact_scene();
-  // All body centres first, their fine-grid nodes requested at once (most misses then overlap).
+  // All body centers first, their fine-grid nodes requested at once (most misses then overlap).
   for (std::size_t bi = 0; bi < c.bodies_.size(); ++bi) {
     s.body_center[bi] = moved(poses[std::size_t(c.bodies_[bi].link)], c.bodies_[bi].center);
     if (!exact && (c.bodies_[bi].moving || c.bodies_[bi].attached)) c.fine_->prefetch(s.body_center[bi]);
@@ -70,7 +70,7 @@ void SphereFieldChecker::Pass::flag_environment_link(std::size_t bi) {
 // neither clears flags the body's link for the exact layer. False on a proven collision.
 bool SphereFieldChecker::Pass::environment_spheres(std::size_t bi, bool exact) {
   const Body& b = c.bodies_[bi];
-  centres(bi);
+  centers(bi);
   if (!exact)
     for (int i = b.begin; i < b.end; ++i) c.fine_->prefetch(s.world[std::size_t(i)]);
   // Keep going after a hit: every flagged link is listed, so the exact layer can check just those.
@@ -170,7 +170,7 @@ void SphereFieldChecker::Pass::distances_of(int count, Point point, double* out)
 void SphereFieldChecker::Pass::exact_distances(std::size_t bi) {
   if (has(bi, kDistances)) return;
   mark(bi, kDistances);
-  centres(bi);
+  centers(bi);
   const Body& b = c.bodies_[bi];
   distances_of(b.end - b.begin, [&](int k) -> const Eigen::Vector3d& { return s.world[std::size_t(b.begin + k)]; },
                &s.sphere_exact[std::size_t(b.begin)]);

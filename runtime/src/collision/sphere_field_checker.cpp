@@ -98,7 +98,7 @@ void SphereFieldChecker::group_bodies() {
 }
 
 void SphereFieldChecker::shape_body(Body& b) const {
-  // Bounding sphere: centre of the spheres' box, radius reaching every sphere's far side.
+  // Bounding sphere: center of the spheres' box, radius reaching every sphere's far side.
   Eigen::AlignedBox3d box;
   for (int i = b.begin; i < b.end; ++i) box.extend(spheres_[std::size_t(i)].center);
   b.center = box.center();
@@ -280,7 +280,7 @@ SphereFieldChecker SphereFieldChecker::with_attached(AttachedSpheres object) con
   if (object.link < 0 || std::size_t(object.link) >= kin_->model().links.size())
     throw Error("SphereFieldChecker", "attached object", "link index out of range");
   if (object.centers.size() != object.radii.size())
-    throw Error("SphereFieldChecker", "attached object", "centres and radii differ in count");
+    throw Error("SphereFieldChecker", "attached object", "centers and radii differ in count");
   SphereFieldChecker c = *this;
   if (c.attached_link_ >= 0) c.spheres_.resize(std::size_t(c.attached_begin_));  // replace a previous object
   c.attached_link_ = object.link;

@@ -23,10 +23,10 @@ struct SphereFieldChecker::LaneMotion {
   const double* dir = nullptr;  // the unit joint-space direction, by slot
   double t = 0;                 // the reach: joint-space length either way
   // Float rounding: axis_error bounds a joint axis's error (its unit vector), point_error twice a
-  // point's (a body centre and a joint origin: lane_margin()).
+  // point's (a body center and a joint origin: lane_margin()).
   float axis_error = 0, point_error = 0;
   // Per-batch scratch, filled on first use: per slot, the joint's axis and a point on it in the
-  // world; per body (lever_begin), each chain joint's lever arm about the body centre, its norm
+  // world; per body (lever_begin), each chain joint's lever arm about the body center, its norm
   // plus rounding, and that rounding.
   LaneXyz *axis = nullptr, *origin = nullptr, *arm = nullptr;
   std::array<float, LinkPoseLanesD::kLanes>* arm_norm = nullptr;
@@ -70,23 +70,23 @@ struct SphereFieldChecker::LaneMotion {
 
   // The largest displacement of body bi's bounding ball over [-t, t] along dir, over the lanes in
   // `lanes`, rounded up; NaN where a lane's geometry is not finite (the caller keeps its static
-  // bound then). `centre`: every body's centre in every lane.
+  // bound then). `center`: every body's center in every lane.
   DMGPLACE_LANES_INLINE float body(const SphereFieldChecker& c, std::size_t bi, const LinkPoseLanesF& poses,
-                                   const LaneXyz* centre, std::uint32_t lanes) const {
+                                   const LaneXyz* center, std::uint32_t lanes) const {
     const Body& b = c.bodies_[bi];
     Sums s;
-    ball(c, bi, poses, centre, b.chain, nullptr, s);
+    ball(c, bi, poses, center, b.chain, nullptr, s);
     return farthest(s, lanes);
   }
   // The same for pair pi: how far its two balls can move relative to each other (PairMoves).
   DMGPLACE_LANES_INLINE float pair(const SphereFieldChecker& c, std::size_t pi, const LinkPoseLanesF& poses,
-                                   const LaneXyz* centre, std::uint32_t lanes) const {
+                                   const LaneXyz* center, std::uint32_t lanes) const {
     const Pair& p = c.pairs_[pi];
     const PairMoves& m = c.pair_moves_[pi];
     Sums s;
-    ball(c, std::size_t(p.a), poses, centre, m.a, m.a_at.data(), s);
+    ball(c, std::size_t(p.a), poses, center, m.a, m.a_at.data(), s);
     Sums sb;
-    ball(c, std::size_t(p.b), poses, centre, m.b, m.b_at.data(), sb);
+    ball(c, std::size_t(p.b), poses, center, m.b, m.b_at.data(), sb);
     // DisplacementBound::add: sums bound the sum, the larger turn rate serves both.
     s.v0 += sb.v0;
     s.second += sb.second;
@@ -106,9 +106,9 @@ struct SphereFieldChecker::LaneMotion {
   // or a subset in chain order; `at`: their places in the chain, null for the whole chain), added
   // to s.
   DMGPLACE_LANES_INLINE void ball(const SphereFieldChecker& c, std::size_t bi, const LinkPoseLanesF& poses,
-                                  const LaneXyz* centre, const std::vector<ChainJoint>& joints, const int* at,
+                                  const LaneXyz* center, const std::vector<ChainJoint>& joints, const int* at,
                                   Sums& s) const {
-    levers(c, bi, poses, centre);
+    levers(c, bi, poses, center);
     const Body& b = c.bodies_[bi];
     const F radius = lanes::splatf(float(b.radius));
     F lx{}, ly{}, lz{}, wx{}, wy{}, wz{}, lin_err{};
@@ -177,11 +177,11 @@ struct SphereFieldChecker::LaneMotion {
 
   // Body bi's lever arms about its chain's revolute joints, every lane, once per batch.
   DMGPLACE_LANES_INLINE void levers(const SphereFieldChecker& c, std::size_t bi, const LinkPoseLanesF& poses,
-                                    const LaneXyz* centre) const {
+                                    const LaneXyz* center) const {
     if (body_done[bi]) return;
     body_done[bi] = 1;
     const Body& b = c.bodies_[bi];
-    const F cx = lanes::load(centre[bi].x), cy = lanes::load(centre[bi].y), cz = lanes::load(centre[bi].z);
+    const F cx = lanes::load(center[bi].x), cy = lanes::load(center[bi].y), cz = lanes::load(center[bi].z);
     for (std::size_t k = 0; k < b.chain.size(); ++k) {
       const ChainJoint& j = b.chain[k];
       joint(j, poses);

@@ -1,6 +1,6 @@
 #pragma once
 // One free_lanes query on 8 configurations (SphereFieldChecker::free_lanes_body): the link poses
-// in float lanes, and what has been carried into the world so far (sphere centres, body centres,
+// in float lanes, and what has been carried into the world so far (sphere centers, body centers,
 // capsules: each on first use), read by two passes: every body against the scene (environment),
 // then the self pairs. Each test is a lane kernel of collision/kernels/; every member is
 // always_inline, so a query still compiles to one function. Private to the runtime.
@@ -29,8 +29,8 @@ struct SphereFieldChecker::LanePass {
   // Per-thread scratch, sized per query: no allocation once warm.
   struct Scratch {
     LinkPoseLanesF poses;
-    std::vector<Xyz> world, centre, cap_from, cap_dir;
-    std::vector<char> done;  // per body: 1 its spheres' centres, 2 its capsule, are in the world
+    std::vector<Xyz> world, center, cap_from, cap_dir;
+    std::vector<char> done;  // per body: 1 its spheres' centers, 2 its capsule, are in the world
   };
   static Scratch& scratch() {
     thread_local Scratch s;
@@ -63,7 +63,7 @@ struct SphereFieldChecker::LanePass {
     if (&at == &c.framed_) c.kin_->lanes().frame_poses(in, s.poses);
     else c.kin_->lanes().link_poses(in, s.poses);
     s.world.resize(c.spheres_.size());
-    s.centre.resize(c.bodies_.size());
+    s.center.resize(c.bodies_.size());
     s.cap_from.resize(c.bodies_.size());
     s.cap_dir.resize(c.bodies_.size());
     s.done.assign(c.bodies_.size(), 0);
@@ -137,7 +137,7 @@ struct SphereFieldChecker::LanePass {
   }
 
   // Every moving (or attached) body against the scene: its bounding sphere, then its spheres.
-  // Also places every body's centre and drops the lanes whose centres leave lane_limit_. False
+  // Also places every body's center and drops the lanes whose centers leave lane_limit_. False
   // when no lane is left.
   DMGPLACE_LANE_PASS_INLINE bool environment() {
     lanes::MF in_range = ~lanes::MF{};
@@ -145,17 +145,17 @@ struct SphereFieldChecker::LanePass {
       const Body& b = c.bodies_[bi];
       const Eigen::Vector3d& bc = at.center[bi];
       kernels::transform(pose_of(bi), lanes::splatf(float(bc.x())), lanes::splatf(float(bc.y())), lanes::splatf(float(bc.z())),
-                         s.centre[bi]);
-      in_range &= kernels::within(s.centre[bi], limit);
+                         s.center[bi]);
+      in_range &= kernels::within(s.center[bi], limit);
       if (!b.moving && !b.attached) continue;
       body_widen = widened(bi);
-      std::uint32_t open = alive & ~clear_body(s.centre[bi], b.radius, alive);
+      std::uint32_t open = alive & ~clear_body(s.center[bi], b.radius, alive);
       // Undecided under the static bound: the lanes' own (sphere_lane_motion.hpp), where smaller.
       if (open && motion && body_widen > 0) {
-        const float local = motion->body(c, bi, s.poses, s.centre.data(), open);
+        const float local = motion->body(c, bi, s.poses, s.center.data(), open);
         if (local < body_widen) {
           body_widen = local;
-          open &= ~clear_body(s.centre[bi], b.radius, open);
+          open &= ~clear_body(s.center[bi], b.radius, open);
         }
       }
       if (!open) continue;
@@ -175,7 +175,7 @@ struct SphereFieldChecker::LanePass {
   // (where it has one) and the capsules; kb is b's capsule where b has one.
   DMGPLACE_LANE_PASS_INLINE std::uint32_t pair_near(std::size_t pi, float& pair_widen, CapsuleLanes& kb) {
     const Pair& p = c.pairs_[pi];
-    const Xyz &ca = s.centre[std::size_t(p.a)], &cb = s.centre[std::size_t(p.b)];
+    const Xyz &ca = s.center[std::size_t(p.a)], &cb = s.center[std::size_t(p.b)];
     std::uint32_t near = lanes::bits(kernels::overlaps(ca, cb, float(p.reach) + pair_margin + pair_widen), wide) & alive;
     if (!near) return 0;
     // A pair with a table asks it first, the pair's motion over the reach bounded by the smaller
@@ -189,7 +189,7 @@ struct SphereFieldChecker::LanePass {
     if (table) near &= ~table_apart(near);
     // Near under the static bound: the lanes' own, where smaller (as for bodies).
     if (near && motion && pair_widen > 0) {
-      const float local = motion->pair(c, pi, s.poses, s.centre.data(), near);
+      const float local = motion->pair(c, pi, s.poses, s.center.data(), near);
       if (local < pair_widen) {
         pair_widen = local;
         near &= lanes::bits(kernels::overlaps(ca, cb, float(p.reach) + pair_margin + pair_widen), wide);
@@ -212,7 +212,7 @@ struct SphereFieldChecker::LanePass {
   DMGPLACE_LANE_PASS_INLINE std::uint32_t pair_hits(std::size_t pi, std::uint32_t near, float pair_widen, const CapsuleLanes& kb) {
     const Pair& p = c.pairs_[pi];
     const Body &a = c.bodies_[std::size_t(p.a)], &b = c.bodies_[std::size_t(p.b)];
-    const Xyz& cb = s.centre[std::size_t(p.b)];
+    const Xyz& cb = s.center[std::size_t(p.b)];
     spheres_of(std::size_t(p.a));
     spheres_of(std::size_t(p.b));
     std::uint32_t hit = 0;

@@ -1,7 +1,7 @@
 // SphereFieldChecker::free_lanes: the fast layer's "proven free" for 8 configurations at once.
 // Every step runs in floats across all 8 lanes (lanes::F, one AVX register): forward kinematics
 // (Kinematics::frame_poses_batch into a LinkPoseLanesF, the bodies carried into their batch frames),
-// then one body or sphere at a time: centres, bounds, exact primitive distances, pair distances.
+// then one body or sphere at a time: centers, bounds, exact primitive distances, pair distances.
 // Every test that can say "free" adds a rounding margin (lane_margin(): the kinematics' own error
 // bound and the steps after it; a pair test adds a second pose error, one per body), so the
 // floats stay conservative. Only the field loads are one per lane. Compiled for AVX2 + FMA and
@@ -36,14 +36,14 @@ void SphereFieldChecker::set_lane_bounds() {
       std::max({2.0, lo_.cwiseAbs().maxCoeff(), hi_.cwiseAbs().maxCoeff(), obstacles_ ? obstacles_->extent() : 0.0});
   lane_limit_ = std::max(scene, reach_);
   // Every float step rounds by at most 2^-24 of the magnitudes it meets: coordinates up to
-  // lane_limit_ (body centres past it drop their lane), sphere offsets within reach_, primitive
+  // lane_limit_ (body centers past it drop their lane), sphere offsets within reach_, primitive
   // extents. A pose element, a transform, a difference, a rotation into a primitive's frame and a
   // squared distance each add a few such roundings; 64 of them bound the lot with room to spare.
   // Forward kinematics in floats adds its own bound, for points as far from their link's origin
   // as any sphere's far side.
   lane_rounding_ = 64.0 * 0x1p-24 * (lane_limit_ + 2.0 * reach_ + 1.0);
   // |p - from| <= 2 (lane_limit_ + reach_) and |d| <= 2 reach_ there (every point of a body is
-  // within reach_ of its centre).
+  // within reach_ of its center).
   capsule_rounding_ = kernels::kSegmentRounding * 0x1p-24 * (2.0 * lane_limit_ + 4.0 * reach_ + 1.0);
   exact_float_error_ = obstacles_ ? obstacles_->float_error(lane_limit_) : 0.0;
 }

@@ -69,14 +69,14 @@ std::vector<SphereFieldChecker::MotionBound> SphereFieldChecker::motion_bounds(c
   for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) in[k] = q[k < count ? k : 0];
   LinkPoseLanesF poses;
   kin_->lanes().link_poses(in, poses);
-  std::vector<LaneXyz> centre(bodies_.size());
+  std::vector<LaneXyz> center(bodies_.size());
   for (std::size_t bi = 0; bi < bodies_.size(); ++bi) {
     const auto& T = poses.pose[std::size_t(bodies_[bi].link)];
     const Eigen::Vector3f c = bodies_[bi].center.cast<float>();
     for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) {
-      centre[bi].x[k] = T[0][k] * c.x() + T[1][k] * c.y() + T[2][k] * c.z() + T[9][k];
-      centre[bi].y[k] = T[3][k] * c.x() + T[4][k] * c.y() + T[5][k] * c.z() + T[10][k];
-      centre[bi].z[k] = T[6][k] * c.x() + T[7][k] * c.y() + T[8][k] * c.z() + T[11][k];
+      center[bi].x[k] = T[0][k] * c.x() + T[1][k] * c.y() + T[2][k] * c.z() + T[9][k];
+      center[bi].y[k] = T[3][k] * c.x() + T[4][k] * c.y() + T[5][k] * c.z() + T[10][k];
+      center[bi].z[k] = T[6][k] * c.x() + T[7][k] * c.y() + T[8][k] * c.z() + T[11][k];
     }
   }
   const LaneMotion motion = LaneMotion::start(*this, direction, reach);
@@ -87,7 +87,7 @@ std::vector<SphereFieldChecker::MotionBound> SphereFieldChecker::motion_bounds(c
     MotionBound m;
     m.link_a = bodies_[bi].link;
     m.attached = bodies_[bi].attached;
-    fill(m, widen[bi], [&](std::uint32_t lane) { return motion.body(*this, bi, poses, centre.data(), lane); });
+    fill(m, widen[bi], [&](std::uint32_t lane) { return motion.body(*this, bi, poses, center.data(), lane); });
     out.push_back(m);
   }
   for (std::size_t pi = 0; pi < pairs_.size(); ++pi) {
@@ -96,7 +96,7 @@ std::vector<SphereFieldChecker::MotionBound> SphereFieldChecker::motion_bounds(c
     m.link_a = a.link;
     m.link_b = b.link;
     m.attached = a.attached || b.attached;
-    fill(m, widen[bodies_.size() + pi], [&](std::uint32_t lane) { return motion.pair(*this, pi, poses, centre.data(), lane); });
+    fill(m, widen[bodies_.size() + pi], [&](std::uint32_t lane) { return motion.pair(*this, pi, poses, center.data(), lane); });
     out.push_back(m);
   }
   return out;

@@ -1,6 +1,6 @@
 // SphereFieldChecker::pair_contact: a body pair's sphere-by-sphere test for the scalar passes, in
 // doubles four spheres at a time, each body's spheres in its own link frame (pair_spheres_). b's
-// bounding-sphere centre goes into a's frame once, and each of a's spheres near it into b's frame:
+// bounding-sphere center goes into a's frame once, and each of a's spheres near it into b's frame:
 // no sphere is moved into the world, where the world-frame loop moved every sphere of both bodies
 // for a pair that mostly needs one or two of a's (docs/perf-log.md has what it saved). Compiled for AVX2 and for the portable baseline, chosen at run time (system/simd_dispatch).
 #include "dmgplace/runtime/collision/sphere_field_checker.hpp"

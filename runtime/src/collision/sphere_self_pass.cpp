@@ -76,8 +76,8 @@ bool SphereFieldChecker::Pass::self_pairs() {
 SphereFieldChecker::Pass::PairSpheres SphereFieldChecker::Pass::pair_spheres(const Pair& p, double need, double& gap,
                                                                              bool& beyond) {
   const Body &a = c.bodies_[std::size_t(p.a)], &b = c.bodies_[std::size_t(p.b)];
-  centres(std::size_t(p.a));
-  centres(std::size_t(p.b));
+  centers(std::size_t(p.a));
+  centers(std::size_t(p.b));
   const Eigen::Vector3d& cb = s.body_center[std::size_t(p.b)];
   for (int i = a.begin; i < a.end; ++i) {
     const Eigen::Vector3d& wa = s.world[std::size_t(i)];

@@ -18,7 +18,7 @@ std::optional<Capsule> bounding_capsule(const std::vector<Eigen::Vector3d>& cent
   mean /= double(n);
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
   for (const auto& c : centers) cov += (c - mean) * (c - mean).transpose();
-  // The principal axis: the centres spread most along it, so the segment takes up their length.
+  // The principal axis: the centers spread most along it, so the segment takes up their length.
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
   const Eigen::Vector3d axis = eig.eigenvectors().col(2).normalized();
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;

@@ -43,8 +43,8 @@ ConvexSolid ConvexSolid::hull(const std::vector<Eigen::Vector3d>& points) {
     s.z_.push_back(p.z());
     box.extend(p);
   }
-  s.centre_ = box.center();
-  for (const auto& p : points) s.radius_ = std::max(s.radius_, (p - s.centre_).norm());
+  s.center_ = box.center();
+  for (const auto& p : points) s.radius_ = std::max(s.radius_, (p - s.center_).norm());
   return s;
 }
 
@@ -133,7 +133,7 @@ Eigen::Vector3d ConvexSolid::support(const Eigen::Vector3d& d, int& start) const
       // neighbour beats is the farthest (the simplex method's argument); a near tie (a flat face
       // or edge across d, where the climb may stop on an inner vertex, or rounding) is settled
       // by the full scan instead.
-      const double tie = 1e-10 * (centre_.norm() + radius_) * d.lpNorm<1>();
+      const double tie = 1e-10 * (center_.norm() + radius_) * d.lpNorm<1>();
       double value = along(at, d);
       for (std::size_t step = 0; step < x_.size(); ++step) {
         int next = -1;
@@ -304,7 +304,7 @@ double convex_gap(const ConvexSolid& a, const Eigen::Isometry3d& ta, const Conve
   // A hinted start is a direction only: until the first support, v is no point of A - B, so its
   // length bounds nothing (the first tolerance test waits).
   const bool hinted = hint && hint->v.squaredNorm() > 1e-24 && hint->v.allFinite();
-  Eigen::Vector3d v = hinted ? hint->v : Eigen::Vector3d(ta * a.centre() - tb * b.centre());
+  Eigen::Vector3d v = hinted ? hint->v : Eigen::Vector3d(ta * a.center() - tb * b.center());
   if (!(v.squaredNorm() > 0)) v = Eigen::Vector3d::UnitX();
   double lower = -std::numeric_limits<double>::infinity();
   Eigen::Vector3d best = Eigen::Vector3d::Zero();  // the direction of `lower`, unit
@@ -319,7 +319,7 @@ double convex_gap(const ConvexSolid& a, const Eigen::Isometry3d& ta, const Conve
     }
     if ((iter > 0 || !hinted) && vn - lower <= tolerance) break;  // the bound is within tolerance of the estimate
     // Proven above `enough`. A sign query (enough <= 0) also stops once it never will be (past the
-    // first v, between the centres, v is a point of A - B: the distance is at most vn); a
+    // first v, between the centers, v is a point of A - B: the distance is at most vn); a
     // certificate asking for more goes on to the best bound it can get.
     if (enough < std::numeric_limits<double>::infinity() &&
         (lower - slack > enough || (enough <= 0 && iter > 0 && !(vn - slack > enough))))
@@ -333,7 +333,7 @@ double convex_gap(const ConvexSolid& a, const Eigen::Isometry3d& ta, const Conve
     else if (s.n == 2) next = closest_on_segment(s);
     else if (s.n == 3) next = closest_on_triangle(s);
     else if (!closest_on_tetrahedron(s, next)) break;  // the origin is inside: lower <= 0 already
-    // Rounding: no descent left (the first v, between the centres, is not a point of A - B).
+    // Rounding: no descent left (the first v, between the centers, is not a point of A - B).
     if (iter > 0 && !(next.squaredNorm() < v.squaredNorm())) break;
     v = next;
   }

@@ -29,7 +29,7 @@ std::optional<double> crossing(const Eigen::Vector3d& o, const Eigen::Vector3d& 
 double surface_distance(const TriMesh& m, const Eigen::Vector3d& p) {
   double best = std::numeric_limits<double>::infinity();
   for (Eigen::Index t = 0; t < m.triangles.rows(); ++t)
-    best = std::min(best, (closest_point_on_triangle(p, vertex(m, t, 0), vertex(m, t, 1), vertex(m, t, 2)) - p).norm());
+    best = std::min(best, (formats::closest_point_on_triangle(p, vertex(m, t, 0), vertex(m, t, 1), vertex(m, t, 2)) - p).norm());
   return best;
 }
 

@@ -75,7 +75,7 @@ void BlendedPath::add_arc(const Eigen::VectorXd& corner, const Eigen::VectorXd& 
   p.radius = blend / std::tan(angle / 2);
   p.origin = corner - blend * in;
   p.tangent = in;
-  const Eigen::VectorXd inward = out - in.dot(out) * in;  // towards the centre, norm sin(angle)
+  const Eigen::VectorXd inward = out - in.dot(out) * in;  // towards the center, norm sin(angle)
   p.outward = -inward / inward.norm();
   p.length = angle * p.radius;
   p.start = length_;
@@ -109,7 +109,7 @@ Eigen::VectorXd BlendedPath::position(int i, double s) const {
   const PathPiece& p = piece(i);
   const double sigma = std::clamp(s - p.start, 0.0, p.length);
   if (!p.is_arc()) return p.origin + sigma * p.tangent;
-  // Relative to the arc's start rather than its centre: exact for large radii too.
+  // Relative to the arc's start rather than its center: exact for large radii too.
   const double t = sigma / p.radius, half_sin = std::sin(t / 2);
   return p.origin + p.radius * std::sin(t) * p.tangent - 2 * p.radius * half_sin * half_sin * p.outward;
 }

@@ -3,7 +3,7 @@
 // lines between waypoints, each corner replaced by a circular arc tangent to both of its lines
 // that stays within `max_deviation` of the corner and uses at most half of either line.
 // Parameterised by arc length s, so the tangent f'(s) is a unit vector; f'' is zero on lines and
-// points to the centre on arcs. Private to the runtime.
+// points to the center on arcs. Private to the runtime.
 #include <Eigen/Core>
 #include <vector>
 
@@ -16,7 +16,7 @@ struct PathPiece {
   double start = 0, length = 0;
   Eigen::VectorXd origin;   // the piece's first point
   Eigen::VectorXd tangent;  // unit tangent at origin (a line's direction)
-  Eigen::VectorXd outward;  // arc: unit vector from the centre to origin; empty for a line
+  Eigen::VectorXd outward;  // arc: unit vector from the center to origin; empty for a line
   double radius = 0;        // arc: its radius; 0 for a line
   // Arc: offsets from start, ascending, where some joint's velocity along the arc is zero. The
   // acceleration limit curve has its corners there (between them it is concave), so these are

@@ -25,7 +25,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr int kAnyActions = std::numeric_limits<int>::max();
 
-// A ball holding every vertex: its box's centre and the farthest vertex from it.
+// A ball holding every vertex: its box's center and the farthest vertex from it.
 std::pair<Eigen::Vector3d, double> bounding_ball(const TriMesh& mesh) {
   Eigen::AlignedBox3d box;
   for (Eigen::Index i = 0; i < mesh.vertices.rows(); ++i) box.extend(Eigen::Vector3d(mesh.vertices.row(i).transpose()));

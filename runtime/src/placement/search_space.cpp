@@ -14,7 +14,7 @@ SearchSpace::SearchSpace(const formats::ObjectArtifact& object, const std::vecto
     std::size_t kept = 0;
     for (int j = 0; j < reg.depth; ++j)
       for (int i = 0; i < reg.width; ++i) {
-        // ... and only its cells whose centres are inside V's footprint are used.
+        // ... and only its cells whose centers are inside V's footprint are used.
         const std::size_t k = std::size_t(i) + std::size_t(reg.width) * std::size_t(j);
         const Eigen::Vector2d c = reg.cell_center(i, j);
         const bool in = c.x() >= volume.min().x() && c.x() <= volume.max().x() && c.y() >= volume.min().y() &&

@@ -74,7 +74,7 @@ TEST(Capsule, HoldsEverySphereItWasFittedTo) {
   EXPECT_GT(thinner, 200) << "long clusters should fit capsules much thinner than a sphere";
 }
 
-TEST(Capsule, NoneForTooFewCentresOrBadInput) {
+TEST(Capsule, NoneForTooFewCentersOrBadInput) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   EXPECT_FALSE(bounding_capsule({Eigen::Vector3d(1, 2, 3)}, {0.1}).has_value());
   EXPECT_FALSE(bounding_capsule({Eigen::Vector3d(1, 2, 3), Eigen::Vector3d(1, 2, 3)}, {0.1, 0.2}).has_value());

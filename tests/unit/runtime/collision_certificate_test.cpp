@@ -157,7 +157,7 @@ TEST(Certificate, LinkAndPairTimesKeepEveryPointWithinTheGap) {
   std::mt19937_64 rng(23);
   std::normal_distribution<double> g(0, 1);
   std::uniform_real_distribution<double> u(0, 1);
-  // Per link: its spheres' centres and points on their surfaces (link frame).
+  // Per link: its spheres' centers and points on their surfaces (link frame).
   std::vector<std::vector<Eigen::Vector3d>> points(w.kin.model().links.size());
   for (const auto& sp : w.arm.spheres) {
     points[std::size_t(sp.link)].push_back(sp.center);

@@ -26,7 +26,7 @@ struct Arm {
 // The built-in arm (datasets/robots/dmgarm) and its spheres.
 Arm built_in_arm();
 
-// test::box_shape: a box of `size` centred at `at`.
+// test::box_shape: a box of `size` centered at `at`.
 Shape box(const Eigen::Vector3d& size, const Eigen::Vector3d& at);
 
 // A board, a wall behind it, a can on the board and a ball above: four primitives within reach.
@@ -80,7 +80,7 @@ struct AlongCheckers {
 Scene random_primitives(std::mt19937_64& rng, int count, double spread);
 
 // A UV sphere whose vertices lie at `radius` around `at`: inside the ball of that radius, and
-// containing the ball of radius `radius * cos(pi / 12)` (its faces' distance from the centre).
+// containing the ball of radius `radius * cos(pi / 12)` (its faces' distance from the center).
 TriMesh uv_sphere(double radius);
 
 }  // namespace dmgplace::test::collision

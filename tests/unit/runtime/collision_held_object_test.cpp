@@ -19,7 +19,7 @@ TEST(Collision, MeshChecksHoldWhileOtherThreadsBuildCheckersOverTheSameMesh) {
   Kinematics kin(arm.model, "dmgarm_link0", "dmgarm_tcp");
   Eigen::VectorXd home(7);
   home << 0, -0.785, 0, -2.356, 0, 1.571, 0.785;
-  // A 1 m rod along x; many copies of its centre after the corners make FCL's bound loops long.
+  // A 1 m rod along x; many copies of its center after the corners make FCL's bound loops long.
   TriMesh rod = test::box_mesh({1.0, 0.02, 0.02});
   const Eigen::Index corners = rod.vertices.rows();
   rod.vertices.conservativeResize(corners + 200000, 3);

@@ -229,7 +229,7 @@ TEST(Lanes, FreeLanesFollowJointsSetAfterTheCheckerWasBuilt) {
 
 // A lane proven along a direction proves every state within its reach: each one sampled 2.5 mrad
 // apart is free for the scalar layer (FCL with the scene's exact primitives, which the batch
-// trusts outside the grid too). The test finds lanes whose centre alone is free but some state
+// trusts outside the grid too). The test finds lanes whose center alone is free but some state
 // within reach is not, so a batch that widened nothing would fail it; reach 0 is free_lanes.
 TEST(Lanes, LanesAlongADirectionProveEveryStateWithinTheirReach) {
   const AlongCheckers c(true);
@@ -280,13 +280,13 @@ TEST(Lanes, MotionBoundsCoverEveryPointOfEachBodyAndPair) {
   const ShelfWorld& w = c.w;
   std::mt19937_64 rng(29);
   std::normal_distribution<double> n(0, 1);
-  // Points of a link's spheres (held object's, for the attached body): centres and six extremes.
+  // Points of a link's spheres (held object's, for the attached body): centers and six extremes.
   auto points = [&](int link, bool attached) {
     std::vector<Eigen::Vector3d> out;
-    auto add = [&](const Eigen::Vector3d& centre, double r) {
-      out.push_back(centre);
+    auto add = [&](const Eigen::Vector3d& center, double r) {
+      out.push_back(center);
       for (int i = 0; i < 3; ++i)
-        for (const double sign : {-1.0, 1.0}) out.push_back(centre + sign * r * Eigen::Vector3d::Unit(i));
+        for (const double sign : {-1.0, 1.0}) out.push_back(center + sign * r * Eigen::Vector3d::Unit(i));
     };
     if (attached)
       for (std::size_t i = 0; i < c.object.centers.size(); ++i) add(c.object.centers[i], c.object.radii[i]);

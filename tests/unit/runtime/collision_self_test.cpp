@@ -29,7 +29,7 @@ TEST(Collision, HomePoseIsFreeAndObstaclesAtTheHandAreCaught) {
   SphereFieldChecker fast(kin, arm.spheres, sdf, 0.3);
   // Home folds link 7 close to link 5: the spheres may not tell, the two layers must.
   EXPECT_TRUE(TwoLayerChecker(fast, exact).is_free(home));
-  // A box around the tool centre point collides in both layers.
+  // A box around the tool center point collides in both layers.
   Scene blocked = empty;
   const Eigen::Vector3d tcp = kin.tip_pose(home).translation();
   blocked.objects.push_back({"block", {box({0.05, 0.05, 0.05}, tcp)}});

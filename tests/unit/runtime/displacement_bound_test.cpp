@@ -52,9 +52,9 @@ struct Arm {
   }
   // The motion of a ball on `link` as the checker builds it: axes and origins at q, in world
   // coordinates (any frame the joints do not move measures the same distances).
-  BallMotion motion(const std::vector<Eigen::Isometry3d>& poses, int frame, int link, const Eigen::Vector3d& centre,
+  BallMotion motion(const std::vector<Eigen::Isometry3d>& poses, int frame, int link, const Eigen::Vector3d& center,
                     double radius, const Eigen::VectorXd& u) const {
-    BallMotion m(poses[std::size_t(link)] * centre, radius);
+    BallMotion m(poses[std::size_t(link)] * center, radius);
     for (int j : joints_between(frame, link)) {
       const Joint& jt = model.joints[std::size_t(j)];
       const Eigen::Isometry3d& T = poses[std::size_t(jt.child)];
@@ -63,9 +63,9 @@ struct Arm {
     }
     return m;
   }
-  DisplacementBound bound(const std::vector<Eigen::Isometry3d>& poses, int frame, int link, const Eigen::Vector3d& centre,
+  DisplacementBound bound(const std::vector<Eigen::Isometry3d>& poses, int frame, int link, const Eigen::Vector3d& center,
                           double radius, const Eigen::VectorXd& u) const {
-    return motion(poses, frame, link, centre, radius, u).bound();
+    return motion(poses, frame, link, center, radius, u).bound();
   }
 };
 
@@ -103,25 +103,25 @@ TEST(DisplacementBound, BoundsEveryPointOfTheBallAlongTheMotion) {
     const int link = links[std::size_t(rng() % links.size())];
     const auto above = arm.ancestors(link);
     const int frame = trial % 2 == 0 ? arm.kin.base_link() : above[std::size_t(rng() % above.size())];
-    const Eigen::Vector3d centre = 0.1 * random_unit(3, rng) * unit(rng);
+    const Eigen::Vector3d center = 0.1 * random_unit(3, rng) * unit(rng);
     double radius = 0.05 * unit(rng);
     if (trial % 4 >= 2 && arm.joints_between(frame, link).size() > 3) {
-      // A motion that leaves the centre still at first (u in the null space of its Jacobian), on a
+      // A motion that leaves the center still at first (u in the null space of its Jacobian), on a
       // point ball: only the second-order terms bound it, so none of them can be dropped.
       Eigen::MatrixXd J(3, arm.kin.dof());
       for (int i = 0; i < arm.kin.dof(); ++i) {
         Eigen::VectorXd dq = Eigen::VectorXd::Zero(arm.kin.dof());
         dq[i] = 1e-6;
-        J.col(i) = (in_frame(arm, q + dq, frame, link, centre) - in_frame(arm, q - dq, frame, link, centre)) / 2e-6;
+        J.col(i) = (in_frame(arm, q + dq, frame, link, center) - in_frame(arm, q - dq, frame, link, center)) / 2e-6;
       }
       u = Eigen::JacobiSVD<Eigen::MatrixXd>(J, Eigen::ComputeFullV).matrixV().col(arm.kin.dof() - 1).normalized();
       radius = 0;
     }
     std::vector<Eigen::Isometry3d> poses;
     arm.kin.link_poses(q, poses);
-    const DisplacementBound b = arm.bound(poses, frame, link, centre, radius, u);
-    std::vector<Eigen::Vector3d> points{centre};
-    for (int k = 0; k < 12 && radius > 0; ++k) points.push_back(centre + radius * random_unit(3, rng));
+    const DisplacementBound b = arm.bound(poses, frame, link, center, radius, u);
+    std::vector<Eigen::Vector3d> points{center};
+    for (int k = 0; k < 12 && radius > 0; ++k) points.push_back(center + radius * random_unit(3, rng));
     std::vector<Eigen::Vector3d> start;
     for (const auto& p : points) start.push_back(in_frame(arm, q, frame, link, p));
     auto moved = [&](double t) {
@@ -151,7 +151,7 @@ TEST(DisplacementBound, BoundsEveryPointOfTheBallAlongTheMotion) {
 
 // Along a direction n: no point of the ball advances along n (either sense) farther than the
 // bound with the first-order term along n (BallVelocity::along), at every t up to a radian; n
-// mostly near-perpendicular to the centre's velocity, where that term is small and the drift terms
+// mostly near-perpendicular to the center's velocity, where that term is small and the drift terms
 // carry the bound.
 TEST(DisplacementBound, BoundsEveryPointOfTheBallAlongADirection) {
   Arm arm;
@@ -166,19 +166,19 @@ TEST(DisplacementBound, BoundsEveryPointOfTheBallAlongADirection) {
     for (int i = 0; i < arm.kin.dof(); ++i) q[i] = arm.kin.lower()[i] + unit(rng) * (arm.kin.upper()[i] - arm.kin.lower()[i]);
     const Eigen::VectorXd u = random_unit(arm.kin.dof(), rng);
     const int link = links[std::size_t(rng() % links.size())];
-    const Eigen::Vector3d centre = 0.1 * random_unit(3, rng) * unit(rng);
+    const Eigen::Vector3d center = 0.1 * random_unit(3, rng) * unit(rng);
     const double radius = trial % 3 == 0 ? 0.0 : 0.05 * unit(rng);
     std::vector<Eigen::Isometry3d> poses;
     arm.kin.link_poses(q, poses);
-    const BallMotion m = arm.motion(poses, base, link, centre, radius, u);
+    const BallMotion m = arm.motion(poses, base, link, center, radius, u);
     const DisplacementBound b = m.bound();
     const BallVelocity v = m.velocity();
-    // Perpendicular to the centre's velocity, tilted a little at random.
+    // Perpendicular to the center's velocity, tilted a little at random.
     Eigen::Vector3d n = random_unit(3, rng);
     if (v.linear.norm() > 1e-9 && trial % 4 != 0) n = (n - n.dot(v.linear.normalized()) * v.linear.normalized() + 0.05 * unit(rng) * random_unit(3, rng)).normalized();
     const DisplacementBound along = b.along(v.along(n));
-    std::vector<Eigen::Vector3d> points{centre};
-    for (int k = 0; k < 24 && radius > 0; ++k) points.push_back(centre + radius * random_unit(3, rng));
+    std::vector<Eigen::Vector3d> points{center};
+    for (int k = 0; k < 24 && radius > 0; ++k) points.push_back(center + radius * random_unit(3, rng));
     std::vector<Eigen::Vector3d> start;
     for (const auto& p : points) start.push_back(in_frame(arm, q, base, link, p));
     for (double t = 1e-3; t <= 1.0; t *= 1.25)
@@ -264,7 +264,7 @@ TEST(DisplacementBound, PadeLogarithmStaysBelowLog1pAndCloseBelowHalf) {
 }
 
 // A ball that no joint moves never runs out of clearance; one on the axis of the only moving joint
-// turns in place (first order 0 at the centre) and moves only through its radius.
+// turns in place (first order 0 at the center) and moves only through its radius.
 TEST(DisplacementBound, EdgeCases) {
   BallMotion still(Eigen::Vector3d(1, 0, 0), 0.1);
   EXPECT_TRUE(std::isinf(still.bound().time_to_move(0.01)));

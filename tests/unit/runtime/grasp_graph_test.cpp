@@ -61,7 +61,7 @@ GraspGraph cube_graph() {
   return GraspGraph(dmg, formats::build_grasp_graph_table(dmg));
 }
 
-// The TCP pose of a grasp across the box's x sides at the face centres, approach angle a about x.
+// The TCP pose of a grasp across the box's x sides at the face centers, approach angle a about x.
 Eigen::Isometry3d across_x(double a) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   Eigen::Matrix3d r;

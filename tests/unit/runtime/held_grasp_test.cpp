@@ -10,7 +10,7 @@ using namespace dmgplace;
 using namespace dmgplace::runtime;
 
 namespace {
-// Axis-aligned box centred at the origin, triangles counter-clockwise from outside.
+// Axis-aligned box centered at the origin, triangles counter-clockwise from outside.
 TriMesh box(const Eigen::Vector3d& size) {
   TriMesh m;
   m.vertices.resize(8, 3);

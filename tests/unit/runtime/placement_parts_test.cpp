@@ -97,7 +97,7 @@ TEST(ObjectSpheres, CoverEqualsTestingEveryTriangle) {
             const Eigen::Vector3d c = start + cell * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5);
             bool near = false;
             for (Eigen::Index t = 0; t < m.triangles.rows() && !near; ++t)
-              near = (closest_point_on_triangle(c, m.vertices.row(m.triangles(t, 0)).transpose(), m.vertices.row(m.triangles(t, 1)).transpose(),
+              near = (formats::closest_point_on_triangle(c, m.vertices.row(m.triangles(t, 0)).transpose(), m.vertices.row(m.triangles(t, 1)).transpose(),
                                                 m.vertices.row(m.triangles(t, 2)).transpose()) - c).squaredNorm() <= radius * radius;
             if (near || inside_mesh(m, c)) expected.push_back(c);
           }

@@ -33,5 +33,5 @@ TEST(SphereCover, InnerBallsLieInsideTheLinkGeometry) {
         ASSERT_TRUE(inside) << arm.model.links[std::size_t(s.link)].name << " ball " << r << " at " << s.center.transpose();
       }
   }
-  EXPECT_GT(with_ball, int(arm.spheres.size()) / 2) << "most sphere centres lie inside their link";
+  EXPECT_GT(with_ball, int(arm.spheres.size()) / 2) << "most sphere centers lie inside their link";
 }

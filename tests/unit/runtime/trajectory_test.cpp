@@ -123,10 +123,10 @@ double trapezoid_time(const Eigen::VectorXd& d, double len, const Eigen::VectorX
 }
 
 // Two segments q0-q1-q2 with the corner replaced by the arc of Kunz & Stilman (2012): tangent to
-// both segments, `blend` from the corner along each, radius blend / tan(angle / 2), centred on
-// the corner's bisector. Written from the paper's centred form, not the library's.
+// both segments, `blend` from the corner along each, radius blend / tan(angle / 2), centered on
+// the corner's bisector. Written from the paper's centered form, not the library's.
 struct CornerPath {
-  Eigen::VectorXd y1, y2, centre, x;
+  Eigen::VectorXd y1, y2, center, x;
   double line1 = 0, radius = 0, angle = 0, arc = 0, line2 = 0;
 
   CornerPath(const Eigen::VectorXd& a, const Eigen::VectorXd& b, const Eigen::VectorXd& c, double max_deviation)
@@ -135,8 +135,8 @@ struct CornerPath {
     const double blend = std::min(
         {(b - a).norm() / 2, (c - b).norm() / 2, max_deviation * std::sin(angle / 2) / (1 - std::cos(angle / 2))});
     radius = blend / std::tan(angle / 2);
-    centre = b + (y2 - y1).normalized() * radius / std::cos(angle / 2);
-    x = (b - blend * y1 - centre) / radius;
+    center = b + (y2 - y1).normalized() * radius / std::cos(angle / 2);
+    x = (b - blend * y1 - center) / radius;
     line1 = (b - a).norm() - blend;
     arc = angle * radius;
     line2 = (c - b).norm() - blend;

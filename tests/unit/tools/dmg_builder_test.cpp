@@ -109,8 +109,8 @@ TEST(Dmg, AFingerSlidesAllRoundACylindersSide) {
   EXPECT_TRUE(check_object(a).empty()) << check_object(a).front();
 }
 
-TEST(Dmg, ABoxFaceCentreCanBeGraspedAtEveryAngle) {
-  // Across x at the face centre: the box reaches at most 25 mm (diagonal of 35 x 35 mm) plus the
+TEST(Dmg, ABoxFaceCenterCanBeGraspedAtEveryAngle) {
+  // Across x at the face center: the box reaches at most 25 mm (diagonal of 35 x 35 mm) plus the
   // patch offset from the TCP in the y-z plane, less than the 36 mm to the palm, so nothing blocks
   // a full turn. A 60 mm cube would block the diagonal angles (42 mm) and must not pass.
   const auto a = bake(make_box_mesh({0.06, 0.035, 0.035}));

@@ -37,7 +37,7 @@ TriMesh with_faces(const TriMesh& m, const std::vector<Eigen::RowVector3i>& extr
   return out;
 }
 
-// Every face's normal points away from the centre of the (convex) mesh.
+// Every face's normal points away from the center of the (convex) mesh.
 bool all_outward(const TriMesh& m) {
   const Eigen::RowVector3d c = m.vertices.colwise().mean();
   for (Eigen::Index f = 0; f < m.triangles.rows(); ++f) {

@@ -24,7 +24,7 @@ TEST(PlacementFaces, ABoxHasSixFacesWithCorrectGeometry) {
     EXPECT_NEAR(f.normal.cwiseAbs().maxCoeff(&axis), 1.0, 1e-12);
     EXPECT_NEAR(f.height, 0.5 * ext[axis], 1e-12);
     EXPECT_EQ(f.polygon.size(), 4u);
-    // The box's COM is its centre: the margin is half the smaller in-plane extent.
+    // The box's COM is its center: the margin is half the smaller in-plane extent.
     const double other_a = ext[(axis + 1) % 3], other_b = ext[(axis + 2) % 3];
     EXPECT_NEAR(f.margin, 0.5 * std::min(other_a, other_b), 1e-12);
     EXPECT_LT((f.rotation * f.normal - Eigen::Vector3d(0, 0, -1)).norm(), 1e-12);
@@ -46,10 +46,10 @@ TEST(PlacementFaces, BottleStandsOnItsBottomAndLiesOnItsSide) {
 TEST(PlacementFaces, AComOverrideThatTipsAFaceRemovesIt) {
   const auto box = make_box_mesh({0.1, 0.1, 0.1});
   FaceOptions o;
-  const auto centred = compute_placement_faces(box, Eigen::Vector3d::Zero(), o, "test");
-  ASSERT_EQ(centred.faces.size(), 6u);
-  // COM 4.5 cm off centre along +x: inside the box, but less than 1 cm from the +x side's edges,
-  // so every face except -x and +x tips over (and +x keeps it at its centre line).
+  const auto centered = compute_placement_faces(box, Eigen::Vector3d::Zero(), o, "test");
+  ASSERT_EQ(centered.faces.size(), 6u);
+  // COM 4.5 cm off center along +x: inside the box, but less than 1 cm from the +x side's edges,
+  // so every face except -x and +x tips over (and +x keeps it at its center line).
   const auto shifted = compute_placement_faces(box, Eigen::Vector3d(0.045, 0, 0), o, "test");
   EXPECT_EQ(shifted.faces.size(), 2u);
   for (const auto& f : shifted.faces) EXPECT_NEAR(std::abs(f.normal.x()), 1.0, 1e-12);

@@ -171,7 +171,7 @@ TEST(ProceduralMeshes, EraserIsABoardEraserSizedBox) {
   const Eigen::Vector3d lo = m.vertices.colwise().minCoeff().transpose();
   const Eigen::Vector3d hi = m.vertices.colwise().maxCoeff().transpose();
   EXPECT_TRUE((hi - lo).isApprox(Eigen::Vector3d(0.13, 0.05, 0.035)));
-  EXPECT_TRUE((hi + lo).isZero(1e-15)) << "centred at the origin";
+  EXPECT_TRUE((hi + lo).isZero(1e-15)) << "centered at the origin";
   EXPECT_NEAR(signed_volume(m), 0.13 * 0.05 * 0.035, 1e-15);
 }
 

@@ -116,12 +116,12 @@ TEST(ScanObject, ABoxOnATableScannedFromThreeSidesBakesLikeItsMesh) {
   EXPECT_TRUE(scan.segmented.plane_removed);
   EXPECT_EQ(scan.segmented.clusters.size(), 1u);
   EXPECT_EQ(scan.segmented.orientation, "viewpoint");
-  // Normals face out of the box: away from its centre.
-  const Eigen::Vector3d centre(0.01, -0.02, 0.045);
+  // Normals face out of the box: away from its center.
+  const Eigen::Vector3d center(0.01, -0.02, 0.045);
   std::size_t outward = 0;
-  for (std::size_t i = 0; i < scan.segmented.points.size(); ++i) outward += scan.segmented.normals[i].dot(scan.segmented.points[i] - centre) > 0;
+  for (std::size_t i = 0; i < scan.segmented.points.size(); ++i) outward += scan.segmented.normals[i].dot(scan.segmented.points[i] - center) > 0;
   EXPECT_GT(double(outward), 0.98 * double(scan.segmented.points.size()));
-  // The object frame is the scan frame moved to the surface's box centre: truth moved the same way.
+  // The object frame is the scan frame moved to the surface's box center: truth moved the same way.
   expect_like_truth(moved(box_truth(), -scan.origin_in_scan), scan);
   EXPECT_GT(scan.reconstruction.seen_fraction, 0.5);
 }

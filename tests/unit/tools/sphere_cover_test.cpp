@@ -25,8 +25,8 @@ TEST(SphereCover, EverySamplePointOfEveryLinkIsInsideASphere) {
   }
 }
 
-// A corner tetrahedron's smallest enclosing ball is its long face's circumball (centre (1,1,1)/3,
-// radius sqrt(2/3)), smaller than the ball about its bounding box's centre (sqrt(3)/2): one
+// A corner tetrahedron's smallest enclosing ball is its long face's circumball (center (1,1,1)/3,
+// radius sqrt(2/3)), smaller than the ball about its bounding box's center (sqrt(3)/2): one
 // sphere must come near the former and still hold every sample.
 TEST(SphereCover, OneSphereComesNearTheSmallestEnclosingBall) {
   Shape tet;

@@ -32,7 +32,7 @@ struct Ring {
 };
 
 // Revolves a profile about z: one vertex ring per profile point, closed at the bottom and the
-// top by a single centre vertex each. Successive rings must differ in radius or height.
+// top by a single center vertex each. Successive rings must differ in radius or height.
 TriMesh revolve(const std::vector<Ring>& rings, int segments) {
   const int n = segments;
   const int nr = static_cast<int>(rings.size());

@@ -11,7 +11,7 @@ namespace dmgplace::tools {
 
 Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                                           const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  return dmgplace::closest_point_on_triangle(p, a, b, c);
+  return formats::closest_point_on_triangle(p, a, b, c);
 }
 
 double squared_distance_to_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,

@@ -43,7 +43,7 @@ void require_band(double band, const char* what) {
   if (!(band > 0) || !std::isfinite(band)) throw Error(what, "", "band must be a positive finite distance");
 }
 
-// Calls fn(block, centre, half_diagonal) for every block, in parallel.
+// Calls fn(block, center, half_diagonal) for every block, in parallel.
 template <class Fn>
 void for_blocks(const GridSpec& g, int threads, const ProgressFn& progress, const char* stage, Fn&& fn) {
   const auto blocks = blocks_of(g);

@@ -39,7 +39,7 @@ class SampleGrid {
 
 struct Patches {
   std::vector<int> of_sample;                  // patch of each sample
-  std::vector<Eigen::Vector3d> position;       // a sample near the patch centre: on the surface
+  std::vector<Eigen::Vector3d> position;       // a sample near the patch center: on the surface
   std::vector<Eigen::Vector3d> normal;         // unit mean sample normal
   std::vector<int> size;                       // samples
   std::vector<std::vector<int>> neighbours;    // adjacent patches, sorted

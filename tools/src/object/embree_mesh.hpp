@@ -8,7 +8,7 @@
 
 namespace dmgplace::tools::detail {
 
-// An oriented box: centre, rotation (columns = box axes) and half extents.
+// An oriented box: center, rotation (columns = box axes) and half extents.
 struct OrientedBox {
   Eigen::Vector3d center;
   Eigen::Matrix3d axes;
@@ -38,7 +38,7 @@ class EmbreeMesh {
   void* scene_ = nullptr;
 };
 
-// Exact triangle / axis-aligned box overlap (box centred at the origin with half extents h).
+// Exact triangle / axis-aligned box overlap (box centered at the origin with half extents h).
 bool triangle_overlaps_box(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, const Eigen::Vector3d& h);
 
 }  // namespace dmgplace::tools::detail

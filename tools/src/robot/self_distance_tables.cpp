@@ -46,7 +46,7 @@ void tree_path(const RobotModel& m, const std::vector<int>& parent_joint, int a,
 double slope_bound(const RobotModel& m, const std::vector<int>& parent_joint, int link, int k,
                    const std::vector<formats::LinkSphere>& link_spheres) {
   struct Ball {
-    Eigen::Vector3d centre;
+    Eigen::Vector3d center;
     double radius;
   };
   std::vector<Ball> balls;
@@ -57,21 +57,21 @@ double slope_bound(const RobotModel& m, const std::vector<int>& parent_joint, in
     if (j == k) {  // the balls are in k's frame, its axis through the origin
       const Eigen::Vector3d a = joint.axis.normalized();
       double most = 0;
-      for (const Ball& b : balls) most = std::max(most, (b.centre - b.centre.dot(a) * a).norm() + b.radius);
+      for (const Ball& b : balls) most = std::max(most, (b.center - b.center.dot(a) * a).norm() + b.radius);
       return most;
     }
     if (joint.type == JointType::Prismatic) break;  // no rigid reach (tables take revolute joints only)
     if (joint.type != JointType::Fixed) {
       // Turning about this joint's axis sweeps a ball around a circle: the ball about the
-      // circle's centre (on the axis) reaching the circle's radius farther holds it at any angle.
+      // circle's center (on the axis) reaching the circle's radius farther holds it at any angle.
       const Eigen::Vector3d a = joint.axis.normalized();
       for (Ball& b : balls) {
-        const Eigen::Vector3d along = b.centre.dot(a) * a;
-        b.radius += (b.centre - along).norm();
-        b.centre = along;
+        const Eigen::Vector3d along = b.center.dot(a) * a;
+        b.radius += (b.center - along).norm();
+        b.center = along;
       }
     }
-    for (Ball& b : balls) b.centre = joint.origin * b.centre;
+    for (Ball& b : balls) b.center = joint.origin * b.center;
     l = joint.parent;
   }
   return std::numeric_limits<double>::infinity();  // not reached (k is not above the link), or past a slide

@@ -102,8 +102,8 @@ std::vector<Sphere> cover_with_spheres(const std::vector<Shape>& shapes, const S
     return c;
   };
   // The cluster's sphere shrunk toward its smallest enclosing ball: Badoiu-Clarkson steps (the
-  // centre moves 1/(i+2) of the way to the farthest point), the best centre seen kept. The radius
-  // is always the exact farthest distance from the kept centre, so the sphere still covers.
+  // center moves 1/(i+2) of the way to the farthest point), the best center seen kept. The radius
+  // is always the exact farthest distance from the kept center, so the sphere still covers.
   auto shrink = [&](Cluster& c) {
     Eigen::Vector3d at = c.center;
     int far = 0;

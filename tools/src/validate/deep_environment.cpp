@@ -113,7 +113,7 @@ DeepCheck regions_on_surface(const formats::EnvironmentArtifact& a, const ExactS
   parallel_for(cells.size(), o.threads, [&](std::size_t k) {
     const auto& r = a.regions[cells[k].region];
     const Eigen::Vector2d m = r.cell_center(cells[k].i, cells[k].j);
-    // The surface passes within a cell of the cell's centre (a centre may lie past an edge).
+    // The surface passes within a cell of the cell's center (a center may lie past an edge).
     miss[k] = std::abs(exact.signed_distance(Eigen::Vector3d(m.x(), m.y(), r.height), 1.0)) / r.resolution;
   });
   WorstOf w;

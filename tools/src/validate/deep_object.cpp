@@ -1,5 +1,5 @@
 // validate --deep for OBJECT.h5: the mass properties re-derived from the stored mesh. A wrong
-// centre of mass makes an unstable face look stable; the faces and DMG contacts are already held
+// center of mass makes an unstable face look stable; the faces and DMG contacts are already held
 // against the mesh by the ordinary validation.
 #include <cmath>
 
@@ -21,9 +21,9 @@ void deep_object(const formats::ObjectArtifact& a, const DeepOptions&, DeepRepor
                    "relative", "stored " + fmt(a.mass.volume) + " m^3, from the mesh " + fmt(m.volume) + " m^3"};
   report.checks.push_back(volume);
   if (a.mass.com_overridden) {
-    report.notes.push_back("centre of mass given at the bake (--com): not re-derived");
+    report.notes.push_back("center of mass given at the bake (--com): not re-derived");
   } else {
-    report.checks.push_back({"centre of mass from the mesh", "mass/com", 1, (a.mass.com - m.com).norm() / size, kRelativeTolerance,
+    report.checks.push_back({"center of mass from the mesh", "mass/com", 1, (a.mass.com - m.com).norm() / size, kRelativeTolerance,
                              "of the object's size", "stored " + fmt(a.mass.com) + ", from the mesh " + fmt(m.com)});
   }
   const double scale = m.inertia.norm();

@@ -3,7 +3,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace dmgplace {
+namespace dmgplace::formats {
 
 class Error : public std::runtime_error {
  public:
@@ -20,4 +20,10 @@ class Error : public std::runtime_error {
   }
 };
 
+}  // namespace dmgplace::formats
+
+// The one error type of every layer (formats, runtime, tools, the CLI and Python's RuntimeError
+// text): thrown and caught as dmgplace::Error.
+namespace dmgplace {
+using formats::Error;
 }  // namespace dmgplace

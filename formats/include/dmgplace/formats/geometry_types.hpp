@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-namespace dmgplace {
+namespace dmgplace::formats {
 
 // Robots and rooms are metres across: a shape or coordinate beyond a kilometre is a unit error or
 // a crafted file, and the distance fields and sphere covers built from it would not fit in
@@ -47,4 +47,16 @@ struct Scene {
   RowMatrixX3d points;  // scan points in the world frame (empty for geometric scenes)
 };
 
+}  // namespace dmgplace::formats
+
+// The runtime and tools use the geometry types unqualified, from namespace dmgplace.
+namespace dmgplace {
+using formats::kMaxGeometryExtent;
+using formats::RowMatrixX3d;
+using formats::RowMatrixX3i;
+using formats::Scene;
+using formats::SceneObject;
+using formats::Shape;
+using formats::ShapeType;
+using formats::TriMesh;
 }  // namespace dmgplace

@@ -49,7 +49,7 @@ struct GripperModel {
   double finger_thickness = 0.027;  // along y, outward from the pad
   double tip_offset = 0.01;         // fingertip beyond the TCP along z
   Eigen::Vector3d palm_size{0.07, 0.215, 0.095};     // box, full extents
-  Eigen::Vector3d palm_center{0.0, -0.002, -0.0834}; // box centre in the TCP frame
+  Eigen::Vector3d palm_center{0.0, -0.002, -0.0834}; // box center in the TCP frame
   // Pads are checked this far off the contact: the surface may rise this much under a pad (a
   // curved or scanned surface; compliant pads), as the original allowed 3-5 mm of protrusion.
   double contact_tolerance = 0.003;

@@ -6,7 +6,7 @@
 
 #include "dmgplace/formats/geometry_types.hpp"
 
-namespace dmgplace {
+namespace dmgplace::formats {
 
 enum class JointType : int { Fixed = 0, Revolute = 1, Continuous = 2, Prismatic = 3 };
 
@@ -47,4 +47,12 @@ struct RobotModel {
   }
 };
 
+}  // namespace dmgplace::formats
+
+// The runtime and tools use the robot model unqualified, from namespace dmgplace.
+namespace dmgplace {
+using formats::Joint;
+using formats::JointType;
+using formats::Link;
+using formats::RobotModel;
 }  // namespace dmgplace

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <utility>
 
-namespace dmgplace {
+namespace dmgplace::formats {
 
 inline Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                                                  const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
@@ -39,4 +39,4 @@ inline Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const
   return a + ab * (vb / denom) + ac * (vc / denom);
 }
 
-}  // namespace dmgplace
+}  // namespace dmgplace::formats

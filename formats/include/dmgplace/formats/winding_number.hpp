@@ -7,7 +7,7 @@
 
 #include "dmgplace/formats/geometry_types.hpp"
 
-namespace dmgplace {
+namespace dmgplace::formats {
 
 inline double winding_number(const TriMesh& m, const Eigen::Vector3d& p) {
   double total = 0;
@@ -23,4 +23,4 @@ inline double winding_number(const TriMesh& m, const Eigen::Vector3d& p) {
   return total / (4 * M_PI);
 }
 
-}  // namespace dmgplace
+}  // namespace dmgplace::formats

@@ -203,12 +203,12 @@ drawPlot();
 applyFrame(0);
 const box = volume.clone();
 for (const l of links) box.expandByObject(l);
-const centre = box.getCenter(new THREE.Vector3());
+const center = box.getCenter(new THREE.Vector3());
 const radius = box.getBoundingSphere(new THREE.Sphere()).radius;
 const dist = 1.1 * radius / Math.sin((camera.fov * Math.PI / 180) / 2);
-camera.position.copy(centre).addScaledVector(new THREE.Vector3(-0.55, -1, 0.65).normalize(), dist);
+camera.position.copy(center).addScaledVector(new THREE.Vector3(-0.55, -1, 0.65).normalize(), dist);
 const controls = new OrbitControls(camera, renderer.domElement);
-controls.target.copy(centre);
+controls.target.copy(center);
 controls.update();
 addEventListener('resize', () => {
   camera.aspect = innerWidth / innerHeight;

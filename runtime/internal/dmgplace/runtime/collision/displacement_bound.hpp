@@ -63,18 +63,18 @@ struct DisplacementBound {
 // 1e-16 as x -> 0). Within 5e-7 of it up to x = 0.1, 0.12% at x = 1 (a unit test checks it stays below).
 inline double log1p_ratio_lower(double x) { return (6.0 + 3.0 * x) / (6.0 + x * (6.0 + x)) * (1 - 1e-12); }
 
-// A ball's first-order velocity field at q, per unit of joint motion: the centre's velocity and
+// A ball's first-order velocity field at q, per unit of joint motion: the center's velocity and
 // the angular velocity, in the measuring frame.
 struct BallVelocity {
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero(), linear = Eigen::Vector3d::Zero(), angular = Eigen::Vector3d::Zero();
+  Eigen::Vector3d center = Eigen::Vector3d::Zero(), linear = Eigen::Vector3d::Zero(), angular = Eigen::Vector3d::Zero();
   double radius = 0;
   // The most any point of the ball around `at` of radius r, rigidly attached (the ball itself, or
   // one of a body's spheres), moves along the unit n per unit of time at first order (the motion's
   // either sense): |n . v(at)| + r |n x angular|.
   double along(const Eigen::Vector3d& n, const Eigen::Vector3d& at, double r) const {
-    return std::abs(n.dot(linear + angular.cross(at - centre))) + r * n.cross(angular).norm();
+    return std::abs(n.dot(linear + angular.cross(at - center))) + r * n.cross(angular).norm();
   }
-  double along(const Eigen::Vector3d& n) const { return along(n, centre, radius); }
+  double along(const Eigen::Vector3d& n) const { return along(n, center, radius); }
 };
 
 // Builds a ball's bound from the joints that move it, given top of the chain first, each as seen
@@ -83,7 +83,7 @@ class BallMotion {
  public:
   BallMotion(const Eigen::Vector3d& center, double radius) : center_(center), radius_(radius) {}
   void add_revolute(const Eigen::Vector3d& axis, const Eigen::Vector3d& origin, double rate, double reach);
-  // The same with the centre's lever arm known: axis x (centre - origin), and its norm (callers
+  // The same with the center's lever arm known: axis x (center - origin), and its norm (callers
   // that bound one ball over several joint subsets compute each arm once).
   void add_revolute_arm(const Eigen::Vector3d& axis, const Eigen::Vector3d& arm, double arm_norm, double rate, double reach);
   void add_prismatic(const Eigen::Vector3d& axis, double rate, double reach);

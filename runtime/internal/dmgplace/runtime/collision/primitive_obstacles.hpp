@@ -123,7 +123,7 @@ class PrimitiveObstacles {
   struct Primitive {
     ShapeType type;
     Eigen::Matrix3d to_local;    // rotation world -> shape
-    Eigen::Vector3d origin;      // shape centre in the world
+    Eigen::Vector3d origin;      // shape center in the world
     Eigen::Vector3d half;        // box: half extents; cylinder: radius, -, half length; sphere: radius
     double bound_radius = 0;     // every point of the shape is within this of `origin`
   };
@@ -178,7 +178,7 @@ class PrimitiveObstacles {
     const lanes::F o = lanes::max0(g.sphere);
     return o * o;
   }
-  // Lanes whose point is within need + bound_radius of the primitive's centre.
+  // Lanes whose point is within need + bound_radius of the primitive's center.
   static DMGPLACE_LANES_INLINE std::uint32_t near_lanes(const LanePrimitive& s, lanes::F x, lanes::F y, lanes::F z,
                                                         float need, bool wide) {
     using lanes::splatf;

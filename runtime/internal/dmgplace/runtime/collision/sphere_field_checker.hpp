@@ -129,7 +129,7 @@ class SphereFieldChecker {
                   DisplacementBound& bound) const;
 
   // Which of `count` (<= LinkPoseLanesD::kLanes) configurations q[0..count) the spheres alone prove
-  // free, in one pass over all of them (batch forward kinematics, sphere centres in SIMD lanes):
+  // free, in one pass over all of them (batch forward kinematics, sphere centers in SIMD lanes):
   // bit k for q[k]. Proven means every body clear of the scene (the field's bound inside the grid,
   // then the exact primitives when set, anywhere) and every checked pair apart (spheres, or its
   // self-distance table's bound). An unset bit is undecided, never "in collision": check() that
@@ -194,7 +194,7 @@ class SphereFieldChecker {
   };
   struct Pair {
     int a, b, table = -1;  // body indices, self-distance table or -1
-    double reach = 0;      // bounding radii + padding: centres farther apart than this are clear
+    double reach = 0;      // bounding radii + padding: centers farther apart than this are clear
   };
   // A self-distance table as the hot path reads it: distances as uint16 tenths of a millimetre
   // rounded down (half the memory, so both Panda tables stay in cache), no division per lookup.
@@ -260,13 +260,13 @@ class SphereFieldChecker {
   bool certifiable_ = true;  // false when a mimic joint follows a chain joint (speeds unknown)
   const Kinematics* kin_;
   std::vector<formats::LinkSphere> spheres_;  // robot + attached, link frames, grouped by body
-  // spheres_ as free_lanes reads them: centre and radius in floats, each already in all 8 lanes
+  // spheres_ as free_lanes reads them: center and radius in floats, each already in all 8 lanes
   // (an operand load costs less than converting and broadcasting per use). Built with the bodies.
   struct alignas(32) LaneSphere {
     float x[LinkPoseLanesD::kLanes], y[LinkPoseLanesD::kLanes], z[LinkPoseLanesD::kLanes], r[LinkPoseLanesD::kLanes];
   };
   // The bodies as free_lanes places them: per body the link whose lane pose carries it, its
-  // centre and capsule there; per sphere its LaneSphere there. `framed`: each body in its link's
+  // center and capsule there; per sphere its LaneSphere there. `framed`: each body in its link's
   // lane frame (Kinematics::Lanes::frame), so FK skips the links no chain joint moves; valid while
   // the kinematics' lanes().version is framed_version_. `own`: in the link's own frame, for a
   // kinematics whose set values changed since (valid for any). Built with the bodies.
@@ -286,8 +286,8 @@ class SphereFieldChecker {
   std::vector<double> pair_spheres_;
   static int local_width(const Body& b) { return (b.end - b.begin + 3) & ~3; }
   // A body pair's first overlapping spheres (padding_ added once), in the order the scalar loop
-  // visits them (a's spheres, then b's): the global sphere indices and their centres' squared
-  // distance, or i = -1. `cb`: b's bounding-sphere centre in the world.
+  // visits them (a's spheres, then b's): the global sphere indices and their centers' squared
+  // distance, or i = -1. `cb`: b's bounding-sphere center in the world.
   struct PairContact {
     int i = -1, j = -1;
     double s2 = 0;
@@ -323,7 +323,7 @@ class SphereFieldChecker {
   static std::uint32_t free_lanes_body(const SphereFieldChecker& c, const double* const* q, int count, const float* widen,
                                        const LaneMotion* motion, bool wide);
   struct LanePass;  // free_lanes_body's query: environment, then self pairs (src/collision/sphere_lane_pass.hpp)
-  // free_lanes works in floats: lanes whose body centres stay within lane_limit_ metres of the
+  // free_lanes works in floats: lanes whose body centers stay within lane_limit_ metres of the
   // origin on every axis, every test that can say "free" widened by lane_margin() metres, which
   // bounds the rounding there: lane_rounding_ for the steps after the poses (set with the robot's
   // bodies and the scene, set_lane_bounds) and the float poses' own error bound (twice for a
@@ -331,7 +331,7 @@ class SphereFieldChecker {
   void set_lane_bounds();
   double lane_limit_ = 0, lane_rounding_ = 0;
   // A capsule test's own rounding on top (kernels::near_segment), for points and segment ends of
-  // bodies whose centres are within lane_limit_.
+  // bodies whose centers are within lane_limit_.
   double capsule_rounding_ = 0;
   // PrimitiveObstacles::float_error for points within lane_limit_: the scalar passes' exact
   // distances in float lanes (Pass::exact_distances) are lower bounds by this much.
@@ -360,8 +360,8 @@ class SphereFieldChecker {
   // cache and with no cell loss or band, cost less than the field's loads (measured on bench-mbm's
   // bookshelf median problems: docs/perf-log.md), so the scalar passes read no field.
   bool exact_scene() const { return obstacles_ && obstacles_->all_have_bits(); }
-  // Per robot sphere (link frame, in spheres_ order): the largest ball around its centre inside
-  // the link's collision geometry, 0 when the centre is outside it. Held objects have none.
+  // Per robot sphere (link frame, in spheres_ order): the largest ball around its center inside
+  // the link's collision geometry, 0 when the center is outside it. Held objects have none.
   std::shared_ptr<const std::vector<double>> inner_;
   double inner(int sphere) const { return std::size_t(sphere) < inner_->size() ? (*inner_)[std::size_t(sphere)] : 0.0; }
   double band_, padding_;

@@ -15,8 +15,8 @@ struct Capsule {
   double radius = 0;
 };
 
-// The capsule along the centres' principal axis, its ends at their extreme projections on it, its
-// radius reaching every sphere's far side (rounded up). Nothing for fewer than two distinct centres
+// The capsule along the centers' principal axis, its ends at their extreme projections on it, its
+// radius reaching every sphere's far side (rounded up). Nothing for fewer than two distinct centers
 // or a non-finite input.
 std::optional<Capsule> bounding_capsule(const std::vector<Eigen::Vector3d>& centers, const std::vector<double>& radii);
 

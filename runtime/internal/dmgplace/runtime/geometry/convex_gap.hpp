@@ -17,7 +17,7 @@ namespace dmgplace::runtime {
 class ConvexSolid {
  public:
   static ConvexSolid box(const Eigen::Vector3d& half_extents);
-  static ConvexSolid cylinder(double radius, double half_length);  // along local z, centred
+  static ConvexSolid cylinder(double radius, double half_length);  // along local z, centered
   static ConvexSolid sphere(double radius);
   static ConvexSolid hull(const std::vector<Eigen::Vector3d>& points);  // at least one point
   // The hull given as its closed, convex triangulated surface (indices into points, as a stored
@@ -37,11 +37,11 @@ class ConvexSolid {
   // Successive directions that change little (GJK's) then cost a step or two each.
   Eigen::Vector3d support(const Eigen::Vector3d& d, int& start) const;
   // A ball around the solid (local frame): the broad phase.
-  const Eigen::Vector3d& centre() const { return centre_; }
+  const Eigen::Vector3d& center() const { return center_; }
   double radius() const { return radius_; }
   // How far a climbed support may fall short of the farthest vertex when the surface is convex
   // only to the stored hull check's tolerance (1e-9 of its extent): ten times that.
-  double climb_slack() const { return first_.empty() ? 0.0 : 1e-8 * (centre_.norm() + radius_); }
+  double climb_slack() const { return first_.empty() ? 0.0 : 1e-8 * (center_.norm() + radius_); }
 
  private:
   enum class Kind { Box, Cylinder, Sphere, Hull } kind_ = Kind::Sphere;
@@ -54,7 +54,7 @@ class ConvexSolid {
   double along(int i, const Eigen::Vector3d& d) const {
     return x_[std::size_t(i)] * d.x() + y_[std::size_t(i)] * d.y() + z_[std::size_t(i)] * d.z();
   }
-  Eigen::Vector3d centre_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d center_ = Eigen::Vector3d::Zero();
   double radius_ = 0;
 };
 
@@ -63,7 +63,7 @@ class ConvexSolid {
 // little, so starting there usually proves what the caller needs with the first support. Only a
 // start: any direction gives a rigorous bound, so a stale hint costs iterations, never correctness.
 struct GapHint {
-  Eigen::Vector3d v = Eigen::Vector3d::Zero();  // zero: no hint (start between the centres)
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();  // zero: no hint (start between the centers)
   int from_a = -1, from_b = -1;
 };
 

@@ -1,7 +1,7 @@
 #pragma once
 // Everything a placement query runs against, built once from the three artifacts: the arm's
 // kinematics, both collision layers with the environment, the held object's grasp graph, mesh and
-// sphere cover, and the hand (the links rigid with the tool centre point).
+// sphere cover, and the hand (the links rigid with the tool center point).
 #include <future>
 #include <map>
 #include <memory>

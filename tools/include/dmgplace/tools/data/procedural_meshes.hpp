@@ -20,7 +20,7 @@ struct BottleShape {
   int segments = 32;              // vertices per ring, at least 3
 };
 
-// Axis-aligned box centred at the origin with full edge lengths `extents` (12 triangles).
+// Axis-aligned box centered at the origin with full edge lengths `extents` (12 triangles).
 TriMesh make_box_mesh(const Eigen::Vector3d& extents);
 
 // Cylinder along z, base at z = 0, top at z = height, both ends capped. The cross-section is a
@@ -29,7 +29,7 @@ TriMesh make_cylinder_mesh(double radius, double height, int segments);
 
 TriMesh make_bottle_mesh(const BottleShape& shape = {});
 
-// A board eraser: a 0.13 x 0.05 x 0.035 m box centred at the origin (long side along x).
+// A board eraser: a 0.13 x 0.05 x 0.035 m box centered at the origin (long side along x).
 TriMesh make_eraser_mesh();
 
 // Binary STL (little-endian, float32). Throws dmgplace::Error naming `path` when the mesh has

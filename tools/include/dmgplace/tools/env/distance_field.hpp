@@ -1,6 +1,6 @@
 #pragma once
 // Distance grids of an environment built with Embree closest-point queries, limited to a band:
-// blocks of 8^3 samples whose centre is farther than band + half their diagonal from everything
+// blocks of 8^3 samples whose center is farther than band + half their diagonal from everything
 // take the band value without per-sample queries.
 #include <array>
 #include <cstdint>

@@ -1,5 +1,5 @@
 #pragma once
-// Volume, centre of mass and inertia of a closed triangle mesh by exact volume integrals
+// Volume, center of mass and inertia of a closed triangle mesh by exact volume integrals
 // (divergence theorem over signed tetrahedra), never the tessellation-biased vertex mean.
 #include "dmgplace/formats/geometry_types.hpp"
 #include "dmgplace/formats/object_artifact.hpp"

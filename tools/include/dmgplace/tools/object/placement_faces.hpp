@@ -14,7 +14,7 @@ struct FaceOptions {
   double margin_fraction = 0.1;  // ...but at most this fraction of the object's smallest width (small objects)
 };
 
-// `com` is the (possibly overridden) centre of mass. Throws dmgplace::Error naming `file` when the
+// `com` is the (possibly overridden) center of mass. Throws dmgplace::Error naming `file` when the
 // mesh has no 3-D convex hull (flat or degenerate) or an option is out of range.
 formats::PlacementFaces compute_placement_faces(const TriMesh& mesh, const Eigen::Vector3d& com,
                                                 const FaceOptions& options, const std::string& file);

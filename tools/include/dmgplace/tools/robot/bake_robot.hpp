@@ -19,7 +19,7 @@ struct RobotBakeOptions {
   std::filesystem::path joint_limits;  // MoveIt joint_limits.yaml (may be empty): velocity/acceleration limits
   std::vector<std::filesystem::path> package_paths;
   std::string arm_base, arm_tip;
-  // When set, a link "<arm_tip>_tcp" fixed to the tip at this pose (the gripper's tool centre
+  // When set, a link "<arm_tip>_tcp" fixed to the tip at this pose (the gripper's tool center
   // point: z approach, y closing) is added and becomes the chain's tip; the placement planner
   // needs the tip there (the Panda URDF, for one, has no such frame).
   std::optional<Eigen::Isometry3d> tcp;

@@ -1,7 +1,7 @@
 #pragma once
 // From depth scans (PCD) to an object's surface: read every scan with its viewpoint, segment the
 // object (scan_segmentation), reconstruct a closed surface (surface_reconstruction) and move it
-// to an object frame centred on its bounding box (axes kept: the scan frame's).
+// to an object frame centered on its bounding box (axes kept: the scan frame's).
 #include <Eigen/Geometry>
 #include <filesystem>
 #include <vector>

@@ -18,7 +18,7 @@ namespace kernels {
 // A link's pose in every lane (LinkPoseLanesF): rotation row-major, then the translation.
 using LinkPose = std::array<LinkPoseLanesF::Lanes, 12>;
 
-// A link's pose loaded into vectors once for all its spheres: the stores of their centres could
+// A link's pose loaded into vectors once for all its spheres: the stores of their centers could
 // alias the pose's arrays for all the compiler knows, so it would reload all 12 per sphere.
 struct PoseLanes {
   lanes::F t[12];

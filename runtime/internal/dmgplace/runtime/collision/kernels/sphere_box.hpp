@@ -1,5 +1,5 @@
 #pragma once
-// A point against a box in SIMD lanes, in the box's frame (centred, axis-aligned): how far outside
+// A point against a box in SIMD lanes, in the box's frame (centered, axis-aligned): how far outside
 // it is, squared, and how deep inside. A sphere of radius r is clear of the box where out2 >= r^2.
 #include "dmgplace/runtime/system/lanes.hpp"
 

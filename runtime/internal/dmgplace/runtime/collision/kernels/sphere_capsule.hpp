@@ -1,5 +1,5 @@
 #pragma once
-// A point (a sphere's centre) against a capsule's segment in SIMD lanes: the body-pair test that
+// A point (a sphere's center) against a capsule's segment in SIMD lanes: the body-pair test that
 // settles a long link's spheres against the other body's bounding sphere (the capsule is built
 // around the link's spheres: geometry/capsule.hpp).
 #include "dmgplace/runtime/system/lanes.hpp"

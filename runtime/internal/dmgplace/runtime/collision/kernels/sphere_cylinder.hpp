@@ -1,5 +1,5 @@
 #pragma once
-// A point against a cylinder in SIMD lanes, in the cylinder's frame (centred, its axis z): how far
+// A point against a cylinder in SIMD lanes, in the cylinder's frame (centered, its axis z): how far
 // outside it is, squared, and how deep inside (kernels::LaneGap). A sphere of radius r is clear of
 // the cylinder where out2 >= r^2.
 #include "dmgplace/runtime/collision/kernels/sphere_box.hpp"

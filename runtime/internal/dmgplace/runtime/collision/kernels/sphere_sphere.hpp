@@ -4,7 +4,7 @@
 
 namespace dmgplace::runtime::kernels {
 
-// Lanes where spheres a and b (centres in lanes) are closer than `reach` (sum of radii + padding +
+// Lanes where spheres a and b (centers in lanes) are closer than `reach` (sum of radii + padding +
 // margin), as a mask: a caller testing many sphere pairs ORs them and takes the bits once (the
 // bits cost more than the test).
 inline __attribute__((always_inline)) lanes::MF overlaps(const LaneXyz& a, const LaneXyz& b, lanes::F reach2) {
