@@ -20,7 +20,13 @@ function(dmgplace_library target short)
   if(type STREQUAL "SHARED_LIBRARY")
     # Everything in namespace dmgplace is exported (the CLI and the tests use more than the
     # embedding API); the version script keeps every other symbol local (cmake/dmgplace_exports.map).
-    set_target_properties(${target} PROPERTIES VERSION ${PROJECT_VERSION} SOVERSION ${PROJECT_VERSION_MAJOR}
+    # Before 1.0 each minor release may break the ABI, so the SONAME carries it (.so.0.2).
+    if(PROJECT_VERSION_MAJOR EQUAL 0)
+      set(soversion ${PROJECT_VERSION_MAJOR}.${PROJECT_VERSION_MINOR})
+    else()
+      set(soversion ${PROJECT_VERSION_MAJOR})
+    endif()
+    set_target_properties(${target} PROPERTIES VERSION ${PROJECT_VERSION} SOVERSION ${soversion}
                                                CXX_VISIBILITY_PRESET default VISIBILITY_INLINES_HIDDEN ON)
     target_link_options(${target} PRIVATE "LINKER:--version-script=${PROJECT_SOURCE_DIR}/cmake/dmgplace_exports.map"
                                           "LINKER:--no-undefined")
