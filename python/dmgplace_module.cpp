@@ -133,7 +133,7 @@ struct Query {
 };
 
 py::dict place_query(const World& world, Query q, std::optional<double> time_limit, std::optional<std::uint64_t> seed,
-               std::optional<long> iterations, const py::object& on_solution, const py::object& stop) {
+                     std::optional<long> iterations, const py::object& on_solution, const py::object& stop) {
   if (seed) q.file.query.seed = *seed;
   q.file.query.q0 = tools::resolve_start(q.file, world.kinematics());
   const double limit = time_limit ? *time_limit : q.file.time_limit;
@@ -200,40 +200,45 @@ PYBIND11_MODULE(dmgplace, m) {
             return std::const_pointer_cast<World>(World::load(robot, object, env, finger_opening, joint_values));
           },
           py::arg("robot"), py::arg("object"), py::arg("environment"), py::arg("finger_opening") = py::none(),
-          py::arg("joint_values") = std::map<std::string, double>{},
-          py::call_guard<py::gil_scoped_release>())
+          py::arg("joint_values") = std::map<std::string, double>{}, py::call_guard<py::gil_scoped_release>())
       .def_property_readonly("dof", &World::dof)
       .def_property_readonly("joint_names", &World::joint_names)
       .def_property_readonly("lower_limits", &World::lower_limits)
       .def_property_readonly("upper_limits", &World::upper_limits)
-      .def("tcp_pose", [](const World& w, const Eigen::VectorXd& q) { return Eigen::Matrix4d(w.tcp_pose(q).matrix()); },
-           py::arg("q"));
+      .def(
+          "tcp_pose", [](const World& w, const Eigen::VectorXd& q) { return Eigen::Matrix4d(w.tcp_pose(q).matrix()); },
+          py::arg("q"));
 
   py::class_<Query>(m, "Query", "A placement query read from a QUERY.yaml (as `dmgplace place` reads it)")
       .def_property_readonly("robot", [](const Query& q) { return q.file.robot; })
       .def_property_readonly("object", [](const Query& q) { return q.file.object; })
       .def_property_readonly("environment", [](const Query& q) { return q.file.environment; })
       .def_property_readonly("time_limit", [](const Query& q) { return q.file.time_limit; })
-      .def_property("seed", [](const Query& q) { return q.file.query.seed; },
-                    [](Query& q, std::uint64_t s) { q.file.query.seed = s; })
-      .def_property("variant", [](const Query& q) { return std::string(runtime::to_string(q.file.query.variant)); },
-                    [](Query& q, const std::string& v) {
-                      const auto parsed = runtime::parse_variant(v);
-                      if (!parsed) throw Error("python", "variant", "unknown variant '" + v + "'");
-                      q.file.query.variant = *parsed;
-                    })
-      .def_property("initial_grasp", [](const Query& q) { return Eigen::Matrix4d(q.file.query.g0.matrix()); },
-                    [](Query& q, const py::object& pose) { q.file.query.g0 = pose_from(pose, "initial_grasp"); });
+      .def_property(
+          "seed", [](const Query& q) { return q.file.query.seed; },
+          [](Query& q, std::uint64_t s) { q.file.query.seed = s; })
+      .def_property(
+          "variant", [](const Query& q) { return std::string(runtime::to_string(q.file.query.variant)); },
+          [](Query& q, const std::string& v) {
+            const auto parsed = runtime::parse_variant(v);
+            if (!parsed) throw Error("python", "variant", "unknown variant '" + v + "'");
+            q.file.query.variant = *parsed;
+          })
+      .def_property(
+          "initial_grasp", [](const Query& q) { return Eigen::Matrix4d(q.file.query.g0.matrix()); },
+          [](Query& q, const py::object& pose) { q.file.query.g0 = pose_from(pose, "initial_grasp"); });
 
-  m.def("read_query",
-        [](const std::filesystem::path& path, const std::filesystem::path& artifacts, bool allow_outside) {
-          return Query{tools::read_placement_query(path, artifacts, allow_outside)};
-        },
-        py::arg("path"), py::arg("artifacts") = std::filesystem::path(), py::arg("allow_outside") = false,
-        "Reads a QUERY.yaml; relative artifact paths resolve against `artifacts` (default: the query's folder)");
+  m.def(
+      "read_query",
+      [](const std::filesystem::path& path, const std::filesystem::path& artifacts, bool allow_outside) {
+        return Query{tools::read_placement_query(path, artifacts, allow_outside)};
+      },
+      py::arg("path"), py::arg("artifacts") = std::filesystem::path(), py::arg("allow_outside") = false,
+      "Reads a QUERY.yaml; relative artifact paths resolve against `artifacts` (default: the query's folder)");
 
-  m.def("place", &place_query, py::arg("world"), py::arg("query"), py::arg("time_limit") = py::none(), py::arg("seed") = py::none(),
-        py::arg("iterations") = py::none(), py::arg("on_solution") = py::none(), py::arg("stop") = py::none(),
+  m.def("place", &place_query, py::arg("world"), py::arg("query"), py::arg("time_limit") = py::none(),
+        py::arg("seed") = py::none(), py::arg("iterations") = py::none(), py::arg("on_solution") = py::none(),
+        py::arg("stop") = py::none(),
         "Anytime placement search; returns a dict (solved, best, improvements, reason, ...). `on_solution(dict)` is "
         "called for every improvement; `stop()` returning True, `iterations` rounds or `time_limit` seconds end it.");
 
@@ -256,12 +261,14 @@ PYBIND11_MODULE(dmgplace, m) {
         out["grasps"] = grasps;
         return out;
       },
-      py::arg("world"), py::arg("g0"), py::arg("opening") = py::none(), "G(g0): grasps reachable in-hand, cheapest first");
+      py::arg("world"), py::arg("g0"), py::arg("opening") = py::none(),
+      "G(g0): grasps reachable in-hand, cheapest first");
 
   m.def(
       "plan_motion",
       [](const World& w, const Eigen::VectorXd& start, const Eigen::VectorXd& goal, const py::object& grasp,
-         double time_limit, std::uint64_t seed, double resolution, double velocity_scaling, double acceleration_scaling) {
+         double time_limit, std::uint64_t seed, double resolution, double velocity_scaling,
+         double acceleration_scaling) {
         MotionQuery q;
         q.start = start;
         q.goal = goal;
@@ -308,5 +315,6 @@ PYBIND11_MODULE(dmgplace, m) {
         return d;
       },
       py::arg("path"), "An artifact's header and counts as a dict");
-  m.def("validate", &formats::validate_artifact, py::arg("path"), "Every problem of an artifact file (empty when sound)");
+  m.def("validate", &formats::validate_artifact, py::arg("path"),
+        "Every problem of an artifact file (empty when sound)");
 }

@@ -23,8 +23,8 @@ void sync_directory(const fs::path& dir) {
 
 fs::path temporary_name_for(const fs::path& target) {
   static std::atomic<unsigned> counter{0};
-  return target.parent_path() / ("." + target.filename().string() + ".tmp." + std::to_string(::getpid()) + "." +
-                                 std::to_string(counter++));
+  return target.parent_path() /
+         ("." + target.filename().string() + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++));
 }
 
 void remove_stale_temporaries(const fs::path& target) {

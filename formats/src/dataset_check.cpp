@@ -45,7 +45,8 @@ std::size_t check_dataset_table(const H5Reader& r, const DatasetTableSpec& spec,
     const auto dims = r.shape(name);
     if (dims.size() != 1) problems.push_back(Error(r.file(), name, "a table column must be 1-D").what());
     else if (rows && dims[0] != *rows)
-      problems.push_back(Error(r.file(), name, "has " + std::to_string(dims[0]) + " rows, the table " + std::to_string(*rows)).what());
+      problems.push_back(
+          Error(r.file(), name, "has " + std::to_string(dims[0]) + " rows, the table " + std::to_string(*rows)).what());
     else rows = dims[0];
   }
   for (const auto& columns : {spec.strings, spec.numbers})
@@ -70,7 +71,8 @@ void check_dataset_links(const H5Reader& r, const std::string& table, std::size_
       return problems.push_back(Error(r.file(), "offsets/" + table, "disagrees at run " + std::to_string(i)).what());
     for (auto k = offsets[i]; k < offsets[i + 1]; ++k)
       if (run[std::size_t(k)] != std::int64_t(i))
-        return problems.push_back(Error(r.file(), table + "/run", "row " + std::to_string(k) + " is not run " + std::to_string(i)).what());
+        return problems.push_back(
+            Error(r.file(), table + "/run", "row " + std::to_string(k) + " is not run " + std::to_string(i)).what());
   }
 }
 
@@ -90,16 +92,18 @@ std::vector<std::string> check_dataset(const std::filesystem::path& path) {
     if (!problems.empty()) return problems;
     const std::size_t runs = rows["runs"];
     for (auto [table, count] : {std::pair<const char*, const char*>{"path", "path_waypoints"},
-                                {"retreat", "retreat_waypoints"}, {"actions", "in_hand_actions"},
-                                {"fingers", nullptr}, {"trace", "improvements"}})
+                                {"retreat", "retreat_waypoints"},
+                                {"actions", "in_hand_actions"},
+                                {"fingers", nullptr},
+                                {"trace", "improvements"}})
       check_dataset_links(r, table, runs, rows[table], count, problems);
     for (auto a : r.read_i64("fingers/action", {-1}).data)
-      if (a < 0 || std::size_t(a) >= rows["actions"]) return {Error(r.file(), "fingers/action", "names no row of actions/").what()};
+      if (a < 0 || std::size_t(a) >= rows["actions"])
+        return {Error(r.file(), "fingers/action", "names no row of actions/").what()};
     return problems;
   } catch (const Error& e) {
     return {e.what()};
   }
 }
-
 
 }  // namespace dmgplace::formats::detail

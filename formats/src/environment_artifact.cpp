@@ -71,8 +71,10 @@ std::vector<PlacementRegion> read_regions(const H5Reader& r) {
     g.resolution = scalars(i, 4);
     const std::int64_t w = index(i, 0), d = index(i, 1), first = index(i, 2);
     const std::string where = "regions/index row " + std::to_string(i);
-    if (w < 1 || d < 1 || w > (1 << 20) || d > (1 << 20)) throw Error(r.file(), where, "width and depth must be 1 to 2^20 cells");
-    if (first < 0 || std::size_t(first) > mask.data.size() || std::size_t(w * d) > mask.data.size() - std::size_t(first))
+    if (w < 1 || d < 1 || w > (1 << 20) || d > (1 << 20))
+      throw Error(r.file(), where, "width and depth must be 1 to 2^20 cells");
+    if (first < 0 || std::size_t(first) > mask.data.size() ||
+        std::size_t(w * d) > mask.data.size() - std::size_t(first))
       throw Error(r.file(), where, "cell range outside regions/mask");
     g.width = int(w);
     g.depth = int(d);
@@ -108,7 +110,8 @@ void save_environment(EnvironmentArtifact a, const std::filesystem::path& path) 
   w.write("scene/points", std::span<const double>(pts.data(), std::size_t(pts.size())), {std::size_t(pts.rows()), 3});
   for (const FieldGrid* g : {&a.sdf, &a.clearance})
     if (!g->empty() && g->values.size() != g->size())
-      throw Error(path.string(), g == &a.sdf ? "fields/sdf" : "fields/clearance", "values do not match the grid dimensions");
+      throw Error(path.string(), g == &a.sdf ? "fields/sdf" : "fields/clearance",
+                  "values do not match the grid dimensions");
   write_grid(w, "fields/sdf", a.sdf, a.sdf_signed);
   write_grid(w, "fields/clearance", a.clearance, false);
   for (std::size_t i = 0; i < a.regions.size(); ++i) {

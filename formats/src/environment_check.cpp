@@ -36,9 +36,10 @@ void check_grid(const FieldGrid& g, const Eigen::AlignedBox3d& volume, bool non_
   if (out_of_band) p.push_back(where + ": " + std::to_string(out_of_band) + " values beyond the band");
   if (negative) p.push_back(where + ": " + std::to_string(negative) + " negative values");
   const auto b = g.bounds();
-  if ((b.min().array() > volume.min().array() + kSlack).any() || (b.max().array() < volume.max().array() - kSlack).any())
-    p.push_back(where + ": grid " + detail::fmt(Eigen::Vector3d(b.min())) + " .. " + detail::fmt(Eigen::Vector3d(b.max())) +
-                " does not cover the volume");
+  if ((b.min().array() > volume.min().array() + kSlack).any() ||
+      (b.max().array() < volume.max().array() - kSlack).any())
+    p.push_back(where + ": grid " + detail::fmt(Eigen::Vector3d(b.min())) + " .. " +
+                detail::fmt(Eigen::Vector3d(b.max())) + " does not cover the volume");
 }
 
 void check_region(const PlacementRegion& r, const EnvironmentArtifact& a, const std::string& where,
@@ -77,8 +78,10 @@ void check_region(const PlacementRegion& r, const EnvironmentArtifact& a, const 
       }
     }
   if (outside) p.push_back(where + ": " + std::to_string(outside) + " cells outside the volume");
-  if (bad_free) p.push_back(where + ": " + std::to_string(bad_free) + " cells with a negative or non-finite free height");
-  if (unsupported) p.push_back(where + ": " + std::to_string(unsupported) + " cells with no surface at the region's height");
+  if (bad_free)
+    p.push_back(where + ": " + std::to_string(bad_free) + " cells with a negative or non-finite free height");
+  if (unsupported)
+    p.push_back(where + ": " + std::to_string(unsupported) + " cells with no surface at the region's height");
 }
 
 }  // namespace
@@ -89,7 +92,8 @@ float nearest_sample(const FieldGrid& g, const Eigen::Vector3d& p) {
     const double u = std::round((p[a] - g.origin[a]) / g.resolution);
     idx[a] = int(std::clamp(std::isnan(u) ? 0.0 : u, 0.0, double(g.dims[std::size_t(a)] - 1)));
   }
-  return g.values[std::size_t(idx[0]) + std::size_t(g.dims[0]) * (std::size_t(idx[1]) + std::size_t(g.dims[1]) * std::size_t(idx[2]))];
+  return g.values[std::size_t(idx[0]) +
+                  std::size_t(g.dims[0]) * (std::size_t(idx[1]) + std::size_t(g.dims[1]) * std::size_t(idx[2]))];
 }
 
 float interpolated_sample(const FieldGrid& g, const Eigen::Vector3d& p) {
@@ -103,7 +107,8 @@ float interpolated_sample(const FieldGrid& g, const Eigen::Vector3d& p) {
   }
   const auto at = [&](int i, int j, int k) {
     return double(g.values[std::size_t(idx[0] + i) +
-                           std::size_t(g.dims[0]) * (std::size_t(idx[1] + j) + std::size_t(g.dims[1]) * std::size_t(idx[2] + k))]);
+                           std::size_t(g.dims[0]) *
+                               (std::size_t(idx[1] + j) + std::size_t(g.dims[1]) * std::size_t(idx[2] + k))]);
   };
   double v = 0;
   for (int k = 0; k < 2; ++k)
@@ -119,7 +124,8 @@ std::vector<std::string> check_environment(const EnvironmentArtifact& a) {
                          !(a.volume.min().array() >= a.volume.max().array()).any();
   if (!a.volume.min().allFinite() || !a.volume.max().allFinite()) p.push_back("volume: not finite");
   else if (!volume_ok) p.push_back("volume: min must be below max on every axis");
-  else if (a.volume.min().cwiseAbs().maxCoeff() > kMaxCoordinate || a.volume.max().cwiseAbs().maxCoeff() > kMaxCoordinate)
+  else if (a.volume.min().cwiseAbs().maxCoeff() > kMaxCoordinate ||
+           a.volume.max().cwiseAbs().maxCoeff() > kMaxCoordinate)
     p.push_back("volume: beyond " + detail::fmt(kMaxCoordinate) + " m from the origin");
   std::vector<OwnedShape> shapes;
   for (std::size_t i = 0; i < a.scene.objects.size(); ++i)

@@ -46,9 +46,13 @@ inline std::string fmt(double v) {
   std::snprintf(b, sizeof b, "%.6g", v);
   return b;
 }
-inline std::string fmt(const Eigen::Vector3d& v) { return "[" + fmt(v.x()) + ", " + fmt(v.y()) + ", " + fmt(v.z()) + "]"; }
+inline std::string fmt(const Eigen::Vector3d& v) {
+  return "[" + fmt(v.x()) + ", " + fmt(v.y()) + ", " + fmt(v.z()) + "]";
+}
 
-inline void append(std::vector<std::string>& a, const std::vector<std::string>& b) { a.insert(a.end(), b.begin(), b.end()); }
+inline void append(std::vector<std::string>& a, const std::vector<std::string>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+}
 
 // A finite proper rotation (a stored zero quaternion gives a zero matrix, not a rotation).
 inline bool is_rotation(const Eigen::Matrix3d& r) {
@@ -58,7 +62,8 @@ inline bool is_rotation(const Eigen::Matrix3d& r) {
 // [first, first + count) inside [0, size), without forming first + count (a crafted INT64_MAX
 // overflowed the sum before the comparison could refuse it).
 inline bool range_within(std::int64_t first, std::int64_t count, std::size_t size) {
-  return first >= 0 && count >= 0 && std::uint64_t(first) <= size && std::uint64_t(count) <= size - std::uint64_t(first);
+  return first >= 0 && count >= 0 && std::uint64_t(first) <= size &&
+         std::uint64_t(count) <= size - std::uint64_t(first);
 }
 
 // The loaders' semantic gate: an artifact with any problem is refused, naming the file and the
@@ -76,8 +81,9 @@ inline void require_sound(const std::string& file, const std::vector<std::string
 // any cast (a cast of an out-of-range double is undefined behaviour).
 inline int checked_int(double v, double lo, double hi, const std::string& file, const std::string& element) {
   if (!(v >= lo && v <= hi) || v != std::floor(v))
-    throw Error(file, element, "value " + std::to_string(v) + " is not an integer in [" + std::to_string(long(lo)) + ", " +
-                                   std::to_string(long(hi)) + "]");
+    throw Error(file, element,
+                "value " + std::to_string(v) + " is not an integer in [" + std::to_string(long(lo)) + ", " +
+                    std::to_string(long(hi)) + "]");
   return int(v);
 }
 

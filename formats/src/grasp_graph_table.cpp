@@ -67,7 +67,8 @@ void add_implied_edges(const Dmg& dmg, const std::vector<int>& first, GraspGraph
       t.moves.push_back(m);
     };
     if (n.angle_count > 1) {
-      if (j + 1 < n.angle_count || full) add(first[node] + (j + 1) % n.angle_count, rotation_cost, GraspMoveKind::Rotation);
+      if (j + 1 < n.angle_count || full)
+        add(first[node] + (j + 1) % n.angle_count, rotation_cost, GraspMoveKind::Rotation);
       // Two angles of a full circle: next and previous are the same state; store it once.
       if ((j > 0 || full) && !(full && n.angle_count == 2))
         add(first[node] + (j + n.angle_count - 1) % n.angle_count, rotation_cost, GraspMoveKind::Rotation);
@@ -93,7 +94,8 @@ GraspGraphTable build_grasp_graph_table(const Dmg& dmg, double rotation_weight) 
       t.state_angle.push_back(angle);
       const Eigen::Isometry3d p = tcp_of(n, angle * step);
       const Eigen::Quaterniond q(p.linear());
-      t.tcp.insert(t.tcp.end(), {p.translation().x(), p.translation().y(), p.translation().z(), q.x(), q.y(), q.z(), q.w()});
+      t.tcp.insert(t.tcp.end(),
+                   {p.translation().x(), p.translation().y(), p.translation().z(), q.x(), q.y(), q.z(), q.w()});
       t.opening.push_back((n.position - n.opposite_point).norm());
     }
   }
@@ -104,13 +106,14 @@ GraspGraphTable build_grasp_graph_table(const Dmg& dmg, double rotation_weight) 
 std::vector<std::string> check_grasp_graph_table(const Dmg& dmg, const GraspGraphTable& t) {
   std::vector<std::string> p;
   const std::string w = "grasp_graph: ";
-  if (!(t.rotation_weight > 0) || !std::isfinite(t.rotation_weight)) p.push_back(w + "rotation weight must be positive and finite");
+  if (!(t.rotation_weight > 0) || !std::isfinite(t.rotation_weight))
+    p.push_back(w + "rotation weight must be positive and finite");
   const auto first = first_states(dmg);
   const int states = first.back();
   if (t.size() != states || t.state_angle.size() != t.state_node.size() || t.tcp.size() != 7 * t.state_node.size() ||
       t.opening.size() != t.state_node.size()) {
-    p.push_back(w + "has " + std::to_string(t.size()) + " states (or tables of other lengths), the DMG's angle intervals give " +
-                std::to_string(states));
+    p.push_back(w + "has " + std::to_string(t.size()) +
+                " states (or tables of other lengths), the DMG's angle intervals give " + std::to_string(states));
     return p;
   }
   const int k = dmg.angle_count();
@@ -118,8 +121,8 @@ std::vector<std::string> check_grasp_graph_table(const Dmg& dmg, const GraspGrap
     for (int j = 0; j < dmg.nodes[i].angle_count; ++j) {
       const int s = first[i] + j;
       if (t.state_node[s] != int(i) || t.state_angle[s] != (dmg.nodes[i].first_angle + j) % k) {
-        p.push_back(w + "state " + std::to_string(s) + " is not angle " + std::to_string(j) + " of node " + std::to_string(i) +
-                    "'s interval");
+        p.push_back(w + "state " + std::to_string(s) + " is not angle " + std::to_string(j) + " of node " +
+                    std::to_string(i) + "'s interval");
         break;
       }
     }
@@ -137,8 +140,9 @@ std::vector<std::string> check_grasp_graph_table(const Dmg& dmg, const GraspGrap
       break;
     }
   }
-  if (t.offsets.size() != std::size_t(states) + 1 || t.offsets.front() != 0 || std::size_t(t.offsets.back()) != t.targets.size() ||
-      !std::is_sorted(t.offsets.begin(), t.offsets.end()) || t.costs.size() != t.targets.size() || t.moves.size() != t.targets.size()) {
+  if (t.offsets.size() != std::size_t(states) + 1 || t.offsets.front() != 0 ||
+      std::size_t(t.offsets.back()) != t.targets.size() || !std::is_sorted(t.offsets.begin(), t.offsets.end()) ||
+      t.costs.size() != t.targets.size() || t.moves.size() != t.targets.size()) {
     p.push_back(w + "edge offsets are not a compressed adjacency of the states, or edge tables differ in length");
     return p;
   }
@@ -153,13 +157,22 @@ std::vector<std::string> check_grasp_graph_table(const Dmg& dmg, const GraspGrap
     for (int e = t.offsets[s]; e < t.offsets[s + 1]; ++e) {
       const int u = t.targets[e];
       const std::string edge = "edge " + std::to_string(s) + " -> " + std::to_string(u);
-      if (u < 0 || u >= states || u == s) { report(edge + ": target out of range or a self loop"); continue; }
-      if (!(t.costs[e] > 0) || !std::isfinite(t.costs[e])) { report(edge + ": cost is not positive and finite"); continue; }
+      if (u < 0 || u >= states || u == s) {
+        report(edge + ": target out of range or a self loop");
+        continue;
+      }
+      if (!(t.costs[e] > 0) || !std::isfinite(t.costs[e])) {
+        report(edge + ": cost is not positive and finite");
+        continue;
+      }
       const int a = t.state_node[s], b = t.state_node[u];
       double expected = 0;
       if (t.moves[e] == GraspMoveKind::Rotation) {
         const int d = ((t.state_angle[u] - t.state_angle[s]) % k + k) % k;
-        if (a != b || (d != 1 && d != k - 1)) { report(edge + ": a rotation that does not turn to a neighbouring angle of the same node"); continue; }
+        if (a != b || (d != 1 && d != k - 1)) {
+          report(edge + ": a rotation that does not turn to a neighbouring angle of the same node");
+          continue;
+        }
         expected = step * t.rotation_weight;
       } else if (t.moves[e] == GraspMoveKind::Translation) {
         if (t.state_angle[s] != t.state_angle[u] || !dmg_edges.contains({a, b})) {
@@ -171,14 +184,19 @@ std::vector<std::string> check_grasp_graph_table(const Dmg& dmg, const GraspGrap
         report(edge + ": unknown move type " + std::to_string(int(t.moves[e])));
         continue;
       }
-      if (std::abs(t.costs[e] - expected) > 1e-9 * (1 + expected)) { report(edge + ": cost differs from its move's cost"); continue; }
+      if (std::abs(t.costs[e] - expected) > 1e-9 * (1 + expected)) {
+        report(edge + ": cost differs from its move's cost");
+        continue;
+      }
       edges[{s, u}] = {t.costs[e], t.moves[e]};
     }
   if (bad > 1) p.push_back(w + std::to_string(bad) + " bad edges in all");
   for (const auto& [e, v] : edges) {
     const auto r = edges.find({e.second, e.first});
-    if (r == edges.end() || r->second.second != v.second || std::abs(r->second.first - v.first) > 1e-12 * (1 + v.first)) {
-      p.push_back(w + "edge " + std::to_string(e.first) + " -> " + std::to_string(e.second) + " has no reverse of equal cost");
+    if (r == edges.end() || r->second.second != v.second ||
+        std::abs(r->second.first - v.first) > 1e-12 * (1 + v.first)) {
+      p.push_back(w + "edge " + std::to_string(e.first) + " -> " + std::to_string(e.second) +
+                  " has no reverse of equal cost");
       break;
     }
   }
@@ -189,7 +207,8 @@ std::vector<std::string> check_grasp_graph_table(const Dmg& dmg, const GraspGrap
     expected.state_angle = t.state_angle;
     add_implied_edges(dmg, first, expected);
     if (expected.edge_count() != edges.size())
-      p.push_back(w + "has " + std::to_string(edges.size()) + " distinct edges, the DMG implies " + std::to_string(expected.edge_count()));
+      p.push_back(w + "has " + std::to_string(edges.size()) + " distinct edges, the DMG implies " +
+                  std::to_string(expected.edge_count()));
   }
   return p;
 }

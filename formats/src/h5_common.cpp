@@ -50,8 +50,8 @@ bool is_valid_utf8(std::string_view s) {
 }
 
 std::string read_string_attribute(hid_t object, const char* name, const std::string& file) {
-  Handle attr = check(H5Aopen(object, name, H5P_DEFAULT), H5Aclose, file, std::string("attribute ") + name,
-                      "cannot open");
+  Handle attr =
+      check(H5Aopen(object, name, H5P_DEFAULT), H5Aclose, file, std::string("attribute ") + name, "cannot open");
   Handle type = check(H5Aget_type(attr.get()), H5Tclose, file, std::string("attribute ") + name, "no type");
   if (H5Tget_class(type.get()) != H5T_STRING) throw Error(file, std::string("attribute ") + name, "not a string");
   if (H5Tis_variable_str(type.get()) > 0)
@@ -63,8 +63,7 @@ std::string read_string_attribute(hid_t object, const char* name, const std::str
   return std::string(buf.data());
 }
 
-void write_string_attribute(hid_t object, const std::string& name, const std::string& value,
-                            const std::string& file) {
+void write_string_attribute(hid_t object, const std::string& name, const std::string& value, const std::string& file) {
   // Fixed-length strings live inside the (checksummed) object header; variable-length ones would
   // live in the global heap, which has no checksum and crashes HDF5 when corrupt.
   Handle type = check(H5Tcopy(H5T_C_S1), H5Tclose, file, "attribute " + name, "type");
@@ -73,8 +72,8 @@ void write_string_attribute(hid_t object, const std::string& name, const std::st
   H5Tset_cset(type.get(), H5T_CSET_UTF8);
   Handle space = check(H5Screate(H5S_SCALAR), H5Sclose, file, "attribute " + name, "space");
   if (H5Aexists(object, name.c_str()) > 0) H5Adelete(object, name.c_str());
-  Handle attr = check(H5Acreate2(object, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
-                      H5Aclose, file, "attribute " + name, "cannot create");
+  Handle attr = check(H5Acreate2(object, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+                      file, "attribute " + name, "cannot create");
   std::string padded = value.empty() ? std::string(1, '\0') : value;
   check_status(H5Awrite(attr.get(), type.get(), padded.data()), file, "attribute " + name, "cannot write");
 }

@@ -25,7 +25,12 @@ class Handle {
   ~Handle() { reset(); }
   Handle(Handle&& o) noexcept : id_(o.id_), close_(o.close_) { o.id_ = -1; }
   Handle& operator=(Handle&& o) noexcept {
-    if (this != &o) { reset(); id_ = o.id_; close_ = o.close_; o.id_ = -1; }
+    if (this != &o) {
+      reset();
+      id_ = o.id_;
+      close_ = o.close_;
+      o.id_ = -1;
+    }
     return *this;
   }
   Handle(const Handle&) = delete;
@@ -51,8 +56,7 @@ inline Handle check(hid_t id, herr_t (*close)(hid_t), const std::string& file, c
   return Handle(id, close);
 }
 
-inline void check_status(herr_t status, const std::string& file, const std::string& element,
-                         const std::string& what) {
+inline void check_status(herr_t status, const std::string& file, const std::string& element, const std::string& what) {
   if (status < 0) {
     std::string detail = hdf5_error_text();
     throw Error(file, element, what + (detail.empty() ? "" : " (" + detail + ")"));
@@ -63,7 +67,6 @@ inline void check_status(herr_t status, const std::string& file, const std::stri
 bool is_valid_utf8(std::string_view s);
 
 std::string read_string_attribute(hid_t object, const char* name, const std::string& file);
-void write_string_attribute(hid_t object, const std::string& name, const std::string& value,
-                            const std::string& file);
+void write_string_attribute(hid_t object, const std::string& name, const std::string& value, const std::string& file);
 
 }  // namespace dmgplace::formats::detail

@@ -30,7 +30,7 @@ std::uint32_t lookup3(const std::uint8_t* k, std::size_t length) {
 
 void fix_superblock_checksum(std::vector<char>& image) {
   auto* u = reinterpret_cast<std::uint8_t*>(image.data());
-  if (image.size() < 12 || u[8] < 2) return;  // versions 0 and 1 have no checksum
+  if (image.size() < 12 || u[8] < 2) return;          // versions 0 and 1 have no checksum
   const std::size_t at = 12 + 4 * std::size_t(u[9]);  // four addresses of sizeof_addr bytes
   if (image.size() < at + 4) return;
   const std::uint32_t sum = lookup3(u, at);

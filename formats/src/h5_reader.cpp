@@ -41,8 +41,8 @@ H5Reader::H5Reader(const fs::path& path) : file_name_(path.string()) {
     header_.schema = detail::read_string_attribute(file_, "schema", file_name_);
     {
       if (H5Aexists(file_, "schema_version") <= 0) throw Error(file_name_, "", "no 'schema_version' attribute");
-      Handle attr = check(H5Aopen(file_, "schema_version", H5P_DEFAULT), H5Aclose, file_name_, "schema_version",
-                          "cannot open");
+      Handle attr =
+          check(H5Aopen(file_, "schema_version", H5P_DEFAULT), H5Aclose, file_name_, "schema_version", "cannot open");
       int v = 0;
       check_status(H5Aread(attr.get(), H5T_NATIVE_INT, &v), file_name_, "schema_version", "cannot read");
       header_.schema_version = v;
@@ -108,7 +108,8 @@ Array<T> H5Reader::read_typed(const std::string& name, std::vector<long> want, l
   Handle type = check(H5Dget_type(ds.get()), H5Tclose, file_name_, name, "no type");
   H5T_class_t cls = H5Tget_class(type.get());
   if (is_float ? cls != H5T_FLOAT : cls != H5T_INTEGER)
-    throw Error(file_name_, name, std::string("wrong element type (expected ") + (is_float ? "float" : "integer") + ")");
+    throw Error(file_name_, name,
+                std::string("wrong element type (expected ") + (is_float ? "float" : "integer") + ")");
   if (H5Tget_size(type.get()) != sizeof(T)) throw Error(file_name_, name, "wrong element size");
   Handle space = check(H5Dget_space(ds.get()), H5Sclose, file_name_, name, "no dataspace");
   int rank = H5Sget_simple_extent_ndims(space.get());
@@ -130,8 +131,9 @@ Array<T> H5Reader::read_typed(const std::string& name, std::vector<long> want, l
   // Deflate cannot expand data more than ~1032:1; anything beyond that is a corrupt header, so
   // refuse before allocating.
   if (count * sizeof(T) > std::max<std::uintmax_t>(1 << 20, file_size_ * 1100))
-    throw Error(file_name_, name, "declared size " + std::to_string(count * sizeof(T)) +
-                                      " bytes cannot fit in a file of " + std::to_string(file_size_) + " bytes (corrupt)");
+    throw Error(file_name_, name,
+                "declared size " + std::to_string(count * sizeof(T)) + " bytes cannot fit in a file of " +
+                    std::to_string(file_size_) + " bytes (corrupt)");
   out.data.resize(count);
   if (count > 0)
     check_status(H5Dread(ds.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data.data()), file_name_, name,
@@ -220,7 +222,8 @@ std::vector<std::string> H5Reader::read_utf8_strings(const std::string& name) co
   for (std::size_t i = 0; i < count; ++i) {
     const char* at = bytes.data() + i * width;
     out[i].assign(at, std::find(at, at + width, '\0'));
-    if (!detail::is_valid_utf8(out[i])) throw Error(file_name_, name + "[" + std::to_string(i) + "]", "not valid UTF-8");
+    if (!detail::is_valid_utf8(out[i]))
+      throw Error(file_name_, name + "[" + std::to_string(i) + "]", "not valid UTF-8");
   }
   return out;
 }

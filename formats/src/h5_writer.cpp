@@ -63,7 +63,8 @@ H5Writer::H5Writer(fs::path target, const ArtifactHeader& header) : target_(std:
   H5Pset_fapl_core(fapl.get(), 8 << 20, 0);  // grows 8 MiB at a time (glibc remaps large blocks)
   // The empty temporary file already marks this writer's target (kill -9: removed by the next).
   const int fd = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-  if (fd < 0) throw Error(target_.string(), "", "cannot create temporary file " + temp_.string() + ": " + std::strerror(errno));
+  if (fd < 0)
+    throw Error(target_.string(), "", "cannot create temporary file " + temp_.string() + ": " + std::strerror(errno));
   ::close(fd);
   hid_t f = H5Fcreate(temp_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get());
   if (f < 0) {
@@ -132,11 +133,10 @@ void H5Writer::write_raw(const std::string& name, const void* data, long type, s
     H5Pset_shuffle(dcpl.get());
     H5Pset_deflate(dcpl.get(), 4);
   }
-  Handle ds = check(H5Dcreate2(file_, name.c_str(), type, space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),
-                    H5Dclose, file, name, "cannot create dataset");
+  Handle ds = check(H5Dcreate2(file_, name.c_str(), type, space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT), H5Dclose,
+                    file, name, "cannot create dataset");
   if (count > 0)
-    check_status(H5Dwrite(ds.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), file, name,
-                 "cannot write dataset");
+    check_status(H5Dwrite(ds.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), file, name, "cannot write dataset");
   detail::write_string_attribute(ds.get(), "sha256", sha256_hex(data, count * elem_size), file);
 }
 
@@ -182,7 +182,8 @@ void H5Writer::write_utf8_strings(const std::string& name, const std::vector<std
     width = std::max(width, values[i].size());
   }
   std::vector<char> padded(values.size() * width, '\0');
-  for (std::size_t i = 0; i < values.size(); ++i) std::copy(values[i].begin(), values[i].end(), padded.begin() + i * width);
+  for (std::size_t i = 0; i < values.size(); ++i)
+    std::copy(values[i].begin(), values[i].end(), padded.begin() + i * width);
   Handle type = check(H5Tcopy(H5T_C_S1), H5Tclose, target_.string(), name, "cannot make the string type");
   check_status(H5Tset_size(type.get(), width), target_.string(), name, "cannot size the string type");
   H5Tset_strpad(type.get(), H5T_STR_NULLPAD);
@@ -198,7 +199,8 @@ void H5Writer::ordered_group(const std::string& name) {
                "cannot track creation order");
   Handle lcpl = Handle(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
   H5Pset_create_intermediate_group(lcpl.get(), 1);
-  check(H5Gcreate2(file_, name.c_str(), lcpl.get(), gcpl.get(), H5P_DEFAULT), H5Gclose, file, name, "cannot create group");
+  check(H5Gcreate2(file_, name.c_str(), lcpl.get(), gcpl.get(), H5P_DEFAULT), H5Gclose, file, name,
+        "cannot create group");
 }
 
 void H5Writer::attribute(const std::string& object, const std::string& name, const std::string& value) {

@@ -64,8 +64,8 @@ void write_dmg(H5Writer& w, const Dmg& d) {
   const double settings[4] = {d.angle_step_deg, d.seed_resolution, d.normal_threshold, double(d.patch_count)};
   w.write("dmg/settings", std::span<const double>(settings), {4});
   const GripperModel& g = d.gripper;
-  const double grip[kGripperReals] = {g.max_opening, g.finger_length, g.finger_width, g.finger_thickness,
-                                      g.tip_offset, g.palm_size.x(), g.palm_size.y(), g.palm_size.z(),
+  const double grip[kGripperReals] = {g.max_opening,     g.finger_length,   g.finger_width,    g.finger_thickness,
+                                      g.tip_offset,      g.palm_size.x(),   g.palm_size.y(),   g.palm_size.z(),
                                       g.palm_center.x(), g.palm_center.y(), g.palm_center.z(), g.contact_tolerance};
   w.write("dmg/gripper", std::span<const double>(grip), {kGripperReals});
   std::vector<double> facets;
@@ -143,8 +143,9 @@ void write_grasp_graph(H5Writer& w, const GraspGraphTable& t) {
 GraspGraphTable read_grasp_graph(const H5Reader& r) {
   const auto version = r.attribute("grasp_graph", "schema_version");
   if (version != std::to_string(kGraspGraphSchemaVersion))
-    throw Error(r.file(), "grasp_graph", "schema version is " + version.value_or("missing") + ", this build reads " +
-                                             std::to_string(kGraspGraphSchemaVersion) + " (re-bake the object)");
+    throw Error(r.file(), "grasp_graph",
+                "schema version is " + version.value_or("missing") + ", this build reads " +
+                    std::to_string(kGraspGraphSchemaVersion) + " (re-bake the object)");
   GraspGraphTable t;
   t.rotation_weight = r.read_f64("grasp_graph/settings", {1}).data[0];
   auto states = r.read_i32("grasp_graph/states", {-1, 2});
@@ -162,11 +163,13 @@ GraspGraphTable read_grasp_graph(const H5Reader& r) {
   const long n = long(states.rows());
   for (std::size_t s = 0; s < t.offsets.size(); ++s)
     if (t.offsets[s] < 0 || std::size_t(t.offsets[s]) > t.targets.size() || (s > 0 && t.offsets[s] < t.offsets[s - 1]))
-      throw Error(r.file(), "grasp_graph/offsets", "not a non-decreasing index into the edges at state " + std::to_string(s));
+      throw Error(r.file(), "grasp_graph/offsets",
+                  "not a non-decreasing index into the edges at state " + std::to_string(s));
   if (!t.offsets.empty() && std::size_t(t.offsets.back()) != t.targets.size())
     throw Error(r.file(), "grasp_graph/offsets", "the last offset is not the edge count");
   for (auto u : t.targets)
-    if (u < 0 || u >= n) throw Error(r.file(), "grasp_graph/targets", "state index " + std::to_string(u) + " out of range");
+    if (u < 0 || u >= n)
+      throw Error(r.file(), "grasp_graph/targets", "state index " + std::to_string(u) + " out of range");
   return t;
 }
 

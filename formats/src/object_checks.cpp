@@ -32,17 +32,30 @@ void check_placement(const ObjectArtifact& a, double scale, std::vector<std::str
   for (std::size_t i = 0; i < pl.faces.size(); ++i) {
     const auto& f = pl.faces[i];
     const std::string w = "placement face " + std::to_string(i) + ": ";
-    if (!unit(f.normal)) { p.push_back(w + "normal is not unit length"); continue; }
-    if (!std::isfinite(f.margin) || !std::isfinite(f.height)) { p.push_back(w + "margin or height not finite"); continue; }
-    if (f.polygon.size() < 3) { p.push_back(w + "polygon has fewer than 3 points"); continue; }
+    if (!unit(f.normal)) {
+      p.push_back(w + "normal is not unit length");
+      continue;
+    }
+    if (!std::isfinite(f.margin) || !std::isfinite(f.height)) {
+      p.push_back(w + "margin or height not finite");
+      continue;
+    }
+    if (f.polygon.size() < 3) {
+      p.push_back(w + "polygon has fewer than 3 points");
+      continue;
+    }
     const double tol = 1e-6 + 1e-6 * scale;
     double support = -std::numeric_limits<double>::infinity();
     for (Eigen::Index v = 0; v < a.mesh.vertices.rows(); ++v)
       support = std::max(support, f.normal.dot(a.mesh.vertices.row(v).transpose()));
     if (std::abs(support - f.height) > tol) p.push_back(w + "height does not match the mesh's extent along the normal");
     for (const auto& q : f.polygon)
-      if (!q.allFinite() || std::abs(f.normal.dot(q) - support) > tol) { p.push_back(w + "polygon point off the face plane"); break; }
-    if (!(std::abs(f.rotation.norm() - 1) <= 1e-6) || !((f.rotation * f.normal - Eigen::Vector3d(0, 0, -1)).norm() <= 1e-6))
+      if (!q.allFinite() || std::abs(f.normal.dot(q) - support) > tol) {
+        p.push_back(w + "polygon point off the face plane");
+        break;
+      }
+    if (!(std::abs(f.rotation.norm() - 1) <= 1e-6) ||
+        !((f.rotation * f.normal - Eigen::Vector3d(0, 0, -1)).norm() <= 1e-6))
       p.push_back(w + "rotation does not turn the normal to -z");
     const double inside = inside_distance(f.polygon, f.normal, a.mass.com);
     if (inside < 0) p.push_back(w + "COM projection outside the polygon");
@@ -55,13 +68,14 @@ void check_dmg(const ObjectArtifact& a, double scale, std::vector<std::string>& 
   const Dmg& d = a.dmg;
   if (!(d.angle_step_deg >= kMinAngleStepDeg && d.angle_step_deg <= 360)) {
     // Every consumer sizes per-node arrays by 360 / step: refuse before anything divides by it.
-    p.push_back("dmg/settings: angle step " + std::to_string(d.angle_step_deg) + " outside [" + std::to_string(kMinAngleStepDeg) +
-                ", 360] degrees");
+    p.push_back("dmg/settings: angle step " + std::to_string(d.angle_step_deg) + " outside [" +
+                std::to_string(kMinAngleStepDeg) + ", 360] degrees");
     return;
   }
   const int k = d.angle_count();
   if (std::abs(k * d.angle_step_deg - 360) > 1e-9) p.push_back("dmg/settings: angle step does not divide 360 degrees");
-  if (!(d.seed_resolution > 0) || !std::isfinite(d.seed_resolution) || !(d.normal_threshold >= 0) || !std::isfinite(d.normal_threshold))
+  if (!(d.seed_resolution > 0) || !std::isfinite(d.seed_resolution) || !(d.normal_threshold >= 0) ||
+      !std::isfinite(d.normal_threshold))
     p.push_back("dmg/settings: seed resolution must be positive and normal threshold non-negative, both finite");
   if (d.patch_count < 0) p.push_back("dmg/settings: negative patch count");
   const auto& g = d.gripper;
@@ -73,7 +87,8 @@ void check_dmg(const ObjectArtifact& a, double scale, std::vector<std::string>& 
     p.push_back("dmg/gripper: sizes must be positive and finite");
   const int facets = int(d.facet_normals.size());
   for (int f = 0; f < facets; ++f)
-    if (!unit(d.facet_normals[f]) || !unit(d.facet_zero_axes[f]) || std::abs(d.facet_normals[f].dot(d.facet_zero_axes[f])) > 1e-6)
+    if (!unit(d.facet_normals[f]) || !unit(d.facet_zero_axes[f]) ||
+        std::abs(d.facet_normals[f].dot(d.facet_zero_axes[f])) > 1e-6)
       p.push_back("dmg facet " + std::to_string(f) + ": normal / zero axis not an orthonormal pair");
   const double tol = 1e-7 + 1e-4 * scale;
   const detail::SurfaceIndex surface(a.mesh, tol);
@@ -85,14 +100,15 @@ void check_dmg(const ObjectArtifact& a, double scale, std::vector<std::string>& 
       p.push_back(w + "patch or facet index out of range");
     if (n.first_angle < 0 || n.first_angle >= k || n.angle_count < 1 || n.angle_count > k)
       p.push_back(w + "angle interval outside [0, 360)");
-    if (!unit(n.normal) || !unit(n.zero_axis) || !unit(n.opposite_normal) || std::abs(n.normal.dot(n.zero_axis)) > 1e-6) {
+    if (!unit(n.normal) || !unit(n.zero_axis) || !unit(n.opposite_normal) ||
+        std::abs(n.normal.dot(n.zero_axis)) > 1e-6) {
       p.push_back(w + "normal, zero axis or opposite normal not unit / orthogonal");
       continue;
     }
     if (!surface.near(n.position, tol)) p.push_back(w + "contact point not on the mesh surface");
-    if (!surface.near(n.opposite_point, tol))
-      p.push_back(w + "opposite contact not on the mesh surface");
-    if ((n.position - n.opposite_point).norm() > g.max_opening + tol) p.push_back(w + "grasp wider than the maximum opening");
+    if (!surface.near(n.opposite_point, tol)) p.push_back(w + "opposite contact not on the mesh surface");
+    if ((n.position - n.opposite_point).norm() > g.max_opening + tol)
+      p.push_back(w + "grasp wider than the maximum opening");
   }
   std::set<std::pair<int, int>> edges;
   const int nodes = int(d.nodes.size());
@@ -100,7 +116,8 @@ void check_dmg(const ObjectArtifact& a, double scale, std::vector<std::string>& 
   for (auto [x, y] : d.edges) {
     if (x < 0 || y < 0 || x >= nodes || y >= nodes || x == y) {
       if (bad++ == 0)
-        p.push_back("dmg/edges: index out of range or self loop (" + std::to_string(x) + ", " + std::to_string(y) + ")");
+        p.push_back("dmg/edges: index out of range or self loop (" + std::to_string(x) + ", " + std::to_string(y) +
+                    ")");
       continue;
     }
     edges.insert({x, y});
@@ -135,7 +152,8 @@ std::vector<std::string> check_object(const ObjectArtifact& a) {
   check_placement(a, scale, p);
   const std::size_t before = p.size();
   check_dmg(a, scale, p);
-  if (p.size() == before) detail::append(p, check_grasp_graph_table(a.dmg, a.grasp_graph));  // built on a sound DMG only
+  if (p.size() == before)
+    detail::append(p, check_grasp_graph_table(a.dmg, a.grasp_graph));  // built on a sound DMG only
   return p;
 }
 

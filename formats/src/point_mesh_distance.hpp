@@ -22,7 +22,8 @@ class SurfaceIndex {
     // A non-finite extent or tolerance (a caller that did not bound them) finds no point near the
     // surface instead of casting NaN to an index (fuzzing found it); the caller's own checks
     // report the extent.
-    if (!std::isfinite(tol) || !box_.min().allFinite() || !box_.max().allFinite() || !std::isfinite(box_.diagonal().norm())) {
+    if (!std::isfinite(tol) || !box_.min().allFinite() || !box_.max().allFinite() ||
+        !std::isfinite(box_.diagonal().norm())) {
       box_ = Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-1), Eigen::Vector3d::Constant(1));
       degenerate_ = true;
       return;
@@ -62,10 +63,13 @@ class SurfaceIndex {
   std::array<int, 3> cell_of(const Eigen::Array3d& p) const {
     std::array<int, 3> c{};
     for (int a = 0; a < 3; ++a)
-      c[a] = int(std::clamp(std::floor((p[a] - box_.min()[a]) / cell_), 0.0, double(dims_[a] - 1)));  // clamp before the cast
+      c[a] = int(
+          std::clamp(std::floor((p[a] - box_.min()[a]) / cell_), 0.0, double(dims_[a] - 1)));  // clamp before the cast
     return c;
   }
-  std::size_t index(int i, int j, int k) const { return std::size_t(i) + std::size_t(dims_[0]) * (j + std::size_t(dims_[1]) * k); }
+  std::size_t index(int i, int j, int k) const {
+    return std::size_t(i) + std::size_t(dims_[0]) * (j + std::size_t(dims_[1]) * k);
+  }
 
   const TriMesh& mesh_;
   Eigen::AlignedBox3d box_;

@@ -6,7 +6,8 @@
 
 namespace dmgplace::formats {
 
-Eigen::Isometry3d pose_from_xyz_quaternion(std::span<const double, 7> v, const std::string& file, const std::string& element) {
+Eigen::Isometry3d pose_from_xyz_quaternion(std::span<const double, 7> v, const std::string& file,
+                                           const std::string& element) {
   for (double x : v)
     if (!std::isfinite(x)) throw Error(file, element, "not a finite number");
   const Eigen::Quaterniond q(v[6], v[3], v[4], v[5]);

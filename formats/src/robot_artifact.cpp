@@ -8,7 +8,7 @@
 
 namespace dmgplace::formats {
 namespace {
-constexpr int kJointReals = 15;  // origin(7) axis(3) lower upper velocity mimic_multiplier mimic_offset
+constexpr int kJointReals = 15;            // origin(7) axis(3) lower upper velocity mimic_multiplier mimic_offset
 constexpr long kMaxTableNodes = 1L << 22;  // per table: far more than any sensible joint step needs
 
 // self_tables/indices [n, 6]: link_a link_b joint0 joint1 count0 count1
@@ -48,7 +48,8 @@ std::vector<SelfDistanceTable> read_self_tables(const H5Reader& r) {
     if (t.count[0] < 1 || t.count[1] < 1 || long(t.count[0]) * t.count[1] > kMaxTableNodes)
       throw Error(r.file(), "self_tables/indices", el + ": node count out of range");
     const std::size_t n = std::size_t(t.count[0]) * std::size_t(t.count[1]);
-    if (at + n > dist.data.size()) throw Error(r.file(), "self_tables/distance", el + ": fewer nodes than the tables declare");
+    if (at + n > dist.data.size())
+      throw Error(r.file(), "self_tables/distance", el + ": fewer nodes than the tables declare");
     t.distance.assign(dist.data.begin() + long(at), dist.data.begin() + long(at + n));
     at += n;
     out.push_back(std::move(t));
@@ -56,7 +57,7 @@ std::vector<SelfDistanceTable> read_self_tables(const H5Reader& r) {
   if (at != dist.data.size()) throw Error(r.file(), "self_tables/distance", "more nodes than the tables declare");
   return out;
 }
-}
+}  // namespace
 
 void save_robot(RobotArtifact a, const std::filesystem::path& path) {
   a.header.schema = kRobotSchema;
@@ -124,7 +125,8 @@ RobotArtifact read_robot_unchecked(const std::filesystem::path& path) {
   m.arm_tip = r.attribute("", "arm_tip").value_or("");
   auto link_names = r.read_strings("links/names");
   for (auto& n : link_names) m.links.push_back({n, {}});
-  if (!r.has("links/collision/hull_ranges")) throw Error(r.file(), "links/collision/hull_ranges", "missing (convex hulls of mesh shapes)");
+  if (!r.has("links/collision/hull_ranges"))
+    throw Error(r.file(), "links/collision/hull_ranges", "missing (convex hulls of mesh shapes)");
   for (auto& os : read_shapes(r, "links/collision")) {
     if (os.owner < 0 || std::size_t(os.owner) >= m.links.size())
       throw Error(r.file(), "links/collision/owner", "link index out of range");
@@ -138,7 +140,8 @@ RobotArtifact read_robot_unchecked(const std::filesystem::path& path) {
   for (long i = 0; i < nj; ++i) {
     Joint j;
     j.name = joint_names[std::size_t(i)];
-    if (ints(i, 0) < 0 || ints(i, 0) > 3) throw Error(r.file(), "joints/indices", "unknown joint type in row " + std::to_string(i));
+    if (ints(i, 0) < 0 || ints(i, 0) > 3)
+      throw Error(r.file(), "joints/indices", "unknown joint type in row " + std::to_string(i));
     j.type = JointType(ints(i, 0));
     j.parent = ints(i, 1);
     j.child = ints(i, 2);
@@ -146,14 +149,19 @@ RobotArtifact read_robot_unchecked(const std::filesystem::path& path) {
     const double* v = &reals.data[std::size_t(i) * kJointReals];
     j.origin = pose_from_array(v, r.file(), "joints/values row " + std::to_string(i) + " origin");
     j.axis = Eigen::Vector3d(v[7], v[8], v[9]);
-    j.lower = v[10]; j.upper = v[11]; j.velocity = v[12]; j.mimic_multiplier = v[13]; j.mimic_offset = v[14];
+    j.lower = v[10];
+    j.upper = v[11];
+    j.velocity = v[12];
+    j.mimic_multiplier = v[13];
+    j.mimic_offset = v[14];
     j.acceleration = accelerations.data[std::size_t(i)];
     m.joints.push_back(j);
   }
   auto sphere_link = r.read_i32("links/sphere_link", {-1});
   auto spheres = r.read_f64("links/spheres", {long(sphere_link.rows()), 4});
   for (std::size_t i = 0; i < sphere_link.rows(); ++i)
-    a.spheres.push_back({sphere_link.data[i], Eigen::Vector3d(spheres(i, 0), spheres(i, 1), spheres(i, 2)), spheres(i, 3)});
+    a.spheres.push_back(
+        {sphere_link.data[i], Eigen::Vector3d(spheres(i, 0), spheres(i, 1), spheres(i, 2)), spheres(i, 3)});
   auto pairs = r.read_i32("allowed_pairs", {-1, 2});
   for (std::size_t i = 0; i < pairs.rows(); ++i) m.allowed_pairs.emplace_back(pairs(i, 0), pairs(i, 1));
   a.self_tables = read_self_tables(r);
@@ -173,24 +181,30 @@ std::vector<std::string> check_robot(const RobotArtifact& a) {
       p.push_back(el + ": link index out of range");
       continue;
     }
-    if (parent_joint[std::size_t(j.child)] >= 0) p.push_back(el + ": link '" + m.links[std::size_t(j.child)].name + "' has two parent joints");
+    if (parent_joint[std::size_t(j.child)] >= 0)
+      p.push_back(el + ": link '" + m.links[std::size_t(j.child)].name + "' has two parent joints");
     parent_joint[std::size_t(j.child)] = int(i);
-    if (!j.origin.matrix().allFinite() || !detail::is_rotation(j.origin.linear())) p.push_back(el + ": origin not a finite rigid pose");
-    if (j.type != JointType::Fixed && !(std::abs(j.axis.norm() - 1) <= 1e-6)) p.push_back(el + ": axis is not a finite unit vector");
+    if (!j.origin.matrix().allFinite() || !detail::is_rotation(j.origin.linear()))
+      p.push_back(el + ": origin not a finite rigid pose");
+    if (j.type != JointType::Fixed && !(std::abs(j.axis.norm() - 1) <= 1e-6))
+      p.push_back(el + ": axis is not a finite unit vector");
     if (j.type == JointType::Revolute || j.type == JointType::Prismatic) {
       if (!std::isfinite(j.lower) || !std::isfinite(j.upper) || j.lower > j.upper)
         p.push_back(el + ": joint limits invalid (lower > upper or not finite)");
     }
     if (!std::isfinite(j.velocity) || j.velocity < 0) p.push_back(el + ": velocity limit must be finite and >= 0");
-    if (!std::isfinite(j.acceleration) || j.acceleration < 0) p.push_back(el + ": acceleration limit must be finite and >= 0");
-    if (j.mimic < -1 || j.mimic >= int(m.joints.size()) || j.mimic == int(i)) p.push_back(el + ": mimic joint index invalid");
+    if (!std::isfinite(j.acceleration) || j.acceleration < 0)
+      p.push_back(el + ": acceleration limit must be finite and >= 0");
+    if (j.mimic < -1 || j.mimic >= int(m.joints.size()) || j.mimic == int(i))
+      p.push_back(el + ": mimic joint index invalid");
     if (j.mimic >= 0 && (!std::isfinite(j.mimic_multiplier) || !std::isfinite(j.mimic_offset)))
       p.push_back(el + ": mimic multiplier and offset must be finite");
   }
   // A mimic chain must end at an independent joint: a loop would make forward kinematics recurse.
   for (std::size_t i = 0; i < m.joints.size(); ++i) {
     int cur = int(i), steps = 0;
-    while (cur >= 0 && cur < int(m.joints.size()) && m.joints[std::size_t(cur)].mimic >= 0 && steps <= int(m.joints.size())) {
+    while (cur >= 0 && cur < int(m.joints.size()) && m.joints[std::size_t(cur)].mimic >= 0 &&
+           steps <= int(m.joints.size())) {
       cur = m.joints[std::size_t(cur)].mimic;
       ++steps;
     }
@@ -201,7 +215,8 @@ std::vector<std::string> check_robot(const RobotArtifact& a) {
   }
   int roots = 0;
   for (int l = 0; l < nl; ++l) roots += parent_joint[std::size_t(l)] < 0;
-  if (nl > 0 && roots != 1) p.push_back("links: the kinematic tree must have exactly one root, found " + std::to_string(roots));
+  if (nl > 0 && roots != 1)
+    p.push_back("links: the kinematic tree must have exactly one root, found " + std::to_string(roots));
   // Cycle check: walking up from every link must end at the root within nl steps.
   for (int l = 0; l < nl && p.empty(); ++l) {
     int cur = l, steps = 0;
@@ -216,7 +231,8 @@ std::vector<std::string> check_robot(const RobotArtifact& a) {
     for (const auto& s : m.links[i].collision) shapes.push_back({int(i), s});
   detail::append(p, check_shapes(shapes, nl, "links/collision"));
   for (auto [x, y] : m.allowed_pairs)
-    if (x < 0 || y < 0 || x >= nl || y >= nl || x == y) p.push_back("allowed_pairs: invalid pair (" + std::to_string(x) + ", " + std::to_string(y) + ")");
+    if (x < 0 || y < 0 || x >= nl || y >= nl || x == y)
+      p.push_back("allowed_pairs: invalid pair (" + std::to_string(x) + ", " + std::to_string(y) + ")");
   for (std::size_t i = 0; i < a.spheres.size(); ++i) {
     const auto& sp = a.spheres[i];
     if (sp.link < 0 || sp.link >= nl || !sp.center.allFinite() || !(sp.radius > 0) || !std::isfinite(sp.radius))
@@ -226,7 +242,8 @@ std::vector<std::string> check_robot(const RobotArtifact& a) {
     if (m.links[std::size_t(l)].collision.empty()) continue;
     bool covered = false;
     for (const auto& sp : a.spheres) covered |= sp.link == l;
-    if (!covered) p.push_back("links/spheres: link '" + m.links[std::size_t(l)].name + "' has collision geometry but no spheres");
+    if (!covered)
+      p.push_back("links/spheres: link '" + m.links[std::size_t(l)].name + "' has collision geometry but no spheres");
   }
   for (std::size_t i = 0; i < a.self_tables.size(); ++i) {
     const auto& t = a.self_tables[i];
@@ -239,8 +256,9 @@ std::vector<std::string> check_robot(const RobotArtifact& a) {
     if (t.joints[1] < 0 && t.count[1] != 1) p.push_back(el + ": 1-D table with more than one column");
     bool grid_ok = true;
     for (int k = 0; k < 2; ++k)
-      grid_ok &= std::isfinite(t.lower[std::size_t(k)]) && t.step[std::size_t(k)] > 0 && std::isfinite(t.step[std::size_t(k)]) &&
-                 t.slope[std::size_t(k)] >= 0 && std::isfinite(t.slope[std::size_t(k)]);
+      grid_ok &= std::isfinite(t.lower[std::size_t(k)]) && t.step[std::size_t(k)] > 0 &&
+                 std::isfinite(t.step[std::size_t(k)]) && t.slope[std::size_t(k)] >= 0 &&
+                 std::isfinite(t.slope[std::size_t(k)]);
     if (!grid_ok) p.push_back(el + ": grid lower/step/slope not finite or step not positive or slope negative");
     if (t.distance.size() != std::size_t(std::max(t.count[0], 0)) * std::size_t(std::max(t.count[1], 0)))
       p.push_back(el + ": distance count does not match the grid");
@@ -255,7 +273,8 @@ std::vector<std::string> check_robot(const RobotArtifact& a) {
     p.push_back("arm chain: base '" + m.arm_base + "' or tip '" + m.arm_tip + "' is not a link");
   } else if (p.empty()) {
     int cur = tip;
-    while (cur != base && parent_joint[std::size_t(cur)] >= 0) cur = m.joints[std::size_t(parent_joint[std::size_t(cur)])].parent;
+    while (cur != base && parent_joint[std::size_t(cur)] >= 0)
+      cur = m.joints[std::size_t(parent_joint[std::size_t(cur)])].parent;
     if (cur != base) p.push_back("arm chain: tip '" + m.arm_tip + "' does not descend from base '" + m.arm_base + "'");
   }
   return p;
@@ -283,7 +302,9 @@ Summary summarize_robot(const RobotArtifact& a) {
   s.emplace_back("allowed_pairs", std::to_string(m.allowed_pairs.size()));
   s.emplace_back("spheres", std::to_string(a.spheres.size()));
   std::string tables = std::to_string(a.self_tables.size());
-  const auto name = [&](int l) { return l >= 0 && std::size_t(l) < m.links.size() ? m.links[std::size_t(l)].name : "?"; };
+  const auto name = [&](int l) {
+    return l >= 0 && std::size_t(l) < m.links.size() ? m.links[std::size_t(l)].name : "?";
+  };
   for (std::size_t i = 0; i < a.self_tables.size(); ++i)
     tables += (i == 0 ? " (" : ", ") + name(a.self_tables[i].link_a) + "/" + name(a.self_tables[i].link_b) +
               (i + 1 == a.self_tables.size() ? ")" : "");

@@ -15,7 +15,8 @@ struct Sha256::Context {
 
 Sha256::Sha256() : ctx_(std::make_unique<Context>()) {
   ctx_->md = EVP_MD_CTX_new();
-  if (!ctx_->md || EVP_DigestInit_ex(ctx_->md, EVP_sha256(), nullptr) != 1) throw Error("libcrypto: cannot start a SHA-256 digest");
+  if (!ctx_->md || EVP_DigestInit_ex(ctx_->md, EVP_sha256(), nullptr) != 1)
+    throw Error("libcrypto: cannot start a SHA-256 digest");
 }
 
 Sha256::~Sha256() = default;
@@ -27,14 +28,18 @@ void Sha256::update(const void* data, std::size_t size) {
 std::array<std::uint8_t, 32> Sha256::finish() {
   std::array<std::uint8_t, 32> out{};
   unsigned int n = 0;
-  if (EVP_DigestFinal_ex(ctx_->md, out.data(), &n) != 1 || n != out.size()) throw Error("libcrypto: SHA-256 final failed");
+  if (EVP_DigestFinal_ex(ctx_->md, out.data(), &n) != 1 || n != out.size())
+    throw Error("libcrypto: SHA-256 final failed");
   return out;
 }
 
 std::string Sha256::finish_hex() {
   static const char* hex = "0123456789abcdef";
   std::string s;
-  for (auto b : finish()) { s += hex[b >> 4]; s += hex[b & 15]; }
+  for (auto b : finish()) {
+    s += hex[b >> 4];
+    s += hex[b & 15];
+  }
   return s;
 }
 

@@ -12,8 +12,13 @@ namespace dmgplace::formats {
 void pose_to_array(const Eigen::Isometry3d& pose, double* out) {
   Eigen::Quaterniond q(pose.rotation());
   q.normalize();
-  out[0] = pose.translation().x(); out[1] = pose.translation().y(); out[2] = pose.translation().z();
-  out[3] = q.x(); out[4] = q.y(); out[5] = q.z(); out[6] = q.w();
+  out[0] = pose.translation().x();
+  out[1] = pose.translation().y();
+  out[2] = pose.translation().z();
+  out[3] = q.x();
+  out[4] = q.y();
+  out[5] = q.z();
+  out[6] = q.w();
 }
 
 Eigen::Isometry3d pose_from_array(const double* in, const std::string& file, const std::string& element) {
@@ -21,7 +26,8 @@ Eigen::Isometry3d pose_from_array(const double* in, const std::string& file, con
   Eigen::Quaterniond q(in[6], in[3], in[4], in[5]);
   // Writers store unit quaternions. A zero one would silently read as the identity (every term of
   // the rotation matrix is a product of two components) and a NaN one as garbage: refuse both.
-  if (!(std::abs(q.norm() - 1) <= 1e-6)) throw Error(file, element, "pose quaternion is not of unit length (zero or corrupt)");
+  if (!(std::abs(q.norm() - 1) <= 1e-6))
+    throw Error(file, element, "pose quaternion is not of unit length (zero or corrupt)");
   q.normalize();
   p.linear() = q.toRotationMatrix();
   p.translation() = Eigen::Vector3d(in[0], in[1], in[2]);
@@ -83,7 +89,8 @@ std::vector<OwnedShape> read_shapes(const H5Reader& r, const std::string& g) {
   for (long i = 0; i < k; ++i) {
     auto& o = out[std::size_t(i)];
     const std::string el = g + "[" + std::to_string(i) + "]";
-    if (type.data[i] < 0 || type.data[i] > 3) throw Error(r.file(), el, "unknown shape type " + std::to_string(type.data[i]));
+    if (type.data[i] < 0 || type.data[i] > 3)
+      throw Error(r.file(), el, "unknown shape type " + std::to_string(type.data[i]));
     o.owner = owner.data[i];
     o.shape.type = ShapeType(type.data[i]);
     o.shape.size = Eigen::Vector3d(size(i, 0), size(i, 1), size(i, 2));
@@ -120,36 +127,43 @@ std::optional<std::string> hull_problem(const TriMesh& mesh, const RowMatrixX3i&
   for (Eigen::Index f = 0; f < hull.rows(); ++f)
     for (int k = 0; k < 3; ++k) edges.emplace_back(hull(f, k), hull(f, (k + 1) % 3));
   std::sort(edges.begin(), edges.end());
-  if (std::adjacent_find(edges.begin(), edges.end()) != edges.end()) return "convex hull has a repeated edge (not a closed surface)";
+  if (std::adjacent_find(edges.begin(), edges.end()) != edges.end())
+    return "convex hull has a repeated edge (not a closed surface)";
   for (auto [a, b] : edges)
-    if (!std::binary_search(edges.begin(), edges.end(), std::make_pair(b, a))) return "convex hull is not closed (an edge without its twin)";
+    if (!std::binary_search(edges.begin(), edges.end(), std::make_pair(b, a)))
+      return "convex hull is not closed (an edge without its twin)";
   // Every vertex on the inner side of every hull face: the gaps measured against the hull are
   // then lower bounds of the mesh's. The tolerance covers rounding in the planes only.
   const double tol = 1e-9 * std::max(1.0, mesh.vertices.cwiseAbs().maxCoeff());
   int faces = 0;  // with an area: a solid has at least four
   for (Eigen::Index f = 0; f < hull.rows(); ++f) {
-    const Eigen::Vector3d a = mesh.vertices.row(hull(f, 0)), b = mesh.vertices.row(hull(f, 1)), c = mesh.vertices.row(hull(f, 2));
+    const Eigen::Vector3d a = mesh.vertices.row(hull(f, 0)), b = mesh.vertices.row(hull(f, 1)),
+                          c = mesh.vertices.row(hull(f, 2));
     const Eigen::Vector3d n = (b - a).cross(c - a);
     const double len = n.norm();
     if (!(len > 0)) continue;  // a sliver: its neighbours bound the same side
     ++faces;
     const double worst = ((mesh.vertices.rowwise() - a.transpose()) * (n / len)).maxCoeff();
     if (worst > tol)
-      return "mesh vertex " + std::to_string(worst) + " m outside convex hull face " + std::to_string(f) + " (not the mesh's hull)";
+      return "mesh vertex " + std::to_string(worst) + " m outside convex hull face " + std::to_string(f) +
+             " (not the mesh's hull)";
   }
   if (faces < 4) return "convex hull with fewer than 4 faces of non-zero area (no volume)";
   return std::nullopt;
 }
 
-std::vector<std::string> check_shapes(const std::vector<OwnedShape>& shapes, int owner_count, const std::string& where) {
+std::vector<std::string> check_shapes(const std::vector<OwnedShape>& shapes, int owner_count,
+                                      const std::string& where) {
   std::vector<std::string> p;
   for (std::size_t i = 0; i < shapes.size(); ++i) {
     const Shape& s = shapes[i].shape;
     const std::string el = where + "[" + std::to_string(i) + "]";
     if (shapes[i].owner < 0 || shapes[i].owner >= owner_count) p.push_back(el + ": owner index out of range");
     if (!s.size.allFinite() || !s.origin.matrix().allFinite()) p.push_back(el + ": non-finite size or pose");
-    else if (!detail::is_rotation(s.origin.linear())) p.push_back(el + ": pose rotation is not a rotation (zero quaternion?)");
-    else if (s.size.cwiseAbs().maxCoeff() > kMaxGeometryExtent || s.origin.translation().cwiseAbs().maxCoeff() > kMaxGeometryExtent)
+    else if (!detail::is_rotation(s.origin.linear()))
+      p.push_back(el + ": pose rotation is not a rotation (zero quaternion?)");
+    else if (s.size.cwiseAbs().maxCoeff() > kMaxGeometryExtent ||
+             s.origin.translation().cwiseAbs().maxCoeff() > kMaxGeometryExtent)
       p.push_back(el + ": size or position beyond " + std::to_string(int(kMaxGeometryExtent)) + " m");
     switch (s.type) {
       case ShapeType::Box:

@@ -158,9 +158,14 @@ void BM_ScanToObject(benchmark::State& state, const char* file, bool crop, tools
   }
   state.counters["scan_points"] = double(points);
 }
-BENCHMARK_CAPTURE(BM_ScanToObject, milk_poisson, "milk.pcd", false, tools::Reconstruction::Poisson)->Unit(benchmark::kMillisecond)->Iterations(3);
-BENCHMARK_CAPTURE(BM_ScanToObject, milk_hull, "milk.pcd", false, tools::Reconstruction::Hull)->Unit(benchmark::kMillisecond)->Iterations(3);
-BENCHMARK_CAPTURE(BM_ScanToObject, table_scene_mug_hull, "table_scene_mug_stereo_textured.pcd", true, tools::Reconstruction::Hull)
+BENCHMARK_CAPTURE(BM_ScanToObject, milk_poisson, "milk.pcd", false, tools::Reconstruction::Poisson)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+BENCHMARK_CAPTURE(BM_ScanToObject, milk_hull, "milk.pcd", false, tools::Reconstruction::Hull)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+BENCHMARK_CAPTURE(BM_ScanToObject, table_scene_mug_hull, "table_scene_mug_stereo_textured.pcd", true,
+                  tools::Reconstruction::Hull)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);
 

@@ -58,13 +58,15 @@ World& world() {
     w.kin = std::make_unique<runtime::Kinematics>(w.model, "panda_link0", "panda_hand");
     w.kin->set_joint_value("panda_finger_joint1", 0.04);
     w.scene = tools::load_scene(shared / "mbm_problems/bookshelf_small_panda/scene0001.yaml");
-    w.sdf = test::analytic_sdf(w.scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.3), Eigen::Vector3d(1.6, 1.2, 1.7)),
+    w.sdf = test::analytic_sdf(w.scene,
+                               Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.3), Eigen::Vector3d(1.6, 1.2, 1.7)),
                                std::getenv("SDF_RES") ? std::atof(std::getenv("SDF_RES")) : 0.01, 0.2);
     w.fast = std::make_unique<runtime::SphereFieldChecker>(*w.kin, w.spheres, w.sdf, 0.2);
     if (!std::getenv("NO_SELF_TABLES")) w.tables = tools::build_self_distance_tables(*w.kin, w.spheres);
     w.fast->set_self_tables(w.tables);
     // As bench-mbm runs it: undecided spheres settled by the scene's exact primitives.
-    if (!std::getenv("NO_EXACT_PRIMITIVES")) w.fast->set_exact_obstacles(runtime::PrimitiveObstacles::from_scene(w.scene));
+    if (!std::getenv("NO_EXACT_PRIMITIVES"))
+      w.fast->set_exact_obstacles(runtime::PrimitiveObstacles::from_scene(w.scene));
     w.exact = std::make_unique<runtime::ExactChecker>(*w.kin, w.scene);
     w.stock = std::make_unique<bench::StockFclChecker>(*w.kin, w.scene);
     std::mt19937_64 rng(1);
@@ -188,9 +190,11 @@ void BM_MotionCheckHalfRadian(benchmark::State& st) {
     return s;
   }();
   const Scene& scene = st.range(0) == 0 ? open : w.scene;
-  runtime::SphereFieldChecker fast(*w.kin, w.spheres,
-                                   test::analytic_sdf(scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.3), Eigen::Vector3d(1.6, 1.2, 1.7)), 0.02, 0.2),
-                                   0.2);
+  runtime::SphereFieldChecker fast(
+      *w.kin, w.spheres,
+      test::analytic_sdf(scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.3), Eigen::Vector3d(1.6, 1.2, 1.7)),
+                         0.02, 0.2),
+      0.2);
   fast.set_self_tables(w.tables);
   fast.set_exact_obstacles(runtime::PrimitiveObstacles::from_scene(scene));
   runtime::TwoLayerChecker checker(fast, runtime::ExactChecker(*w.kin, scene));

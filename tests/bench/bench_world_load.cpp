@@ -23,7 +23,8 @@ fs::path folder(const char* variable, const char* fallback) {
 void load_world(benchmark::State& state, const fs::path& dir, const char* robot, const char* object, const char* env) {
   for (const char* f : {robot, object, env})
     if (!fs::exists(dir / f)) {
-      state.SkipWithError(((dir / f).string() + " is missing: bake it first (scripts/demo, scripts/bake-shared)").c_str());
+      state.SkipWithError(
+          ((dir / f).string() + " is missing: bake it first (scripts/demo, scripts/bake-shared)").c_str());
       return;
     }
   for (auto _ : state) {
@@ -38,7 +39,8 @@ void BM_LoadDemoWorld(benchmark::State& state) {
 BENCHMARK(BM_LoadDemoWorld)->Unit(benchmark::kMillisecond)->Iterations(15);
 
 void BM_LoadKitchenWorld(benchmark::State& state) {
-  load_world(state, folder("DMGPLACE_SHARED_ARTIFACTS", "out/shared/artifacts"), "panda.h5", "mustard.h5", "kitchen.h5");
+  load_world(state, folder("DMGPLACE_SHARED_ARTIFACTS", "out/shared/artifacts"), "panda.h5", "mustard.h5",
+             "kitchen.h5");
 }
 BENCHMARK(BM_LoadKitchenWorld)->Unit(benchmark::kMillisecond)->Iterations(15);
 

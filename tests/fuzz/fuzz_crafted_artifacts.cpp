@@ -35,18 +35,30 @@ std::vector<Base> bases;
 
 double pick_value(std::uint8_t kind, double raw, double old) {
   switch (kind % 12) {
-    case 0: return std::numeric_limits<double>::quiet_NaN();
-    case 1: return std::numeric_limits<double>::infinity();
-    case 2: return -std::numeric_limits<double>::infinity();
-    case 3: return 0;
-    case 4: return -1;
-    case 5: return 1e300;
-    case 6: return 2147483647.0;
-    case 7: return old + 0.1;   // plausible but wrong: a region raised, a face shifted
-    case 8: return old * -1;
-    case 9: return old + 1;     // an index one past
-    case 10: return std::isfinite(raw) ? raw : 0;
-    default: return old * 1e6;
+    case 0:
+      return std::numeric_limits<double>::quiet_NaN();
+    case 1:
+      return std::numeric_limits<double>::infinity();
+    case 2:
+      return -std::numeric_limits<double>::infinity();
+    case 3:
+      return 0;
+    case 4:
+      return -1;
+    case 5:
+      return 1e300;
+    case 6:
+      return 2147483647.0;
+    case 7:
+      return old + 0.1;  // plausible but wrong: a region raised, a face shifted
+    case 8:
+      return old * -1;
+    case 9:
+      return old + 1;  // an index one past
+    case 10:
+      return std::isfinite(raw) ? raw : 0;
+    default:
+      return old * 1e6;
   }
 }
 
@@ -76,7 +88,8 @@ void exercise(const fs::path& p) {
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   const char* dir = std::getenv("DMGPLACE_FUZZ_BASES");
   if (!dir) {
-    std::fprintf(stderr, "fuzz_crafted_artifacts: set DMGPLACE_FUZZ_BASES to a folder of sound artifacts (scripts/fuzz does)\n");
+    std::fprintf(
+        stderr, "fuzz_crafted_artifacts: set DMGPLACE_FUZZ_BASES to a folder of sound artifacts (scripts/fuzz does)\n");
     std::abort();
   }
   for (const auto& e : fs::directory_iterator(dir)) {

@@ -22,9 +22,9 @@ inline const std::filesystem::path& scratch_dir() {
   // Registered after `dir` is complete, so it runs before dir's destructor (exit handlers run in
   // reverse order); registered inside dir's initializer it ran after and removed nothing.
   [[maybe_unused]] static const bool cleanup = std::atexit([] {
-    std::error_code ec;
-    std::filesystem::remove_all(dir, ec);
-  }) == 0;
+                                                 std::error_code ec;
+                                                 std::filesystem::remove_all(dir, ec);
+                                               }) == 0;
   return dir;
 }
 

@@ -8,7 +8,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const dmgplace::runtime::Kinematics kin(
-      dmgplace::tools::read_urdf(DMGPLACE_SOURCE_DIR "/datasets/robots/dmgarm/dmgarm.urdf"), "dmgarm_link0", "dmgarm_tcp");
+      dmgplace::tools::read_urdf(DMGPLACE_SOURCE_DIR "/datasets/robots/dmgarm/dmgarm.urdf"), "dmgarm_link0",
+      "dmgarm_tcp");
   const auto path = dmgplace::fuzz::write_input(data, size, "input.yaml");
   try {
     const auto query = dmgplace::tools::read_placement_query(path);

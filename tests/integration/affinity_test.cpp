@@ -34,8 +34,8 @@ TEST(Affinity, ABakeOnOneCpuRunsOneThread) {
     CPU_ZERO(&one);
     CPU_SET(0, &one);
     if (sched_setaffinity(0, sizeof one, &one) != 0) ::_exit(120);
-    ::execl(cli.c_str(), cli.c_str(), "bake-env", scene.c_str(), "--volume", "0.55,-0.40,0.45,0.88,0.40,1.05", "--margin",
-            "0.9", "--sdf-resolution", "0.015", "--band", "0.25", "--out", out.c_str(), (char*)nullptr);
+    ::execl(cli.c_str(), cli.c_str(), "bake-env", scene.c_str(), "--volume", "0.55,-0.40,0.45,0.88,0.40,1.05",
+            "--margin", "0.9", "--sdf-resolution", "0.015", "--band", "0.25", "--out", out.c_str(), (char*)nullptr);
     ::_exit(127);
   }
   int most = 0, status = 0, samples = 0;

@@ -30,8 +30,9 @@ TEST_F(ArtifactSet, AnObjectBakedForAWiderGripperIsRefusedNamingBothFiles) {
   ASSERT_NE(at, std::string::npos);
   gripper.replace(at, 17, "max_opening: 0.20");
   test::write_text(d / "wide_hand.yaml", gripper);
-  ASSERT_EQ(test::run_cli({"bake-object", d / "bottle.stl", "--mass", "0.15", "--gripper", d / "wide_hand.yaml", "--out",
-                           d / "bottle_wide.h5"}).exit_code,
+  ASSERT_EQ(test::run_cli({"bake-object", d / "bottle.stl", "--mass", "0.15", "--gripper", d / "wide_hand.yaml",
+                           "--out", d / "bottle_wide.h5"})
+                .exit_code,
             0);
   const auto r = test::run_cli({"validate", "--set", d / "arm.h5", d / "bottle_wide.h5", d / "cabinet.h5"});
   EXPECT_EQ(r.exit_code, 1) << r.output;
@@ -39,9 +40,10 @@ TEST_F(ArtifactSet, AnObjectBakedForAWiderGripperIsRefusedNamingBothFiles) {
   EXPECT_NE(r.output.find("arm.h5"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("opening 0.2 m"), std::string::npos) << r.output;
   // The query loader refuses the same set.
-  test::write_text(d / "wide.yaml", "robot: arm.h5\nobject: bottle_wide.h5\nenvironment: cabinet.h5\n"
-                                    "start: [0, -0.785, 0, -2.356, 0, 1.571, 0.785]\n"
-                                    "initial_grasp: {pose: [0, 0, 0.06, 0, 0.7071068, 0, 0.7071068]}\n");
+  test::write_text(d / "wide.yaml",
+                   "robot: arm.h5\nobject: bottle_wide.h5\nenvironment: cabinet.h5\n"
+                   "start: [0, -0.785, 0, -2.356, 0, 1.571, 0.785]\n"
+                   "initial_grasp: {pose: [0, 0, 0.06, 0, 0.7071068, 0, 0.7071068]}\n");
   const auto place = test::run_cli({"place", d / "wide.yaml", "--time-limit", "1", "--out", d / "wide_out"});
   EXPECT_EQ(place.exit_code, 1) << place.output;
   EXPECT_NE(place.output.find("opening"), std::string::npos) << place.output;
@@ -61,8 +63,9 @@ TEST_F(ArtifactSet, ASceneOutOfReachAndBadSetsAreRefused) {
     v[0] += 4, v[3] += 4;
     for (std::size_t i = 0; i < 6; ++i) far_volume += (i ? "," : "") + std::to_string(v[i]);
   }
-  ASSERT_EQ(test::run_cli({"bake-env", data / "scenes/cabinet.yaml", "--volume", far_volume, "--frame", "4,0,0,0,0,0", "--out",
-                           d / "far.h5"}).exit_code,
+  ASSERT_EQ(test::run_cli({"bake-env", data / "scenes/cabinet.yaml", "--volume", far_volume, "--frame", "4,0,0,0,0,0",
+                           "--out", d / "far.h5"})
+                .exit_code,
             0);
   const auto far = test::run_cli({"validate", "--set", d / "arm.h5", d / "bottle.h5", d / "far.h5"});
   EXPECT_EQ(far.exit_code, 1) << far.output;
@@ -107,7 +110,8 @@ TEST_F(ArtifactSet, MeshesASceneNamesAreInputsToo) {
                    "       primitive_poses: [{position: [0.5, 0, -0.01], orientation: [0, 0, 0, 1]}]}\n"
                    "    - {id: thing, meshes: [{resource: thing.stl}],\n"
                    "       mesh_poses: [{position: [0.6, 0, 0], orientation: [0, 0, 0, 1]}]}\n");
-  const auto bake = test::run_cli({"bake-env", d / "scene.yaml", "--volume", "0.3,-0.3,0,0.9,0.3,0.4", "--out", d / "env.h5", "--json"});
+  const auto bake = test::run_cli(
+      {"bake-env", d / "scene.yaml", "--volume", "0.3,-0.3,0,0.9,0.3,0.4", "--out", d / "env.h5", "--json"});
   ASSERT_EQ(bake.exit_code, 0) << bake.output;
   EXPECT_NE(bake.output.find("thing.stl"), std::string::npos) << "the mesh is an input: " << bake.output;
   EXPECT_EQ(test::run_cli({"validate", "--check-inputs", d / "env.h5"}).exit_code, 0);

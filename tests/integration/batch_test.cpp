@@ -37,14 +37,15 @@ struct Batch {
     test::run_cli({"make-objects", "--out", dir.path()});
     const fs::path data = test::source_dir() / "datasets";
     std::string m = "name: t\nrobots:\n  arm: {urdf: " + (data / "robots/dmgarm/dmgarm.urdf").string() +
-                    ", srdf: " + (data / "robots/dmgarm/dmgarm.srdf").string() + ", arm: \"dmgarm_link0:dmgarm_tcp\"}\n" +
-                    "objects:\n  eraser: {mesh: eraser.stl}\n";
+                    ", srdf: " + (data / "robots/dmgarm/dmgarm.srdf").string() +
+                    ", arm: \"dmgarm_link0:dmgarm_tcp\"}\n" + "objects:\n  eraser: {mesh: eraser.stl}\n";
     if (with_broken_object) {
       test::write_text(dir / "broken.stl", "solid nothing\nendsolid\n");
       m += "  broken: {mesh: broken.stl}\n";
     }
     m += "environments:\n  table: {scene: " + (data / "scenes/table.yaml").string() +
-         ", volume: [0.3, -0.3, 0.4, 0.8, 0.3, 0.7], flags: [--resolution, \"0.02\", --margin, \"0.9\", --sdf-resolution, \"0.04\","
+         ", volume: [0.3, -0.3, 0.4, 0.8, 0.3, 0.7], flags: [--resolution, \"0.02\", --margin, \"0.9\", "
+         "--sdf-resolution, \"0.04\","
          " --band, \"0.25\"]}\n"
          "queries:\n  - name: q\n    robot: arm\n    objects: [eraser" +
          std::string(with_broken_object ? ", broken" : "") +
@@ -140,17 +141,20 @@ void copy_dataset(const fs::path& from, const fs::path& to, int version,
     try {
       w.write_utf8_strings(name, r.read_utf8_strings(name));
       continue;
-    } catch (const Error&) {}
+    } catch (const Error&) {
+    }
     try {
       w.write(name, std::span<const double>(r.read_f64(name, {-1}).data), {n});
       continue;
-    } catch (const Error&) {}
+    } catch (const Error&) {
+    }
     try {
       auto v = r.read_i64(name, {-1}).data;
       change(name, v);
       w.write(name, std::span<const std::int64_t>(v), {n});
       continue;
-    } catch (const Error&) {}
+    } catch (const Error&) {
+    }
     w.write(name, std::span<const std::uint8_t>(r.read_u8(name, {-1}).data), {n});
   }
   w.commit();
@@ -229,10 +233,12 @@ TEST(Batch, AChangedMeshReRunsOnlyWhatDependsOnIt) {
   Batch b;
   const fs::path out = b.dir / "out";
   ASSERT_EQ(b.run(out).exit_code, 0);
-  tools::write_stl_binary(tools::make_box_mesh({0.12, 0.05, 0.035}), b.dir / "eraser.stl");  // a slightly shorter eraser
+  tools::write_stl_binary(tools::make_box_mesh({0.12, 0.05, 0.035}),
+                          b.dir / "eraser.stl");  // a slightly shorter eraser
   const auto r = b.run(out);
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_EQ(counts(r.output), (std::array<int, 3>{5, 0, 2})) << r.output;  // the object and its 4 queries; robot, table kept
+  EXPECT_EQ(counts(r.output), (std::array<int, 3>{5, 0, 2}))
+      << r.output;  // the object and its 4 queries; robot, table kept
 }
 
 TEST(Batch, ABrokenInputFailsOnlyItsOwnTasks) {
@@ -278,7 +284,8 @@ TEST(Batch, CollectedTablesEqualEachRunsResult) {
   for (std::string line; std::getline(lines, line);) rows.push_back(line);
   ASSERT_EQ(rows.size(), 5u);
   EXPECT_THAT(rows[0], ::testing::StartsWith("task_id,robot,object,environment,grasp,variant,seed,"));
-  for (std::size_t i = 0; i < ids.size(); ++i) EXPECT_THAT(rows[i + 1], ::testing::StartsWith(ids[i] + ",arm,eraser,table,top,"));
+  for (std::size_t i = 0; i < ids.size(); ++i)
+    EXPECT_THAT(rows[i + 1], ::testing::StartsWith(ids[i] + ",arm,eraser,table,top,"));
 }
 
 TEST(Batch, ValidateRefusesADatasetWhoseTablesDisagree) {
@@ -323,7 +330,8 @@ TEST(Batch, CollectNamesTheFileAndFieldOfABadResult) {
   EXPECT_THAT(test::run_cli({"batch-collect", out, "--csv", out / "r.csv"}).output,
               HasSubstr(result.string() + ": best/path: missing"));
   test::write_text(result, "{\"solved\": tr");
-  EXPECT_THAT(test::run_cli({"batch-collect", out, "--out", out / "d.h5"}).output, HasSubstr(result.string() + ": not valid JSON"));
+  EXPECT_THAT(test::run_cli({"batch-collect", out, "--out", out / "d.h5"}).output,
+              HasSubstr(result.string() + ": not valid JSON"));
   r = test::run_cli({"batch-collect", out});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_THAT(r.output, HasSubstr("give --out DATASET.h5, --csv FILE.csv or both"));

@@ -52,11 +52,15 @@ TEST(Cli, BakesValidatesAndInspectsTheBuiltInObjects) {
   auto obj = dmgplace::formats::load_object(dir / "eraser.h5");
   Eigen::Vector3d ext = obj.mesh.vertices.colwise().maxCoeff() - obj.mesh.vertices.colwise().minCoeff();
   EXPECT_NEAR(obj.mass.volume, ext.prod(), 1e-12);
-  EXPECT_LT((obj.mass.com - 0.5 * (obj.mesh.vertices.colwise().maxCoeff() + obj.mesh.vertices.colwise().minCoeff()).transpose()).norm(), 1e-12);
+  EXPECT_LT((obj.mass.com -
+             0.5 * (obj.mesh.vertices.colwise().maxCoeff() + obj.mesh.vertices.colwise().minCoeff()).transpose())
+                .norm(),
+            1e-12);
   // Inertia of a solid box about its center: m/12 (b^2 + c^2).
   EXPECT_NEAR(obj.mass.inertia(0, 0), obj.mass.mass / 12 * (ext.y() * ext.y() + ext.z() * ext.z()), 1e-12);
 
-  CliRun com = run({"bake-object", dir / "bottle.stl", "--com", "0,0,0.05", "--mass", "0.2", "--out", dir / "bottle.h5", "--json"});
+  CliRun com = run(
+      {"bake-object", dir / "bottle.stl", "--com", "0,0,0.05", "--mass", "0.2", "--out", dir / "bottle.h5", "--json"});
   ASSERT_EQ(com.exit_code, 0) << com.output;
   // --json on a bake: what was written, how long it took, and the artifact's typed summary.
   const auto baked = nlohmann::json::parse(com.output);
@@ -79,7 +83,8 @@ TEST(Cli, EveryBakeOptionShowsItsDefaultAndTheHeaderRecordsIt) {
     std::istringstream lines(help.output);
     int numeric = 0;
     for (std::string line; std::getline(lines, line);)
-      if (line.rfind("  --", 0) == 0 && (line.find(" FLOAT") != std::string::npos || line.find(" INT") != std::string::npos)) {
+      if (line.rfind("  --", 0) == 0 &&
+          (line.find(" FLOAT") != std::string::npos || line.find(" INT") != std::string::npos)) {
         ++numeric;
         EXPECT_NE(line.find(" in ["), std::string::npos) << cmd << ": no range: " << line;
         EXPECT_NE(line.find("]="), std::string::npos) << cmd << ": no default: " << line;
@@ -90,7 +95,7 @@ TEST(Cli, EveryBakeOptionShowsItsDefaultAndTheHeaderRecordsIt) {
   ASSERT_EQ(run({"make-objects", "--out", dir.path()}).exit_code, 0);
   ASSERT_EQ(run({"bake-object", dir / "eraser.stl", "--angle-step", "20", "--out", dir / "e.h5"}).exit_code, 0);
   const auto params = nlohmann::json::parse(dmgplace::formats::load_object(dir / "e.h5").header.parameters_json);
-  EXPECT_DOUBLE_EQ(params["angle_step"].get<double>(), 20);        // given
+  EXPECT_DOUBLE_EQ(params["angle_step"].get<double>(), 20);         // given
   EXPECT_DOUBLE_EQ(params["seed_resolution"].get<double>(), 0.01);  // default, still recorded
   EXPECT_DOUBLE_EQ(params["rotation_weight"].get<double>(), 0.1);
   EXPECT_EQ(params["reconstruct"], "poisson");
@@ -101,14 +106,17 @@ TEST(Cli, LogLevelsGovernWhatGoesToStderr) {
   TempDir dir;
   const auto urdf = data() / "robots/dmgarm/dmgarm.urdf";
   // Without an SRDF the bake says (info) what it decided about the link pairs.
-  const auto chatty = dmgplace::test::run_cli({"bake-robot", urdf, "--arm", "dmgarm_link0:dmgarm_tcp", "--out", dir / "a.h5"});
+  const auto chatty =
+      dmgplace::test::run_cli({"bake-robot", urdf, "--arm", "dmgarm_link0:dmgarm_tcp", "--out", dir / "a.h5"});
   ASSERT_EQ(chatty.exit_code, 0) << chatty.output;
   EXPECT_NE(chatty.output.find("no --srdf:"), std::string::npos) << chatty.output;
-  for (const std::vector<dmgplace::test::Arg>& quiet :
-       {std::vector<dmgplace::test::Arg>{"-q", "bake-robot"}, {"bake-robot", "-q"}, {"--log-level", "error", "bake-robot"}}) {
+  for (const std::vector<dmgplace::test::Arg>& quiet : {std::vector<dmgplace::test::Arg>{"-q", "bake-robot"},
+                                                        {"bake-robot", "-q"},
+                                                        {"--log-level", "error", "bake-robot"}}) {
     std::vector<dmgplace::test::Arg> args = quiet;
-    for (const dmgplace::test::Arg& a : {dmgplace::test::Arg(urdf), dmgplace::test::Arg("--arm"), dmgplace::test::Arg("dmgarm_link0:dmgarm_tcp"),
-                                        dmgplace::test::Arg("--out"), dmgplace::test::Arg(dir / "b.h5")})
+    for (const dmgplace::test::Arg& a :
+         {dmgplace::test::Arg(urdf), dmgplace::test::Arg("--arm"), dmgplace::test::Arg("dmgarm_link0:dmgarm_tcp"),
+          dmgplace::test::Arg("--out"), dmgplace::test::Arg(dir / "b.h5")})
       args.push_back(a);
     const auto r = dmgplace::test::run_cli(args);
     ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -126,8 +134,8 @@ TEST(Cli, LogLevelsGovernWhatGoesToStderr) {
 
 TEST(Cli, BakesTheBuiltInRobotAndScenes) {
   TempDir dir;
-  CliRun r = run({"bake-robot", data() / "robots/dmgarm/dmgarm.urdf", "--srdf", data() / "robots/dmgarm/dmgarm.srdf", "--arm",
-                  "dmgarm_link0:dmgarm_tcp", "--out", dir / "arm.h5"});
+  CliRun r = run({"bake-robot", data() / "robots/dmgarm/dmgarm.urdf", "--srdf", data() / "robots/dmgarm/dmgarm.srdf",
+                  "--arm", "dmgarm_link0:dmgarm_tcp", "--out", dir / "arm.h5"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (auto scene : {"cabinet", "table"}) {
     const std::string volume = dmgplace::test::builtin_volume(scene);
@@ -144,8 +152,9 @@ TEST(Cli, BakesTheBuiltInRobotAndScenes) {
 
   // Without an SRDF the allowed pairs are computed, reported, and written for review; passed back
   // with --srdf they bake again.
-  CliRun no_srdf = run({"bake-robot", data() / "robots/dmgarm/dmgarm.urdf", "--arm", "dmgarm_link0:dmgarm_tcp", "--collision-samples",
-                        "300", "--write-srdf", dir / "review.srdf", "--out", dir / "arm_no_srdf.h5"});
+  CliRun no_srdf =
+      run({"bake-robot", data() / "robots/dmgarm/dmgarm.urdf", "--arm", "dmgarm_link0:dmgarm_tcp",
+           "--collision-samples", "300", "--write-srdf", dir / "review.srdf", "--out", dir / "arm_no_srdf.h5"});
   ASSERT_EQ(no_srdf.exit_code, 0) << no_srdf.output;
   EXPECT_NE(no_srdf.output.find("no --srdf:"), std::string::npos) << no_srdf.output;
   EXPECT_NE(no_srdf.output.find("adjacent"), std::string::npos) << no_srdf.output;
@@ -217,10 +226,11 @@ TEST(Cli, SharedRealDataBakes) {
   TempDir dir;
   auto shared = dmgplace::test::shared_datasets();
   CliRun panda = run({"bake-robot", shared / "panda/moveit_resources_panda_description/urdf/panda.urdf", "--srdf",
-                      shared / "panda/panda_moveit_config/config/panda.srdf", "--package-path", shared / "panda", "--arm",
-                      "panda_link0:panda_hand", "--out", dir / "panda.h5"});
+                      shared / "panda/panda_moveit_config/config/panda.srdf", "--package-path", shared / "panda",
+                      "--arm", "panda_link0:panda_hand", "--out", dir / "panda.h5"});
   ASSERT_EQ(panda.exit_code, 0) << panda.output;
-  CliRun ycb = run({"bake-object", shared / "objects/ycb/006_mustard_bottle_textured.obj", "--out", dir / "mustard.h5"});
+  CliRun ycb =
+      run({"bake-object", shared / "objects/ycb/006_mustard_bottle_textured.obj", "--out", dir / "mustard.h5"});
   ASSERT_EQ(ycb.exit_code, 0) << ycb.output;
   CliRun mbm = run({"bake-env", shared / "env/motion_bench_maker/configs/scenes/bookshelf/scene_small.yaml", "--volume",
                     "0.3,-0.6,0.9,1.6,0.6,1.9", "--out", dir / "shelf.h5"});
@@ -231,7 +241,8 @@ TEST(Cli, SharedRealDataBakes) {
   CliRun kitchen = run({"bake-env", shared / "env/motion_bench_maker/configs/scenes/kitchen/kitchen.urdf", "--volume",
                         "-2,-2,0,2,2,2", "--out", dir / "kitchen.h5"});
   ASSERT_EQ(kitchen.exit_code, 0) << kitchen.output;
-  CliRun v = run({"validate", dir / "panda.h5", dir / "mustard.h5", dir / "shelf.h5", dir / "scan.h5", dir / "kitchen.h5"});
+  CliRun v =
+      run({"validate", dir / "panda.h5", dir / "mustard.h5", dir / "shelf.h5", dir / "scan.h5", dir / "kitchen.h5"});
   EXPECT_EQ(v.exit_code, 0) << v.output;
 }
 
@@ -240,8 +251,8 @@ TEST(Cli, SharedRealDataBakes) {
 TEST(Cli, KilledBakesLeaveThePreviousArtifactIntact) {
   TempDir dir;
   const std::string volume = "0.55,-0.40,0.45,0.88,0.40,1.05";
-  const Args args = {"bake-env", data() / "scenes/cabinet.yaml", "--volume", volume, "--resolution", "0.004", "--out",
-                     dir / "env.h5"};
+  const Args args = {
+      "bake-env", data() / "scenes/cabinet.yaml", "--volume", volume, "--resolution", "0.004", "--out", dir / "env.h5"};
   ASSERT_EQ(run(args).exit_code, 0);
   // The child's argument vector, made before fork (the child only calls async-signal-safe functions).
   std::vector<std::string> argv{dmgplace::test::cli_path()};

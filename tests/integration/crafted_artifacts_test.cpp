@@ -48,7 +48,8 @@ Outcome try_file(const Sound& s, const Mutation& m, const fs::path& crafted) {
   const fs::path object = m.kind == Kind::Object ? crafted : s.object;
   const fs::path env = m.kind == Kind::Environment ? crafted : s.env;
   try {
-    runtime::PlacementWorld world(formats::load_robot(robot), formats::load_object(object), formats::load_environment(env));
+    runtime::PlacementWorld world(formats::load_robot(robot), formats::load_object(object),
+                                  formats::load_environment(env));
     runtime::PlacementQuery q;
     q.q0 = Eigen::VectorXd(7);
     q.q0 << 0, -0.785, 0, -2.356, 0, 1.571, 0.785;
@@ -61,7 +62,8 @@ Outcome try_file(const Sound& s, const Mutation& m, const fs::path& crafted) {
     return Outcome::Ran;
   } catch (const Error& e) {
     const std::string message = e.what();
-    EXPECT_NE(message.find(crafted.string()), std::string::npos) << m.label << ": the error does not name the file: " << message;
+    EXPECT_NE(message.find(crafted.string()), std::string::npos)
+        << m.label << ": the error does not name the file: " << message;
     return Outcome::Refused;
   }
 }
@@ -70,13 +72,15 @@ std::vector<Mutation> targeted(const Sound& s) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double region_height = test::dataset_value(s.env, "regions/scalars", 0);
   return {
-      {"regions raised 10 cm (a placement in mid-air)", Kind::Environment, "regions/scalars", 0, region_height + 0.1, true},
+      {"regions raised 10 cm (a placement in mid-air)", Kind::Environment, "regions/scalars", 0, region_height + 0.1,
+       true},
       {"region resolution 0", Kind::Environment, "regions/scalars", 4, 0, true},
       {"sdf resolution 0 (Grid3 needs a positive resolution)", Kind::Environment, "fields/sdf/grid", 3, 0, true},
       {"clearance band NaN", Kind::Environment, "fields/clearance/grid", 4, nan, true},
       {"volume 1e300", Kind::Environment, "volume", 3, 1e300, true},
       {"scene box 1e300", Kind::Environment, "scene/shapes/size", 0, 1e300, true},
-      {"scene shape zero quaternion", Kind::Environment, "scene/shapes/pose", 6, 0, false},  // w only: the rest may still be a rotation
+      {"scene shape zero quaternion", Kind::Environment, "scene/shapes/pose", 6, 0,
+       false},  // w only: the rest may still be a rotation
       {"DMG edge index out of range (SIGSEGV)", Kind::Object, "dmg/edges", 0, 1e6, true},
       {"DMG angle step 0 (SIGFPE)", Kind::Object, "dmg/settings", 0, 0, true},
       {"DMG angle step 1e-6 (2.3 GB per query)", Kind::Object, "dmg/settings", 0, 1e-6, true},
@@ -85,7 +89,8 @@ std::vector<Mutation> targeted(const Sound& s) {
       {"DMG patch count NaN", Kind::Object, "dmg/settings", 3, nan, true},
       {"placement face margin NaN", Kind::Object, "placement/faces", 7, nan, true},
       {"placement face height NaN", Kind::Object, "placement/faces", 8, nan, true},
-      {"placement face height +10 cm", Kind::Object, "placement/faces", 8, test::dataset_value(s.object, "placement/faces", 8) + 0.1, true},
+      {"placement face height +10 cm", Kind::Object, "placement/faces", 8,
+       test::dataset_value(s.object, "placement/faces", 8) + 0.1, true},
       {"gripper opening NaN", Kind::Object, "dmg/gripper", 0, nan, true},
       {"mass NaN", Kind::Object, "mass/volume_mass", 1, nan, true},
       {"joint axis NaN", Kind::Robot, "joints/values", 7, nan, true},
@@ -103,13 +108,22 @@ std::vector<Mutation> targeted(const Sound& s) {
 
 TEST(CraftedArtifacts, NoCrashNoHangEveryRejectionNamesTheFile) {
   const auto s = test::bake_sound_artifacts();
-  ASSERT_EQ(try_file(*s, {"sound", Kind::Object, "", 0, 0, false}, s->object), Outcome::Ran) << "the sound artifacts must run";
+  ASSERT_EQ(try_file(*s, {"sound", Kind::Object, "", 0, 0, false}, s->object), Outcome::Ran)
+      << "the sound artifacts must run";
 
   std::vector<Mutation> all = targeted(*s);
   // Seeded random ones: any dataset of any artifact, any element, a hostile value.
   std::mt19937_64 rng(20261202);
-  const double hostile[] = {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
-                            -std::numeric_limits<double>::infinity(), 0, -1, 1e300, -1e300, 2147483647, -2147483648.0, 1e-300};
+  const double hostile[] = {std::numeric_limits<double>::quiet_NaN(),
+                            std::numeric_limits<double>::infinity(),
+                            -std::numeric_limits<double>::infinity(),
+                            0,
+                            -1,
+                            1e300,
+                            -1e300,
+                            2147483647,
+                            -2147483648.0,
+                            1e-300};
   for (int i = 0; i < 110; ++i) {
     const Kind kind = Kind(rng() % 3);
     const fs::path& base = kind == Kind::Robot ? s->robot : kind == Kind::Object ? s->object : s->env;
@@ -119,8 +133,10 @@ TEST(CraftedArtifacts, NoCrashNoHangEveryRejectionNamesTheFile) {
     if (n == 0) continue;
     const std::size_t index = rng() % n;
     double value = hostile[rng() % std::size(hostile)];
-    if (rng() % 3 == 0) value = test::dataset_value(base, name, index) * (rng() % 2 ? 1.5 : -1) + 0.01;  // plausible but wrong
-    all.push_back({name + "[" + std::to_string(index) + "] = " + std::to_string(value), kind, name, index, value, false});
+    if (rng() % 3 == 0)
+      value = test::dataset_value(base, name, index) * (rng() % 2 ? 1.5 : -1) + 0.01;  // plausible but wrong
+    all.push_back(
+        {name + "[" + std::to_string(index) + "] = " + std::to_string(value), kind, name, index, value, false});
   }
   ASSERT_GE(all.size(), 100u);
 
@@ -138,6 +154,6 @@ TEST(CraftedArtifacts, NoCrashNoHangEveryRejectionNamesTheFile) {
     (o == Outcome::Refused ? refused : ran)++;
     fs::remove(crafted);
   }
-  std::printf("crafted artifacts: %zu files, %d refused naming the file, %d loaded and ran, 0 crashes\n", all.size(), refused,
-              ran);
+  std::printf("crafted artifacts: %zu files, %d refused naming the file, %d loaded and ran, 0 crashes\n", all.size(),
+              refused, ran);
 }

@@ -34,14 +34,16 @@ tools::DeepOptions with_inputs() {
 // The forged file passes the ordinary validation, and --deep refuses it naming the file and the
 // dataset, with the worst sample's values.
 void expect_refused(const fs::path& forged, const std::string& dataset, const tools::DeepOptions& o = {}) {
-  ASSERT_TRUE(formats::validate_artifact(forged).empty()) << "a forgery the ordinary validation already refuses: "
-                                                         << formats::validate_artifact(forged).front();
+  ASSERT_TRUE(formats::validate_artifact(forged).empty())
+      << "a forgery the ordinary validation already refuses: " << formats::validate_artifact(forged).front();
   const auto report = tools::deep_validate(forged, o);
   EXPECT_FALSE(report.ok());
   const auto problems = report.problems();
   ASSERT_FALSE(problems.empty());
   bool named = false;
-  for (const auto& p : problems) named |= p.find(forged.string()) == 0 && p.find(dataset) != std::string::npos && p.find(" at ") != std::string::npos;
+  for (const auto& p : problems)
+    named |=
+        p.find(forged.string()) == 0 && p.find(dataset) != std::string::npos && p.find(" at ") != std::string::npos;
   EXPECT_TRUE(named) << problems.front();
 }
 
@@ -168,9 +170,11 @@ TEST(DeepValidation, CliRefusesWithTheFileTheDatasetAndTheWorstSample) {
   EXPECT_NE(problem.find(forged.string()), std::string::npos) << problem;
   EXPECT_NE(problem.find("fields/sdf/values"), std::string::npos) << problem;
   bool failed_check = false;
-  for (const auto& c : file.at("deep").at("checks")) failed_check |= !c.at("ok").get<bool>() && c.at("samples").get<int>() > 0;
+  for (const auto& c : file.at("deep").at("checks"))
+    failed_check |= !c.at("ok").get<bool>() && c.at("samples").get<int>() > 0;
   EXPECT_TRUE(failed_check);
-  const auto sound_run = test::run_cli({"validate", "--deep", "--samples", "300", "--set", sound().robot, sound().object, sound().env});
+  const auto sound_run =
+      test::run_cli({"validate", "--deep", "--samples", "300", "--set", sound().robot, sound().object, sound().env});
   EXPECT_EQ(sound_run.exit_code, 0) << sound_run.output;
 }
 

@@ -28,16 +28,20 @@ TEST(ExperimentCli, RunsResumesAndPlotsASmallGrid) {
   const fs::path data = test::source_dir() / "datasets", art = dir / "artifacts", out = dir / "exp";
   fs::create_directories(art);
   ASSERT_EQ(run({"make-objects", "--out", dir.path()}).exit_code, 0);
-  ASSERT_EQ(run({"bake-robot", data / "robots/dmgarm/dmgarm.urdf", "--srdf", data / "robots/dmgarm/dmgarm.srdf", "--arm",
-                 "dmgarm_link0:dmgarm_tcp", "--out", art / "dmgarm.h5"}).exit_code, 0);
+  ASSERT_EQ(run({"bake-robot", data / "robots/dmgarm/dmgarm.urdf", "--srdf", data / "robots/dmgarm/dmgarm.srdf",
+                 "--arm", "dmgarm_link0:dmgarm_tcp", "--out", art / "dmgarm.h5"})
+                .exit_code,
+            0);
   ASSERT_EQ(run({"bake-object", dir / "bottle.stl", "--mass", "0.15", "--out", art / "bottle.h5"}).exit_code, 0);
   const std::string volume = test::builtin_volume("cabinet");
-  ASSERT_EQ(run({"bake-env", data / "scenes/cabinet.yaml", "--volume", volume, "--margin", "0.9", "--sdf-resolution", "0.02",
-                 "--band", "0.25", "--out", art / "cabinet.h5"}).exit_code, 0);
+  ASSERT_EQ(run({"bake-env", data / "scenes/cabinet.yaml", "--volume", volume, "--margin", "0.9", "--sdf-resolution",
+                 "0.02", "--band", "0.25", "--out", art / "cabinet.h5"})
+                .exit_code,
+            0);
   test::write_text(dir / "spec.yaml",
                    "name: small\ntime_limit: 1\nruns: 2\nthreads: 2\nreport_times: [0.5, 1]\nproblems:\n"
-                   "  - {name: side, query: " + (data / "queries/cabinet_bottle_side.yaml").string() +
-                   ", variants: [full, no-regrasp]}\n");
+                   "  - {name: side, query: " +
+                       (data / "queries/cabinet_bottle_side.yaml").string() + ", variants: [full, no-regrasp]}\n");
   const std::vector<test::Arg> cmd = {"experiment", dir / "spec.yaml", "--artifacts", art, "--out", out, "--jobs", "2"};
   auto first = run(cmd);
   ASSERT_EQ(first.exit_code, 0) << first.output;
@@ -92,7 +96,8 @@ TEST(ExperimentCli, RunsResumesAndPlotsASmallGrid) {
   const bool png = tools::find_executable("rsvg-convert").has_value();
   for (const char* chart : {"side_objective", "side_solved"}) {
     EXPECT_NE(test::read_text(odd / "plots" / (std::string(chart) + ".svg")).find("<svg"), std::string::npos) << chart;
-    EXPECT_EQ(fs::exists(odd / "plots" / (std::string(chart) + ".png")), png) << chart << ": PNG when rsvg-convert is installed";
+    EXPECT_EQ(fs::exists(odd / "plots" / (std::string(chart) + ".png")), png)
+        << chart << ": PNG when rsvg-convert is installed";
   }
   EXPECT_FALSE(fs::exists(dir / "PWNED2"));
 
@@ -110,16 +115,17 @@ TEST(ExperimentCli, AProblemNameHoldingACommandIsRejected) {
   const fs::path query = test::source_dir() / "datasets/queries/cabinet_bottle_side.yaml";
   for (const std::string name : {"x'$(touch PWNED)'", "x$(touch${IFS}PWNED)"}) {
     SCOPED_TRACE(name);
-    test::write_text(dir / "spec.yaml",
-                     "time_limit: 1\nruns: 1\nproblems:\n  - {name: \"" + name + "\", query: " + query.string() + "}\n");
+    test::write_text(dir / "spec.yaml", "time_limit: 1\nruns: 1\nproblems:\n  - {name: \"" + name +
+                                            "\", query: " + query.string() + "}\n");
     test::ProcessOptions in_dir;  // where a shell's touch would leave PWNED
     in_dir.cwd = dir.path();
     in_dir.stderr_to = test::StderrTo::merge;
-    const auto r = tools::run_process({test::cli_path(), "experiment", (dir / "spec.yaml").string(), "--out",
-                                       (dir / "exp").string()}, in_dir);
+    const auto r = tools::run_process(
+        {test::cli_path(), "experiment", (dir / "spec.yaml").string(), "--out", (dir / "exp").string()}, in_dir);
     EXPECT_NE(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find("problems[0].name: '" + name + "'"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(dir / "exp" / "runs")) << "nothing may run";
   }
-  for (const auto& e : fs::recursive_directory_iterator(dir.path())) EXPECT_NE(e.path().filename(), "PWNED") << e.path();
+  for (const auto& e : fs::recursive_directory_iterator(dir.path()))
+    EXPECT_NE(e.path().filename(), "PWNED") << e.path();
 }

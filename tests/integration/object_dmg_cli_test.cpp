@@ -26,8 +26,8 @@ TEST(ObjectCli, GripperFileAndGraspsJson) {
   TempDir dir;
   ASSERT_EQ(run({"make-objects", "--out", dir.path()}).exit_code, 0);
   const fs::path gripper = dmgplace::test::source_dir() / "datasets/grippers/dmgarm_hand.yaml";
-  auto bake = run({"bake-object", dir / "eraser.stl", "--gripper", gripper, "--seed-resolution", "0.012", "--angle-step", "20",
-                   "--out", dir / "eraser.h5"});
+  auto bake = run({"bake-object", dir / "eraser.stl", "--gripper", gripper, "--seed-resolution", "0.012",
+                   "--angle-step", "20", "--out", dir / "eraser.h5"});
   ASSERT_EQ(bake.exit_code, 0) << bake.output;
   const auto obj = dmgplace::formats::load_object(dir / "eraser.h5");
   EXPECT_EQ(obj.dmg.angle_count(), 18);
@@ -91,8 +91,8 @@ TEST(ObjectCli, TrayOfTheOriginalDmgIsOfTheSameOrder) {
   TempDir dir;
   const auto ref = dmgplace::test::shared_datasets() / "dmg_reference";
   // DMG_tray.launch: seed 13 mm, angle step 20 deg, normal threshold 0.15; the STL is in mm.
-  auto bake = run({"bake-object", ref / "shapes/tray.stl", "--scale", "0.001", "--seed-resolution", "0.013", "--angle-step", "20",
-                   "--normal-threshold", "0.15", "--out", dir / "tray.h5"});
+  auto bake = run({"bake-object", ref / "shapes/tray.stl", "--scale", "0.001", "--seed-resolution", "0.013",
+                   "--angle-step", "20", "--normal-threshold", "0.15", "--out", dir / "tray.h5"});
   ASSERT_EQ(bake.exit_code, 0) << bake.output;
   EXPECT_EQ(run({"validate", dir / "tray.h5"}).exit_code, 0);
   const auto obj = dmgplace::formats::load_object(dir / "tray.h5");

@@ -26,7 +26,9 @@ inline Eigen::VectorXd vec(const std::vector<double>& v) {
 
 class PlacementFixture : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { set_up_suite_or_exit("Placement", [] { bake(); }); }
+  static void SetUpTestSuite() {
+    set_up_suite_or_exit("Placement", [] { bake(); });
+  }
   static void bake() {
     namespace fs = std::filesystem;
     // `dmgplace ARGS...`'s exit code; its output is not needed.
@@ -36,13 +38,13 @@ class PlacementFixture : public ::testing::Test {
     const fs::path d = dir_->path();
     ASSERT_EQ(cli({"make-objects", "--out", d}), 0);
     ASSERT_EQ(cli({"bake-robot", data / "robots/dmgarm/dmgarm.urdf", "--srdf", data / "robots/dmgarm/dmgarm.srdf",
-                   "--joint-limits", data / "robots/dmgarm/joint_limits.yaml", "--arm", "dmgarm_link0:dmgarm_tcp", "--out",
-                   d / "arm.h5"}),
+                   "--joint-limits", data / "robots/dmgarm/joint_limits.yaml", "--arm", "dmgarm_link0:dmgarm_tcp",
+                   "--out", d / "arm.h5"}),
               0);
     ASSERT_EQ(cli({"bake-object", d / "bottle.stl", "--mass", "0.15", "--out", d / "bottle.h5"}), 0);
     const std::string volume = builtin_volume("cabinet");
-    ASSERT_EQ(cli({"bake-env", data / "scenes/cabinet.yaml", "--volume", volume, "--margin", "0.9", "--sdf-resolution", "0.02",
-                   "--band", "0.25", "--out", d / "cabinet.h5"}),
+    ASSERT_EQ(cli({"bake-env", data / "scenes/cabinet.yaml", "--volume", volume, "--margin", "0.9", "--sdf-resolution",
+                   "0.02", "--band", "0.25", "--out", d / "cabinet.h5"}),
               0);
     world_ = new runtime::PlacementWorld(formats::load_robot(d / "arm.h5"), formats::load_object(d / "bottle.h5"),
                                          formats::load_environment(d / "cabinet.h5"));
@@ -61,13 +63,16 @@ class PlacementFixture : public ::testing::Test {
     return qr;
   }
   // Lower shelf, right of the compartment, from 7 cm behind the cabinet's front edge.
-  static Eigen::AlignedBox3d deep_lower_shelf() { return {Eigen::Vector3d(0.62, -0.07, 0.45), Eigen::Vector3d(0.85, 0.39, 0.72)}; }
+  static Eigen::AlignedBox3d deep_lower_shelf() {
+    return {Eigen::Vector3d(0.62, -0.07, 0.45), Eigen::Vector3d(0.85, 0.39, 0.72)};
+  }
 
   static runtime::PlacementResult solve(const runtime::PlacementQuery& qr, long iterations, bool until_first = false) {
     runtime::PlacementPlanner planner(*world_, qr);
     bool found = false;
     auto budget = runtime::stop_after_iterations(iterations);
-    return planner.run([&] { return (until_first && found) || budget(); }, [&](const runtime::PlacementSolution&) { found = true; });
+    return planner.run([&] { return (until_first && found) || budget(); },
+                       [&](const runtime::PlacementSolution&) { found = true; });
   }
 
   static inline TempDir* dir_ = nullptr;

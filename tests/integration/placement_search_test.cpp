@@ -25,10 +25,8 @@ class PlacementSearch : public test::PlacementFixture {
     ReachableGrasps reach;
     PerGraspCheckers per_grasp;
     Parts(const PlacementWorld& w, const PlacementQuery& q)
-        : space(w.object(), w.env().regions, w.env().volume),
-          tree(space, 4, 0.5),
-          reach(reachable_grasps(w.grasp_graph(), q.g0)),
-          per_grasp(w, reach.grasps, q.q0) {}
+        : space(w.object(), w.env().regions, w.env().volume), tree(space, 4, 0.5),
+          reach(reachable_grasps(w.grasp_graph(), q.g0)), per_grasp(w, reach.grasps, q.q0) {}
   };
   // A node below the face level under each of two different faces (they share only the root).
   static std::pair<int, int> nodes_under_two_faces(PlacementTree& tree, std::mt19937_64& rng) {
@@ -103,7 +101,8 @@ TEST_F(PlacementSearch, EachGraspsCheckerHasTheFingersAtItsOpening) {
     const double opening = p.per_grasp.grasp(g).opening;
     EXPECT_NEAR(opening, world_->grasp_graph().opening(p.per_grasp.grasp(g).state), 1e-12);
     std::vector<Eigen::Isometry3d> poses;
-    p.per_grasp.checker(g)->exact().kinematics().link_poses(0.5 * (world_->kinematics().lower() + world_->kinematics().upper()), poses);
+    p.per_grasp.checker(g)->exact().kinematics().link_poses(
+        0.5 * (world_->kinematics().lower() + world_->kinematics().upper()), poses);
     const Eigen::Isometry3d tip = poses[std::size_t(world_->kinematics().tip_link())];
     const double y = std::abs((tip.inverse() * poses[std::size_t(fingers[0])].translation()).y() -
                               (tip.inverse() * poses[std::size_t(fingers[1])].translation()).y());
@@ -163,7 +162,8 @@ TEST_F(PlacementSearch, CachedGraspsAreFoundFromTheNodeUpButNotThroughTheRoot) {
   EXPECT_EQ(s.select(b, Eigen::Isometry3d::Identity(), rng).grasp, 0);
   // The hand filter applies to cached grasps: with every hand colliding, the cached grasp is
   // skipped and the draw (the paper's, unchecked) comes from the rest of G(g0).
-  GraspSelector blocked(p.per_grasp, p.tree, PlacementVariant::Full, 1.0, 0, [](int, const Eigen::Isometry3d&) { return false; });
+  GraspSelector blocked(p.per_grasp, p.tree, PlacementVariant::Full, 1.0, 0,
+                        [](int, const Eigen::Isometry3d&) { return false; });
   blocked.cache(a, g);
   for (int k = 0; k < 30; ++k) {
     const GraspChoice c = blocked.select(a, Eigen::Isometry3d::Identity(), rng);
@@ -179,7 +179,8 @@ TEST_F(PlacementSearch, RandomGraspDrawsUniformlyFromTheReachableGrasps) {
   for (int g = 0; g < p.per_grasp.size(); ++g) usable += p.per_grasp.usable(g);
   ASSERT_GT(usable, 20);
   // Not hand-filtered: the ablation of the paper draws even where every hand would collide.
-  GraspSelector s(p.per_grasp, p.tree, PlacementVariant::RandomGrasp, 0.9, 8, [](int, const Eigen::Isometry3d&) { return false; });
+  GraspSelector s(p.per_grasp, p.tree, PlacementVariant::RandomGrasp, 0.9, 8,
+                  [](int, const Eigen::Isometry3d&) { return false; });
   std::mt19937_64 rng(4);
   std::vector<int> count(std::size_t(p.per_grasp.size()), 0);
   const int draws = 200 * usable;
@@ -193,7 +194,8 @@ TEST_F(PlacementSearch, RandomGraspDrawsUniformlyFromTheReachableGrasps) {
   const double expected = double(draws) / usable;
   double chi2 = 0;
   for (int g = 0; g < p.per_grasp.size(); ++g)
-    if (p.per_grasp.usable(g)) chi2 += (count[std::size_t(g)] - expected) * (count[std::size_t(g)] - expected) / expected;
+    if (p.per_grasp.usable(g))
+      chi2 += (count[std::size_t(g)] - expected) * (count[std::size_t(g)] - expected) / expected;
   const double dof = usable - 1;
   EXPECT_LT(chi2, dof + 6 * std::sqrt(2 * dof));
   EXPECT_GT(chi2, dof - 6 * std::sqrt(2 * dof)) << "too even to be random";
@@ -217,7 +219,8 @@ TEST_F(PlacementSearch, HandTriesZeroIsThePapersDrawAndOtherwiseDrawsAreHandChec
   EXPECT_EQ(c.grasp, -1) << "no hand fits: no grasp (and no IK)";
   // With hands that fit, the first hand-checked draw is taken.
   checks = 0;
-  GraspSelector fits(p.per_grasp, p.tree, PlacementVariant::Full, 0.0, 5, [&](int, const Eigen::Isometry3d&) { return ++checks, true; });
+  GraspSelector fits(p.per_grasp, p.tree, PlacementVariant::Full, 0.0, 5,
+                     [&](int, const Eigen::Isometry3d&) { return ++checks, true; });
   EXPECT_GE(fits.select(a, Eigen::Isometry3d::Identity(), rng).grasp, 1);
   EXPECT_EQ(checks, 2);
 }

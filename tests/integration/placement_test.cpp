@@ -59,7 +59,8 @@ TEST_F(Placement, EveryPublishedSolutionIsStableFreeAndImproving) {
     if (k > 0) {
       const auto& prev = r.improvements[k - 1];
       const bool up = s.objective > prev.objective + qr.options.tie_tolerance;
-      const bool tie = std::abs(s.objective - prev.objective) <= qr.options.tie_tolerance && s.in_hand.size() < prev.in_hand.size();
+      const bool tie =
+          std::abs(s.objective - prev.objective) <= qr.options.tie_tolerance && s.in_hand.size() < prev.in_hand.size();
       EXPECT_TRUE(up || tie) << prev.objective << " -> " << s.objective;
       EXPECT_GE(s.time, prev.time);
     }
@@ -68,7 +69,8 @@ TEST_F(Placement, EveryPublishedSolutionIsStableFreeAndImproving) {
     EXPECT_LT((vec(s.path.front()) - qr.q0).norm(), 1e-9);
     const ExactChecker exact = world_->grasp_exact(s.grasp, s.opening);
     for (std::size_t i = 1; i < s.path.size(); ++i)
-      ASSERT_TRUE(exact.segment_free(vec(s.path[i - 1]), vec(s.path[i]), qr.options.motion_resolution)) << "segment " << i;
+      ASSERT_TRUE(exact.segment_free(vec(s.path[i - 1]), vec(s.path[i]), qr.options.motion_resolution))
+          << "segment " << i;
     // The retreat starts where the path ends and every segment is free for the exact layer with
     // the object released at its placement.
     if (!s.retreat.empty()) {
@@ -76,7 +78,8 @@ TEST_F(Placement, EveryPublishedSolutionIsStableFreeAndImproving) {
       up.translation().z() += qr.options.lift;
       const ExactChecker released = world_->released_exact(up, s.release_opening);
       for (std::size_t i = 1; i < s.retreat.size(); ++i)
-        ASSERT_TRUE(released.segment_free(vec(s.retreat[i - 1]), vec(s.retreat[i]), qr.options.motion_resolution)) << "retreat " << i;
+        ASSERT_TRUE(released.segment_free(vec(s.retreat[i - 1]), vec(s.retreat[i]), qr.options.motion_resolution))
+            << "retreat " << i;
       // The fingers let go by release_clearance each, or (where that finds no retreat) by the
       // gripper's contact tolerance, never beyond the gripper's maximum.
       const auto& gripper = world_->object().dmg.gripper;
@@ -130,7 +133,8 @@ TEST_F(Placement, RetreatEndsAtTheQueriedConfigurationAndBadOnesAreRefused) {
   up.translation().z() += qr.options.lift;
   const ExactChecker released = world_->released_exact(up, s.release_opening);
   for (std::size_t i = 1; i < s.retreat.size(); ++i)
-    ASSERT_TRUE(released.segment_free(vec(s.retreat[i - 1]), vec(s.retreat[i]), qr.options.motion_resolution)) << "retreat " << i;
+    ASSERT_TRUE(released.segment_free(vec(s.retreat[i - 1]), vec(s.retreat[i]), qr.options.motion_resolution))
+        << "retreat " << i;
 
   qr.source = "q.yaml";
   auto refusal = [&](const Eigen::VectorXd& q) {
@@ -140,7 +144,8 @@ TEST_F(Placement, RetreatEndsAtTheQueriedConfigurationAndBadOnesAreRefused) {
   };
   Eigen::VectorXd wide = safe;
   wide[3] = 5;
-  EXPECT_NE(refusal(wide).find("q.yaml: retreat_configuration: outside the joint limits"), std::string::npos) << refusal(wide);
+  EXPECT_NE(refusal(wide).find("q.yaml: retreat_configuration: outside the joint limits"), std::string::npos)
+      << refusal(wide);
   Eigen::VectorXd nan = safe;
   nan[0] = std::nan("");
   EXPECT_NE(refusal(nan).find("not finite"), std::string::npos);
@@ -221,7 +226,8 @@ TEST_F(Placement, ThreadedPlannerFindsSolutionsToo) {
   PlacementPlanner planner(*world_, qr);
   bool found = false;
   auto deadline = stop_after_seconds(20);
-  const PlacementResult r = planner.run([&] { return found || deadline(); }, [&](const PlacementSolution&) { found = true; });
+  const PlacementResult r =
+      planner.run([&] { return found || deadline(); }, [&](const PlacementSolution&) { found = true; });
   ASSERT_TRUE(r.solved()) << r.reason;
   const ExactChecker exact = world_->grasp_exact(r.best().grasp, r.best().opening);
   for (std::size_t i = 1; i < r.best().path.size(); ++i)
@@ -232,9 +238,10 @@ TEST_F(Placement, ThreadedPlannerFindsSolutionsToo) {
 // cleanly (exit 3, the "no solution" code) with the reason on stdout and in result.json.
 TEST_F(Placement, PlaceWithNoTimeEndsWithNoSolutionAndAReason) {
   const fs::path d = dir_->path();
-  test::write_text(d / "zero.yaml", "robot: arm.h5\nobject: bottle.h5\nenvironment: cabinet.h5\n"
-                                    "start: [0, -0.785, 0, -2.356, 0, 1.571, 0.785]\n"
-                                    "initial_grasp: {pose: [0, 0, 0.06, 0, 0.7071068, 0, 0.7071068]}\n");
+  test::write_text(d / "zero.yaml",
+                   "robot: arm.h5\nobject: bottle.h5\nenvironment: cabinet.h5\n"
+                   "start: [0, -0.785, 0, -2.356, 0, 1.571, 0.785]\n"
+                   "initial_grasp: {pose: [0, 0, 0.06, 0, 0.7071068, 0, 0.7071068]}\n");
   const test::ProcessResult place = test::run_cli({"place", d / "zero.yaml", "--time-limit", "0", "--out", d / "zero"});
   const std::string& out = place.output;  // stdout and stderr together
   ASSERT_EQ(place.signal, 0) << out;
@@ -253,8 +260,8 @@ TEST_F(Placement, UnreachableRegionsEndWithAReason) {
   auto env = formats::load_environment(dir_->path() / "cabinet.h5");
   for (auto& r : env.regions) r.origin.x() += 0.6;
   env.volume.translate(Eigen::Vector3d(0.6, 0, 0));
-  const PlacementWorld far(formats::load_robot(dir_->path() / "arm.h5"), formats::load_object(dir_->path() / "bottle.h5"),
-                           std::move(env));
+  const PlacementWorld far(formats::load_robot(dir_->path() / "arm.h5"),
+                           formats::load_object(dir_->path() / "bottle.h5"), std::move(env));
   PlacementPlanner planner(far, query(side_grasp()));
   const PlacementResult r = planner.run(stop_after_iterations(300));
   EXPECT_FALSE(r.solved());
@@ -270,7 +277,8 @@ TEST_F(Placement, ASceneBeyondTheArmsReachIsRefusedAtLoad) {
   for (auto& r : env.regions) r.origin.x() += 5;
   env.volume.translate(Eigen::Vector3d(5, 0, 0));
   const std::string error = test::error_of([&] {
-    PlacementWorld far(formats::load_robot(dir_->path() / "arm.h5"), formats::load_object(dir_->path() / "bottle.h5"), std::move(env));
+    PlacementWorld far(formats::load_robot(dir_->path() / "arm.h5"), formats::load_object(dir_->path() / "bottle.h5"),
+                       std::move(env));
   });
   EXPECT_NE(error.find("arm.h5"), std::string::npos) << error;
   EXPECT_NE(error.find("cabinet.h5"), std::string::npos) << error;
@@ -292,7 +300,8 @@ TEST_F(Placement, ExactLayerCatchesAWrongSphereModel) {
   for (const auto& s : r.improvements) {
     const ExactChecker exact = wrong.grasp_exact(s.grasp, s.opening);
     for (std::size_t i = 1; i < s.path.size(); ++i)
-      ASSERT_TRUE(exact.segment_free(vec(s.path[i - 1]), vec(s.path[i]), qr.options.motion_resolution)) << "segment " << i;
+      ASSERT_TRUE(exact.segment_free(vec(s.path[i - 1]), vec(s.path[i]), qr.options.motion_resolution))
+          << "segment " << i;
   }
   // Near the placement (inside the distance field) the wrong fast layer calls colliding
   // configurations free: without the exact re-check those would have been published.

@@ -27,20 +27,21 @@ class PushPlanning : public ::testing::Test {
       dir_ = new TempDir();
       const auto d = dir_->path();
       const auto data = source_dir() / "datasets";
-      ASSERT_EQ(run_cli({"bake-robot", data / "robots/dmgdual/dmgdual.urdf", "--srdf", data / "robots/dmgdual/dmgdual.srdf",
-                         "--joint-limits", data / "robots/dmgdual/joint_limits.yaml", "--arm", "dmgarm_link0:dmgarm_tcp", "--out",
-                         d / "dual.h5"})
-                    .exit_code,
-                0);
+      ASSERT_EQ(
+          run_cli({"bake-robot", data / "robots/dmgdual/dmgdual.urdf", "--srdf", data / "robots/dmgdual/dmgdual.srdf",
+                   "--joint-limits", data / "robots/dmgdual/joint_limits.yaml", "--arm", "dmgarm_link0:dmgarm_tcp",
+                   "--out", d / "dual.h5"})
+              .exit_code,
+          0);
       ASSERT_EQ(run_cli({"make-objects", "--out", d}).exit_code, 0);
       ASSERT_EQ(run_cli({"bake-object", d / "bottle.stl", "--mass", "0.15", "--out", d / "bottle.h5"}).exit_code, 0);
-      ASSERT_EQ(run_cli({"bake-env", data / "scenes/cabinet.yaml", "--volume", builtin_volume("cabinet"), "--margin", "0.9",
-                         "--sdf-resolution", "0.02", "--band", "0.25", "--out", d / "cabinet.h5"})
+      ASSERT_EQ(run_cli({"bake-env", data / "scenes/cabinet.yaml", "--volume", builtin_volume("cabinet"), "--margin",
+                         "0.9", "--sdf-resolution", "0.02", "--band", "0.25", "--out", d / "cabinet.h5"})
                     .exit_code,
                 0);
       // The pusher parked turned back, as datasets/queries/dual_cabinet_bottle_blocked.yaml has it.
-      std::map<std::string, double> park{{"pusher_joint1", 2.9}, {"pusher_joint2", -0.785}, {"pusher_joint3", 0},
-                                         {"pusher_joint4", -2.356}, {"pusher_joint5", 0},    {"pusher_joint6", 1.571},
+      std::map<std::string, double> park{{"pusher_joint1", 2.9},    {"pusher_joint2", -0.785}, {"pusher_joint3", 0},
+                                         {"pusher_joint4", -2.356}, {"pusher_joint5", 0},      {"pusher_joint6", 1.571},
                                          {"pusher_joint7", 0.785}};
       world_ = new runtime::PlacementWorld(formats::load_robot(d / "dual.h5"), formats::load_object(d / "bottle.h5"),
                                            formats::load_environment(d / "cabinet.h5"), -1, park);
@@ -109,7 +110,8 @@ TEST_F(PushPlanning, EveryPushIsACollisionFreeMotionThatCarriesTheContactWithThe
     ASSERT_LT(std::size_t(p.push_end), p.path.size());
     const Eigen::Vector3d on_object = p.object_before.inverse() * p.contact;
     EXPECT_LT((pusher.tcp_pose(vec(p.path[std::size_t(p.push_begin)])).translation() - p.contact).norm(), 2e-4);
-    EXPECT_LT((pusher.tcp_pose(vec(p.path[std::size_t(p.push_end)])).translation() - p.object_after * on_object).norm(), 2e-4);
+    EXPECT_LT((pusher.tcp_pose(vec(p.path[std::size_t(p.push_end)])).translation() - p.object_after * on_object).norm(),
+              2e-4);
     EXPECT_LT(runtime::surface_distance(world_->object().mesh, on_object), 1e-9);
     // Away from the push, no part of the pusher touches the object (at either pose), the scene or
     // the rest of the robot: every segment at the motion resolution.
@@ -123,14 +125,17 @@ TEST_F(PushPlanning, EveryPushIsACollisionFreeMotionThatCarriesTheContactWithThe
     const runtime::ExactChecker base(held, world_->scene());
     for (const bool before : {true, false}) {
       const Eigen::Isometry3d& object = before ? p.object_before : p.object_after;
-      const runtime::ExactChecker strict = base.with_attached(world_->object_mesh(), kin.base_link(), object, world_->hand().links);
+      const runtime::ExactChecker strict =
+          base.with_attached(world_->object_mesh(), kin.base_link(), object, world_->hand().links);
       const runtime::ValidityFn free = [&](const Eigen::VectorXd& x) { return strict.is_free(x); };
       // The tool's last and first half of the standoff are in the push's zone (push_planner.hpp).
       const int half = int(std::ceil(q.pusher->standoff / q.pusher->step)) / 2 + 1;
-      const std::size_t from = before ? 0 : std::size_t(p.push_end + half), to = before ? std::size_t(p.push_begin - half) : p.path.size() - 1;
+      const std::size_t from = before ? 0 : std::size_t(p.push_end + half),
+                        to = before ? std::size_t(p.push_begin - half) : p.path.size() - 1;
       for (std::size_t k = from; k < to; ++k)
         EXPECT_TRUE(runtime::segment_valid(vec(p.path[k]), vec(p.path[k + 1]), q.options.motion_resolution, free))
-            << "push " << i << " segment " << k << " of " << p.path.size() << " (push " << p.push_begin << ".." << p.push_end << "): " << strict.check(vec(p.path[k + 1])).contact;
+            << "push " << i << " segment " << k << " of " << p.path.size() << " (push " << p.push_begin << ".."
+            << p.push_end << "): " << strict.check(vec(p.path[k + 1])).contact;
     }
     // Timed within the pusher's limits.
     ASSERT_FALSE(p.trajectory.empty());
@@ -172,9 +177,11 @@ TEST_F(PushPlanning, APusherThatCannotBeOneIsRefusedNamingTheQueryAndElement) {
 
 TEST_F(PushPlanning, AQueryFileNamesThePusherAndBadValuesAreRefusedThere) {
   const auto d = dir_->path();
-  const std::string head = "robot: dual.h5\nobject: bottle.h5\nenvironment: cabinet.h5\nstart: [0.9, -0.785, 0, -2.356, 0, 1.571, 0.785]\n"
-                           "initial_grasp: {pose: [0, 0, 0.13, 1, 0, 0, 0]}\n";
-  write_text(d / "q.yaml", head + "pusher: {arm: dmgarm_link0:pusher_tcp, tcp: [0, 0, 0.01, 0, 0, 0, 1], standoff: 0.04}\n");
+  const std::string head =
+      "robot: dual.h5\nobject: bottle.h5\nenvironment: cabinet.h5\nstart: [0.9, -0.785, 0, -2.356, 0, 1.571, 0.785]\n"
+      "initial_grasp: {pose: [0, 0, 0.13, 1, 0, 0, 0]}\n";
+  write_text(d / "q.yaml",
+             head + "pusher: {arm: dmgarm_link0:pusher_tcp, tcp: [0, 0, 0.01, 0, 0, 0, 1], standoff: 0.04}\n");
   const auto q = tools::read_placement_query(d / "q.yaml");
   ASSERT_TRUE(q.query.pusher);
   EXPECT_EQ(q.query.pusher->base, "dmgarm_link0");

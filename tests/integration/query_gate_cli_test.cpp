@@ -15,7 +15,9 @@ namespace {
 
 class QueryGate : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { test::set_up_suite_or_exit("QueryGate", [] { bake(); }); }
+  static void SetUpTestSuite() {
+    test::set_up_suite_or_exit("QueryGate", [] { bake(); });
+  }
   static void TearDownTestSuite() { delete dir_; }
   static void bake() {
     dir_ = new test::TempDir();
@@ -26,8 +28,8 @@ class QueryGate : public ::testing::Test {
           {"bake-object", d / "eraser.stl", "--out", d / "eraser.h5"},
           {"bake-robot", data / "robots/dmgarm/dmgarm.urdf", "--srdf", data / "robots/dmgarm/dmgarm.srdf", "--arm",
            "dmgarm_link0:dmgarm_tcp", "--out", d / "arm.h5"},
-          {"bake-env", data / "scenes/table.yaml", "--volume", "0.3,-0.3,0.4,0.8,0.3,0.7", "--resolution", "0.02", "--margin",
-           "0.9", "--sdf-resolution", "0.04", "--band", "0.25", "--out", d / "table.h5"}}) {
+          {"bake-env", data / "scenes/table.yaml", "--volume", "0.3,-0.3,0.4,0.8,0.3,0.7", "--resolution", "0.02",
+           "--margin", "0.9", "--sdf-resolution", "0.04", "--band", "0.25", "--out", d / "table.h5"}}) {
       const auto r = test::run_cli(args);
       ASSERT_EQ(r.exit_code, 0) << r.output;
     }
@@ -36,8 +38,11 @@ class QueryGate : public ::testing::Test {
   // A query in the artifact folder: the eraser held top-down on the table.
   static fs::path query(const std::string& grasp, const std::string& robot = "arm.h5") {
     const fs::path q = artifacts() / "q.yaml";
-    test::write_text(q, "robot: " + robot + "\nobject: eraser.h5\nenvironment: table.h5\nstart: [0, -0.785, 0, -2.356, 0, 1.571, 0.785]\n"
-                        "initial_grasp: " + grasp + "\ntime_limit: 1\n");
+    test::write_text(q,
+                     "robot: " + robot +
+                         "\nobject: eraser.h5\nenvironment: table.h5\nstart: [0, -0.785, 0, -2.356, 0, 1.571, 0.785]\n"
+                         "initial_grasp: " +
+                         grasp + "\ntime_limit: 1\n");
     return q;
   }
   static test::TempDir* dir_;
@@ -48,10 +53,12 @@ TEST_F(QueryGate, AGraspFarFromTheObjectIsRefusedWithItsDistance) {
   const auto q = query("{pose: [10, 0, 0.0175, 1, 0, 0, 0]}");
   const auto r = test::run_cli({"place", q, "--out", dir_->path() / "out_far"});
   EXPECT_EQ(r.exit_code, 1) << r.output;
-  EXPECT_THAT(r.output, AllOf(HasSubstr(q.string()), HasSubstr("initial_grasp"), HasSubstr("m from the object's surface")));
+  EXPECT_THAT(r.output,
+              AllOf(HasSubstr(q.string()), HasSubstr("initial_grasp"), HasSubstr("m from the object's surface")));
   EXPECT_FALSE(fs::exists(dir_->path() / "out_far" / "result.json"));
   // The same grasp on the object runs (and writes its result).
-  const auto ok = test::run_cli({"place", query("{pose: [0, 0, 0.0175, 1, 0, 0, 0]}"), "--out", dir_->path() / "out_ok"});
+  const auto ok =
+      test::run_cli({"place", query("{pose: [0, 0, 0.0175, 1, 0, 0, 0]}"), "--out", dir_->path() / "out_ok"});
   EXPECT_TRUE(ok.exit_code == 0 || ok.exit_code == 3) << ok.output;
   EXPECT_TRUE(fs::exists(dir_->path() / "out_ok" / "result.json"));
 }

@@ -61,8 +61,8 @@ TEST(ReproducibleBakes, SameInputsGiveTheSameDatasetsWhateverThePathAndThreads) 
          true);
   EXPECT_EQ(digests(a / "arm.h5"), digests(b / "arm.h5"));
   for (const fs::path& d : {a, b})
-    run_ok({"bake-env", data / "scenes/table.yaml", "--volume", "0.3,-0.3,0.4,0.8,0.3,0.7", "--resolution", "0.02", "--margin",
-            "0.3", "--sdf-resolution", "0.04", "--out", d / "table.h5"},
+    run_ok({"bake-env", data / "scenes/table.yaml", "--volume", "0.3,-0.3,0.4,0.8,0.3,0.7", "--resolution", "0.02",
+            "--margin", "0.3", "--sdf-resolution", "0.04", "--out", d / "table.h5"},
            d == b);
   EXPECT_EQ(digests(a / "table.h5"), digests(b / "table.h5"));
 }

@@ -42,15 +42,15 @@ class RobotJointValues : public ::testing::Test {
       std::string urdf = read_text(data / "robots/dmgarm/dmgarm.urdf");
       urdf.replace(urdf.rfind("</robot>"), 8, kMast);
       write_text(d / "mast.urdf", urdf);
-      ASSERT_EQ(run_cli({"bake-robot", d / "mast.urdf", "--srdf", data / "robots/dmgarm/dmgarm.srdf", "--arm", "dmgarm_link0:dmgarm_tcp",
-                         "--out", d / "arm.h5"})
+      ASSERT_EQ(run_cli({"bake-robot", d / "mast.urdf", "--srdf", data / "robots/dmgarm/dmgarm.srdf", "--arm",
+                         "dmgarm_link0:dmgarm_tcp", "--out", d / "arm.h5"})
                     .exit_code,
                 0);
       ASSERT_EQ(run_cli({"make-objects", "--out", d}).exit_code, 0);
       ASSERT_EQ(run_cli({"bake-object", d / "eraser.stl", "--out", d / "eraser.h5"}).exit_code, 0);
       const std::string volume = builtin_volume("table");
-      ASSERT_EQ(run_cli({"bake-env", data / "scenes/table.yaml", "--volume", volume, "--margin", "0.9", "--sdf-resolution", "0.03",
-                         "--band", "0.25", "--out", d / "table.h5"})
+      ASSERT_EQ(run_cli({"bake-env", data / "scenes/table.yaml", "--volume", volume, "--margin", "0.9",
+                         "--sdf-resolution", "0.03", "--band", "0.25", "--out", d / "table.h5"})
                     .exit_code,
                 0);
     });
@@ -58,7 +58,8 @@ class RobotJointValues : public ::testing::Test {
   static void TearDownTestSuite() { delete dir_; }
   static std::unique_ptr<runtime::PlacementWorld> world(const std::map<std::string, double>& joints) {
     const auto d = dir_->path();
-    return std::make_unique<runtime::PlacementWorld>(formats::load_robot(d / "arm.h5"), formats::load_object(d / "eraser.h5"),
+    return std::make_unique<runtime::PlacementWorld>(formats::load_robot(d / "arm.h5"),
+                                                     formats::load_object(d / "eraser.h5"),
                                                      formats::load_environment(d / "table.h5"), -1, joints);
   }
   static Eigen::VectorXd home() {
@@ -78,14 +79,16 @@ TEST_F(RobotJointValues, TheValueMovesTheLinkAndDecidesWhatCollides) {
   at_zero->kinematics().link_poses(home(), a);
   swung->kinematics().link_poses(home(), b);
   EXPECT_NEAR((a[std::size_t(mast)].translation() - b[std::size_t(mast)].translation()).norm(), 0, 1e-12);
-  const Eigen::Vector3d tip_a = a[std::size_t(mast)] * Eigen::Vector3d(0, 0.4, 0), tip_b = b[std::size_t(mast)] * Eigen::Vector3d(0, 0.4, 0);
+  const Eigen::Vector3d tip_a = a[std::size_t(mast)] * Eigen::Vector3d(0, 0.4, 0),
+                        tip_b = b[std::size_t(mast)] * Eigen::Vector3d(0, 0.4, 0);
   EXPECT_NEAR((tip_a - Eigen::Vector3d(0, 0.1, 0.45)).norm(), 0, 1e-12);
   EXPECT_NEAR((tip_b - Eigen::Vector3d(-0.4, -0.3, 0.45)).norm(), 0, 1e-12);
   // The mast at 0 reaches through the upper arm; swung away it leaves the arm free.
   EXPECT_FALSE(at_zero->exact().is_free(home()));
   EXPECT_TRUE(swung->exact().is_free(home())) << swung->exact().check(home()).contact;
   // The arm chain is untouched.
-  EXPECT_NEAR((at_zero->kinematics().tip_pose(home()).matrix() - swung->kinematics().tip_pose(home()).matrix()).norm(), 0, 1e-12);
+  EXPECT_NEAR((at_zero->kinematics().tip_pose(home()).matrix() - swung->kinematics().tip_pose(home()).matrix()).norm(),
+              0, 1e-12);
 }
 
 TEST_F(RobotJointValues, NamesThatAreNoSuchJointAreRefused) {
@@ -104,8 +107,9 @@ TEST_F(RobotJointValues, NamesThatAreNoSuchJointAreRefused) {
 
 TEST_F(RobotJointValues, AQueryFileNamesTheJointInItsStart) {
   const auto d = dir_->path();
-  const std::string arm = "dmgarm_joint1: 0, dmgarm_joint2: -0.785, dmgarm_joint3: 0, dmgarm_joint4: -2.356, "
-                          "dmgarm_joint5: 0, dmgarm_joint6: 1.571, dmgarm_joint7: 0.785";
+  const std::string arm =
+      "dmgarm_joint1: 0, dmgarm_joint2: -0.785, dmgarm_joint3: 0, dmgarm_joint4: -2.356, "
+      "dmgarm_joint5: 0, dmgarm_joint6: 1.571, dmgarm_joint7: 0.785";
   write_text(d / "q.yaml", "robot: arm.h5\nobject: eraser.h5\nenvironment: table.h5\nstart: {" + arm +
                                ", mast_joint: 1.5707963}\ninitial_grasp:\n  pose: [0, 0, 0.0175, 1, 0, 0, 0]\n");
   const auto q = tools::read_placement_query(d / "q.yaml");

@@ -23,7 +23,8 @@ TEST(ScanObjectCli, TheMilkCartonScannedAloneKeepsItsOwnFacesAndBakes) {
   if (scans().empty()) GTEST_SKIP() << "needs ../shared/datasets";
   TempDir dir;
   for (const char* method : {"poisson", "hull"}) {
-    const auto r = run_cli({"bake-object", scans() / "milk.pcd", "--reconstruct", method, "--json", "--out", dir / "milk.h5"}, false);
+    const auto r = run_cli(
+        {"bake-object", scans() / "milk.pcd", "--reconstruct", method, "--json", "--out", dir / "milk.h5"}, false);
     ASSERT_EQ(r.exit_code, 0) << method << ": " << r.output;
     const auto j = nlohmann::json::parse(r.output);
     EXPECT_FALSE(j["scan"]["plane_removed"].get<bool>()) << "the carton's largest face is not a support";
@@ -45,11 +46,12 @@ TEST(ScanObjectCli, TheTableSceneAsksForAClusterAndBakesTheChosenOne) {
   EXPECT_NE(ask.output.find("\n  0: "), std::string::npos) << ask.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "x.h5"));
   // Poisson on one view of the mug is a thin shell: refused with the way out named.
-  const auto shell = run_cli({"bake-object", scene, "--crop", "-1,-1,0,1,1,1.5", "--cluster", "0", "--out", dir / "x.h5"});
+  const auto shell =
+      run_cli({"bake-object", scene, "--crop", "-1,-1,0,1,1,1.5", "--cluster", "0", "--out", dir / "x.h5"});
   EXPECT_EQ(shell.exit_code, 1);
   EXPECT_NE(shell.output.find("--reconstruct hull"), std::string::npos) << shell.output;
-  const auto r = run_cli({"bake-object", scene, "--crop", "-1,-1,0,1,1,1.5", "--cluster-near", "0.06,0.07,0.76", "--reconstruct", "hull",
-                          "--json", "--out", dir / "mug.h5"},
+  const auto r = run_cli({"bake-object", scene, "--crop", "-1,-1,0,1,1,1.5", "--cluster-near", "0.06,0.07,0.76",
+                          "--reconstruct", "hull", "--json", "--out", dir / "mug.h5"},
                          false);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
@@ -70,22 +72,23 @@ TEST(ScanObjectCli, TheScannedMugIsPlacedOnTheTable) {
   if (scans().empty()) GTEST_SKIP() << "needs ../shared/datasets";
   TempDir dir;
   const auto data = source_dir() / "datasets";
-  ASSERT_EQ(run_cli({"bake-object", scans() / "table_scene_mug_stereo_textured.pcd", "--crop", "-1,-1,0,1,1,1.5", "--cluster", "0",
-                     "--reconstruct", "hull", "--out", dir / "mug.h5"})
+  ASSERT_EQ(run_cli({"bake-object", scans() / "table_scene_mug_stereo_textured.pcd", "--crop", "-1,-1,0,1,1,1.5",
+                     "--cluster", "0", "--reconstruct", "hull", "--out", dir / "mug.h5"})
                 .exit_code,
             0);
-  ASSERT_EQ(run_cli({"bake-robot", data / "robots/dmgarm/dmgarm.urdf", "--srdf", data / "robots/dmgarm/dmgarm.srdf", "--arm",
-                     "dmgarm_link0:dmgarm_tcp", "--out", dir / "arm.h5"})
+  ASSERT_EQ(run_cli({"bake-robot", data / "robots/dmgarm/dmgarm.urdf", "--srdf", data / "robots/dmgarm/dmgarm.srdf",
+                     "--arm", "dmgarm_link0:dmgarm_tcp", "--out", dir / "arm.h5"})
                 .exit_code,
             0);
   const std::string volume = builtin_volume("table");
-  ASSERT_EQ(run_cli({"bake-env", data / "scenes/table.yaml", "--volume", volume, "--margin", "0.9", "--sdf-resolution", "0.02",
-                     "--band", "0.25", "--out", dir / "table.h5"})
+  ASSERT_EQ(run_cli({"bake-env", data / "scenes/table.yaml", "--volume", volume, "--margin", "0.9", "--sdf-resolution",
+                     "0.02", "--band", "0.25", "--out", dir / "table.h5"})
                 .exit_code,
             0);
   const auto object = formats::load_object(dir / "mug.h5");
   ASSERT_GT(object.grasp_graph.size(), 0);
-  const runtime::PlacementWorld world(formats::load_robot(dir / "arm.h5"), object, formats::load_environment(dir / "table.h5"));
+  const runtime::PlacementWorld world(formats::load_robot(dir / "arm.h5"), object,
+                                      formats::load_environment(dir / "table.h5"));
   runtime::PlacementQuery q;
   q.q0 = Eigen::VectorXd(7);
   q.q0 << 0, -0.785, 0, -2.0, 0, 1.3, 0.785;
@@ -95,7 +98,8 @@ TEST(ScanObjectCli, TheScannedMugIsPlacedOnTheTable) {
   runtime::PlacementPlanner planner(world, q);
   bool found = false;
   auto budget = runtime::stop_after_iterations(20000);
-  const auto result = planner.run([&] { return found || budget(); }, [&](const runtime::PlacementSolution&) { found = true; });
+  const auto result =
+      planner.run([&] { return found || budget(); }, [&](const runtime::PlacementSolution&) { found = true; });
   EXPECT_TRUE(found);
   EXPECT_FALSE(result.improvements.empty());
 }

@@ -33,7 +33,8 @@ void expect_executable(const Trajectory& t, const JointPath& path, const JointLi
     }
     for (std::size_t j = 0; j < path.front().size(); ++j) {
       EXPECT_LE(std::abs(t.velocities[k][j]), limits.velocity[j] * scaling * (1 + 1e-6) + 1e-9) << "sample " << k;
-      EXPECT_LE(std::abs(t.accelerations[k][j]), limits.acceleration[j] * scaling * (1 + 1e-6) + 1e-9) << "sample " << k;
+      EXPECT_LE(std::abs(t.accelerations[k][j]), limits.acceleration[j] * scaling * (1 + 1e-6) + 1e-9)
+          << "sample " << k;
     }
   }
 }
@@ -42,8 +43,8 @@ void expect_executable(const Trajectory& t, const JointPath& path, const JointLi
 TEST_F(TimedTrajectory, LimitsComeFromTheUrdfAndTheJointLimitsFile) {
   const JointLimits limits = arm_joint_limits(world_->kinematics());
   ASSERT_EQ(limits.velocity.size(), 7u);
-  EXPECT_DOUBLE_EQ(limits.velocity[0], 2.3925);      // dmgarm.urdf
-  EXPECT_DOUBLE_EQ(limits.acceleration[1], 1.875);   // joint_limits.yaml
+  EXPECT_DOUBLE_EQ(limits.velocity[0], 2.3925);     // dmgarm.urdf
+  EXPECT_DOUBLE_EQ(limits.acceleration[1], 1.875);  // joint_limits.yaml
   EXPECT_DOUBLE_EQ(limits.acceleration[6], 5.0);
 }
 
@@ -64,12 +65,13 @@ TEST_F(TimedTrajectory, EverySolutionIsTimedWithinTheLimits) {
 
 TEST_F(TimedTrajectory, PlaceAndPlanWriteJsonAndMoveItYaml) {
   const fs::path d = dir_->path();
-  test::write_text(d / "side.yaml", "robot: arm.h5\nobject: bottle.h5\nenvironment: cabinet.h5\n"
-                                    "start: [0, -0.785, 0, -2.356, 0, 1.571, 0.785]\n"
-                                    "initial_grasp: {pose: [0, 0, 0.06, 0, 0.7071068, 0, 0.7071068]}\n"
-                                    "options: {velocity_scaling: 0.5}\n");
-  const auto place = test::run_cli({"place", d / "side.yaml", "--iterations", "1500", "--time-limit", "60", "--out", d / "side",
-                                    "--trajectory-format", "moveit"});
+  test::write_text(d / "side.yaml",
+                   "robot: arm.h5\nobject: bottle.h5\nenvironment: cabinet.h5\n"
+                   "start: [0, -0.785, 0, -2.356, 0, 1.571, 0.785]\n"
+                   "initial_grasp: {pose: [0, 0, 0.06, 0, 0.7071068, 0, 0.7071068]}\n"
+                   "options: {velocity_scaling: 0.5}\n");
+  const auto place = test::run_cli({"place", d / "side.yaml", "--iterations", "1500", "--time-limit", "60", "--out",
+                                    d / "side", "--trajectory-format", "moveit"});
   ASSERT_EQ(place.exit_code, 0) << place.output;
   const auto j = nlohmann::json::parse(test::read_text(d / "side/trajectory.json"));
   const auto result = nlohmann::json::parse(test::read_text(d / "side/result.json"));
@@ -90,8 +92,9 @@ TEST_F(TimedTrajectory, PlaceAndPlanWriteJsonAndMoveItYaml) {
   EXPECT_TRUE(fs::exists(d / "side/trajectory_retreat.yaml"));
 
   const fs::path data = test::source_dir() / "datasets";
-  const auto plan = test::run_cli({"plan", data / "scenes/cabinet.yaml", data / "requests/cabinet_reach.yaml", "--robot",
-                                   d / "arm.h5", "--out", d / "reach.json", "--trajectory-format", "moveit"});
+  const auto plan =
+      test::run_cli({"plan", data / "scenes/cabinet.yaml", data / "requests/cabinet_reach.yaml", "--robot",
+                     d / "arm.h5", "--out", d / "reach.json", "--trajectory-format", "moveit"});
   ASSERT_EQ(plan.exit_code, 0) << plan.output;
   const auto p = nlohmann::json::parse(test::read_text(d / "reach.json"));
   EXPECT_EQ(p["trajectory"]["positions"].back(), p["waypoints"].back());

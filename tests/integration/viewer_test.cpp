@@ -39,21 +39,23 @@ std::string status_attr(const std::string& dom, const std::string& name) {
 class Viewer : public ::testing::Test {
  protected:
   // Bakes the cabinet, dmgarm and the bottle once, places for ~2 s and writes the page.
-  static void SetUpTestSuite() { test::set_up_suite_or_exit("Viewer", [] { bake(); }); }
+  static void SetUpTestSuite() {
+    test::set_up_suite_or_exit("Viewer", [] { bake(); });
+  }
   static void bake() {
     dir_ = new test::TempDir();
     const fs::path data = test::source_dir() / "datasets", d = dir_->path(), art = d / "artifacts";
     fs::create_directories(art);
     ASSERT_EQ(cli({"make-objects", "--out", d}), 0);
-    ASSERT_EQ(cli({"bake-robot", data / "robots/dmgarm/dmgarm.urdf", "--srdf", data / "robots/dmgarm/dmgarm.srdf", "--arm",
-                   "dmgarm_link0:dmgarm_tcp", "--out", art / "dmgarm.h5"}),
+    ASSERT_EQ(cli({"bake-robot", data / "robots/dmgarm/dmgarm.urdf", "--srdf", data / "robots/dmgarm/dmgarm.srdf",
+                   "--arm", "dmgarm_link0:dmgarm_tcp", "--out", art / "dmgarm.h5"}),
               0);
     ASSERT_EQ(cli({"bake-object", d / "bottle.stl", "--mass", "0.15", "--out", art / "bottle.h5"}), 0);
     const std::string volume = test::builtin_volume("cabinet");
     ASSERT_EQ(cli({"bake-env", data / "scenes/cabinet.yaml", "--volume", volume, "--out", art / "cabinet.h5"}), 0);
     // Exit 3 means "no solution": the page must still show the scene, so both are fine here.
-    const int placed = cli({"place", data / "queries/cabinet_bottle_side.yaml", "--artifacts", art, "--time-limit", "3", "--out",
-                            d / "place"});
+    const int placed = cli({"place", data / "queries/cabinet_bottle_side.yaml", "--artifacts", art, "--time-limit", "3",
+                            "--out", d / "place"});
     ASSERT_TRUE(placed == 0 || placed == 3) << "place exited with " << placed;
     ASSERT_EQ(cli({"view", d / "place", "--html", d / "scene.html"}), 0);
   }
@@ -71,12 +73,19 @@ TEST_F(Viewer, PageRendersInHeadlessChromium) {
   const nlohmann::json result = nlohmann::json::parse(test::read_text(d / "place/result.json"));
   std::size_t waypoints = 0;
   if (result["solved"].get<bool>()) waypoints = result["best"]["path"].size() + result["best"]["retreat"].size();
-  std::printf("placement %s: %zu path+retreat waypoints\n", result["solved"].get<bool>() ? "solved" : "not solved", waypoints);
+  std::printf("placement %s: %zu path+retreat waypoints\n", result["solved"].get<bool>() ? "solved" : "not solved",
+              waypoints);
   if (!result["solved"].get<bool>()) std::printf("  %s\n", result.value("reason", std::string()).c_str());
 
   // SwiftShader: software WebGL, so no GPU is needed; virtual time lets the page run its frames.
-  const std::vector<std::string> flags = {browser, "--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
-                                          "--enable-unsafe-swiftshader", "--window-size=1024,768", "--virtual-time-budget=5000",
+  const std::vector<std::string> flags = {browser,
+                                          "--headless",
+                                          "--no-sandbox",
+                                          "--disable-gpu",
+                                          "--use-angle=swiftshader",
+                                          "--enable-unsafe-swiftshader",
+                                          "--window-size=1024,768",
+                                          "--virtual-time-budget=5000",
                                           "--user-data-dir=" + (d / "profile").string()};
   const std::string url = "file://" + page.string();
   auto with = [&](std::vector<std::string> extra) {
@@ -86,7 +95,8 @@ TEST_F(Viewer, PageRendersInHeadlessChromium) {
   };
   test::ProcessOptions capture_log;
   capture_log.stderr_to = test::StderrTo::capture;  // chromium's log, checked for script errors
-  const test::ProcessResult dom = tools::run_process(with({"--enable-logging=stderr", "--v=0", "--dump-dom", url}), capture_log);
+  const test::ProcessResult dom =
+      tools::run_process(with({"--enable-logging=stderr", "--v=0", "--dump-dom", url}), capture_log);
   const std::string& log = dom.error_output;
   ASSERT_EQ(dom.exit_code, 0) << log;
   EXPECT_EQ(log.find("Uncaught"), std::string::npos) << log;

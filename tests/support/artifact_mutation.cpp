@@ -53,7 +53,8 @@ double dataset_value(const fs::path& file, const std::string& name, std::size_t 
   return values[index];
 }
 
-void mutate_dataset(const fs::path& from, const fs::path& to, const std::string& name, std::size_t index, double value) {
+void mutate_dataset(const fs::path& from, const fs::path& to, const std::string& name, std::size_t index,
+                    double value) {
   fs::copy_file(from, to, fs::copy_options::overwrite_existing);
   Id f{H5Fopen(to.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose};
   require(f.id >= 0, "cannot open " + to.string());

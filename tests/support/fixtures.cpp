@@ -24,7 +24,8 @@ RobotModel read_robot_model(const std::filesystem::path& urdf, const std::filesy
 std::vector<formats::LinkSphere> robot_spheres(const RobotModel& model) {
   std::vector<formats::LinkSphere> spheres;
   for (std::size_t l = 0; l < model.links.size(); ++l)
-    for (const auto& s : tools::cover_with_spheres(model.links[l].collision)) spheres.push_back({int(l), s.center, s.radius});
+    for (const auto& s : tools::cover_with_spheres(model.links[l].collision))
+      spheres.push_back({int(l), s.center, s.radius});
   return spheres;
 }
 

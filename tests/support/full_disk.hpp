@@ -25,8 +25,7 @@ class SmallDisk {
   explicit SmallDisk(const std::string& size = "64k") {
     if (::mount("tmpfs", dir_.path().c_str(), "tmpfs", MS_NOSUID | MS_NODEV, ("size=" + size).c_str()) == 0)
       mounted_ = true;
-    else
-      why_ = std::string("cannot mount a tmpfs (") + std::strerror(errno) + "; needs root)";
+    else why_ = std::string("cannot mount a tmpfs (") + std::strerror(errno) + "; needs root)";
   }
   ~SmallDisk() {
     if (mounted_) ::umount2(dir_.path().c_str(), MNT_DETACH);  // before dir_ removes the folder

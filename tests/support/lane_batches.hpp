@@ -47,7 +47,8 @@ void batches_on_every_path(const runtime::Kinematics& kin, std::uint64_t seed, i
 // batches_on_every_path with the configurations as drawn.
 template <class Check>
 void batches_on_every_path(const runtime::Kinematics& kin, std::uint64_t seed, int rounds, Check check) {
-  batches_on_every_path(kin, seed, rounds, [](int, Eigen::VectorXd&) {}, check);
+  batches_on_every_path(
+      kin, seed, rounds, [](int, Eigen::VectorXd&) {}, check);
 }
 
 }  // namespace dmgplace::test

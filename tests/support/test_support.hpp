@@ -69,7 +69,7 @@ std::string error_of(F&& f) {
 }  // namespace dmgplace::test
 
 // Skips the test when ../shared/datasets is missing (CI always has it).
-#define DMGPLACE_REQUIRE_SHARED()                                                   \
-  do {                                                                              \
+#define DMGPLACE_REQUIRE_SHARED()                                                             \
+  do {                                                                                        \
     if (::dmgplace::test::shared_datasets().empty()) GTEST_SKIP() << "no ../shared/datasets"; \
   } while (0)

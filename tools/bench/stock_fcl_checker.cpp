@@ -38,7 +38,8 @@ StockFclChecker::StockFclChecker(const runtime::Kinematics& kin, const Scene& sc
   const RobotModel& m = kin.model();
   for (std::size_t l = 0; l < m.links.size(); ++l)
     for (const Shape& s : m.links[l].collision)
-      impl_->parts.push_back({int(l), s.origin, std::make_unique<fcl::CollisionObjectd>(runtime::fcl_geometry(s, mesh_nodes))});
+      impl_->parts.push_back(
+          {int(l), s.origin, std::make_unique<fcl::CollisionObjectd>(runtime::fcl_geometry(s, mesh_nodes))});
   impl_->moving = kin.moving_links();
   auto allowed = [&](int a, int b) {
     return a == b || std::any_of(m.allowed_pairs.begin(), m.allowed_pairs.end(), [&](const auto& p) {
@@ -53,7 +54,8 @@ StockFclChecker::StockFclChecker(const runtime::Kinematics& kin, const Scene& sc
     }
   for (const auto& o : scene.objects)
     for (const Shape& s : o.shapes) {
-      auto obj = std::make_unique<fcl::CollisionObjectd>(runtime::fcl_geometry(s, mesh_nodes), s.origin.linear(), s.origin.translation());
+      auto obj = std::make_unique<fcl::CollisionObjectd>(runtime::fcl_geometry(s, mesh_nodes), s.origin.linear(),
+                                                         s.origin.translation());
       obj->computeAABB();
       impl_->scene.registerObject(obj.get());
       impl_->scene_objects.push_back(std::move(obj));
@@ -80,7 +82,8 @@ bool StockFclChecker::is_free(const Eigen::VectorXd& q) const {
   fcl::CollisionRequestd request;
   for (auto [a, b] : impl.self_pairs) {
     fcl::CollisionResultd result;
-    if (fcl::collide(impl.parts[std::size_t(a)].object.get(), impl.parts[std::size_t(b)].object.get(), request, result) > 0)
+    if (fcl::collide(impl.parts[std::size_t(a)].object.get(), impl.parts[std::size_t(b)].object.get(), request,
+                     result) > 0)
       return false;
   }
   return true;

@@ -18,7 +18,8 @@ tools::PlanOutcome plan_stock(const tools::ArmProblem& p, const StockFclChecker&
                               double resolution) {
   tools::PlanOutcome out;
   const auto t0 = std::chrono::steady_clock::now();
-  auto si = runtime::make_arm_space(*p.kin, [&](const Eigen::VectorXd& q) { return checker.is_free(q); }, resolution);
+  auto si = runtime::make_arm_space(
+      *p.kin, [&](const Eigen::VectorXd& q) { return checker.is_free(q); }, resolution);
   auto pdef = std::make_shared<ob::ProblemDefinition>(si);
   ob::ScopedState<> start(si->getStateSpace()), goal(si->getStateSpace());
   for (int i = 0; i < p.kin->dof(); ++i) {

@@ -45,8 +45,8 @@ bool show_progress() { return logging_enabled_for_info() && isatty(STDERR_FILENO
 std::function<void(const std::string&, std::size_t, std::size_t)> progress_line() {
   if (!show_progress()) return {};
   return [](const std::string& stage, std::size_t done, std::size_t total) {
-    std::fprintf(stderr, "\r%s: %zu of %zu (%.0f%%)%s", stage.c_str(), done, total, total ? 100.0 * double(done) / double(total) : 100.0,
-                 done >= total ? "\n" : "");
+    std::fprintf(stderr, "\r%s: %zu of %zu (%.0f%%)%s", stage.c_str(), done, total,
+                 total ? 100.0 * double(done) / double(total) : 100.0, done >= total ? "\n" : "");
   };
 }
 

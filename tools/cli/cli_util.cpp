@@ -20,7 +20,8 @@ formats::ArtifactHeader make_header(const nlohmann::json& parameters, const std:
   h.parameters_json = parameters.dump();
   for (const auto& p : inputs) h.inputs.push_back({p.string(), formats::sha256_file(p)});
   for (const auto& p : read) {
-    const bool listed = std::any_of(h.inputs.begin(), h.inputs.end(), [&](const formats::InputFile& f) { return f.path == p.string(); });
+    const bool listed = std::any_of(h.inputs.begin(), h.inputs.end(),
+                                    [&](const formats::InputFile& f) { return f.path == p.string(); });
     if (!listed) h.inputs.push_back({p.string(), formats::sha256_file(p)});
   }
   return h;
@@ -36,7 +37,8 @@ nlohmann::ordered_json artifact_json(const std::filesystem::path& path) {
   for (const auto& [k, v] : formats::inspect_artifact(path)) {
     if (k == "input") {
       const auto sep = v.find("  ");
-      j["inputs"].push_back({{"sha256", v.substr(0, sep)}, {"path", sep == std::string::npos ? "" : v.substr(sep + 2)}});
+      j["inputs"].push_back(
+          {{"sha256", v.substr(0, sep)}, {"path", sep == std::string::npos ? "" : v.substr(sep + 2)}});
     } else if (k == "parameters") {
       j[k] = nlohmann::ordered_json::parse(v, nullptr, false);
     } else {
@@ -79,7 +81,8 @@ std::vector<double> parse_numbers(const std::string& text, std::size_t n, const 
       throw Error(flag, "", "'" + item + "' is not a finite number");
     }
   }
-  if (out.size() != n) throw Error(flag, "", "expected " + std::to_string(n) + " comma-separated numbers, got '" + text + "'");
+  if (out.size() != n)
+    throw Error(flag, "", "expected " + std::to_string(n) + " comma-separated numbers, got '" + text + "'");
   return out;
 }
 

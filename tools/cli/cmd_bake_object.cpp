@@ -28,7 +28,8 @@ nlohmann::ordered_json scan_report(const tools::ScanObject& s) {
   const auto& r = s.reconstruction;
   nlohmann::ordered_json clusters = nlohmann::ordered_json::array();
   for (const auto& c : g.clusters)
-    clusters.push_back({{"points", c.points}, {"centroid", {c.centroid.x(), c.centroid.y(), c.centroid.z()}},
+    clusters.push_back({{"points", c.points},
+                        {"centroid", {c.centroid.x(), c.centroid.y(), c.centroid.z()}},
                         {"extent", {c.extent.x(), c.extent.y(), c.extent.z()}}});
   return {{"input_points", g.input_points},
           {"cropped_points", g.cropped_points},
@@ -53,29 +54,67 @@ OptionTable BakeObjectArgs::options() {
       {"--scale", "scale", &scale, 1e-6, 1e6, "", "Unit scale to metres (0.001 for millimetre files); scans too"},
       {"--mass", "mass", &mass, 0, 1e5, "kg", "Mass; 0: volume x 1000 kg/m^3"},
       {"--gripper", "gripper", &gripper, 0, 0, "", "Gripper YAML; empty: the built-in dmgarm hand"},
-      {"--seed-resolution", "seed_resolution", &dmg.seed_resolution, 1e-4, 1, "m", "DMG patch size (supervoxel seed with --dmg-from points)"},
+      {"--seed-resolution", "seed_resolution", &dmg.seed_resolution, 1e-4, 1, "m",
+       "DMG patch size (supervoxel seed with --dmg-from points)"},
       {"--angle-step", "angle_step", &dmg.angle_step_deg, 0.1, 180, "deg", "DMG finger angle step; divides 360"},
-      {"--normal-threshold", "normal_threshold", &dmg.normal_threshold, 1e-6, 4, "", "DMG facets: adjacent patches join when |n_i - n_j|^2 is below this"},
-      {"--crease-angle", "crease_angle", &dmg.crease_angle, 1e-3, 3.1, "rad", "DMG: mesh edges sharper than this bound patches"},
-      {"--friction-angle", "friction_angle", &dmg.friction_angle, 1e-3, 1.5, "rad", "DMG: the opposite contact's normal within this of antipodal"},
-      {"--face-merge-angle", "face_merge_angle", &faces.merge_angle, 0, 1.5, "rad", "Placement faces: hull facets within this of a seed's normal merge"},
-      {"--stability-margin", "stability_margin", &faces.margin, 0, 1, "m", "Placement faces: COM margin inside the support polygon"},
-      {"--rotation-weight", "rotation_weight", &rotation_weight, 1e-6, 100, "m/rad", "Grasp graph: cost of in-hand rotation against sliding"},
-      {"--whole-crop", "whole_crop", &segment.whole_crop, 0, 0, "", "Scans: the points in --crop are the object (no plane removal, no clusters)"},
-      {"--support-plane", "support_plane", &support_plane, 0, 0, "", "Scans: remove the dominant plane (auto: when wider than the object on it)", {"auto", "remove", "keep"}},
-      {"--plane-distance", "plane_distance", &segment.plane_distance, 1e-4, 0.1, "m", "Scans: RANSAC inlier distance of the support plane"},
-      {"--cluster-tolerance", "cluster_tolerance", &segment.cluster_tolerance, 1e-4, 0.5, "m", "Scans: Euclidean clustering gap"},
-      {"--min-cluster-points", "min_cluster_points", &segment.min_cluster_points, 1, 1e7, "", "Scans: smaller clusters are noise"},
-      {"--cluster", "cluster", &segment.cluster, -1, 1e6, "", "Scans: take cluster N (largest first); -1: the only one, or --cluster-near"},
-      {"--smoothing-radius", "smoothing_radius", &segment.smoothing_radius, 0, 0.1, "m", "Scans: moving-least-squares smoothing and normals within this radius; 0: off"},
-      {"--normal-neighbours", "normal_neighbours", &segment.normal_neighbours, 3, 200, "", "Scans: neighbours per normal estimate without smoothing"},
-      {"--reconstruct", "reconstruct", &reconstruct_method, 0, 0, "", "Scans: surface from the points (hull for convex objects seen from few sides)", {"poisson", "hull"}},
+      {"--normal-threshold", "normal_threshold", &dmg.normal_threshold, 1e-6, 4, "",
+       "DMG facets: adjacent patches join when |n_i - n_j|^2 is below this"},
+      {"--crease-angle", "crease_angle", &dmg.crease_angle, 1e-3, 3.1, "rad",
+       "DMG: mesh edges sharper than this bound patches"},
+      {"--friction-angle", "friction_angle", &dmg.friction_angle, 1e-3, 1.5, "rad",
+       "DMG: the opposite contact's normal within this of antipodal"},
+      {"--face-merge-angle", "face_merge_angle", &faces.merge_angle, 0, 1.5, "rad",
+       "Placement faces: hull facets within this of a seed's normal merge"},
+      {"--stability-margin", "stability_margin", &faces.margin, 0, 1, "m",
+       "Placement faces: COM margin inside the support polygon"},
+      {"--rotation-weight", "rotation_weight", &rotation_weight, 1e-6, 100, "m/rad",
+       "Grasp graph: cost of in-hand rotation against sliding"},
+      {"--whole-crop", "whole_crop", &segment.whole_crop, 0, 0, "",
+       "Scans: the points in --crop are the object (no plane removal, no clusters)"},
+      {"--support-plane",
+       "support_plane",
+       &support_plane,
+       0,
+       0,
+       "",
+       "Scans: remove the dominant plane (auto: when wider than the object on it)",
+       {"auto", "remove", "keep"}},
+      {"--plane-distance", "plane_distance", &segment.plane_distance, 1e-4, 0.1, "m",
+       "Scans: RANSAC inlier distance of the support plane"},
+      {"--cluster-tolerance", "cluster_tolerance", &segment.cluster_tolerance, 1e-4, 0.5, "m",
+       "Scans: Euclidean clustering gap"},
+      {"--min-cluster-points", "min_cluster_points", &segment.min_cluster_points, 1, 1e7, "",
+       "Scans: smaller clusters are noise"},
+      {"--cluster", "cluster", &segment.cluster, -1, 1e6, "",
+       "Scans: take cluster N (largest first); -1: the only one, or --cluster-near"},
+      {"--smoothing-radius", "smoothing_radius", &segment.smoothing_radius, 0, 0.1, "m",
+       "Scans: moving-least-squares smoothing and normals within this radius; 0: off"},
+      {"--normal-neighbours", "normal_neighbours", &segment.normal_neighbours, 3, 200, "",
+       "Scans: neighbours per normal estimate without smoothing"},
+      {"--reconstruct",
+       "reconstruct",
+       &reconstruct_method,
+       0,
+       0,
+       "",
+       "Scans: surface from the points (hull for convex objects seen from few sides)",
+       {"poisson", "hull"}},
       {"--poisson-depth", "poisson_depth", &reconstruct.poisson_depth, 4, 12, "", "Scans: Poisson octree depth"},
-      {"--poisson-samples-per-node", "poisson_samples_per_node", &reconstruct.poisson_samples_per_node, 1, 50, "", "Scans: Poisson smoothing (higher for noisier scans)"},
-      {"--seen-distance", "seen_distance", &reconstruct.seen_distance, 0, 0.1, "m", "Scans: surface this near a scan point counts as seen; 0: 3 x point spacing"},
-      {"--dmg-from", "dmg_from", &dmg_from, 0, 0, "", "Scans: DMG patches from the reconstructed mesh, or supervoxels of the points (the original's)", {"mesh", "points"}},
+      {"--poisson-samples-per-node", "poisson_samples_per_node", &reconstruct.poisson_samples_per_node, 1, 50, "",
+       "Scans: Poisson smoothing (higher for noisier scans)"},
+      {"--seen-distance", "seen_distance", &reconstruct.seen_distance, 0, 0.1, "m",
+       "Scans: surface this near a scan point counts as seen; 0: 3 x point spacing"},
+      {"--dmg-from",
+       "dmg_from",
+       &dmg_from,
+       0,
+       0,
+       "",
+       "Scans: DMG patches from the reconstructed mesh, or supervoxels of the points (the original's)",
+       {"mesh", "points"}},
       {"--out", "", &out, 0, 0, "", "Output artifact"},
-      {"--json", "", &json, 0, 0, "", "Print JSON: the file written, seconds taken, the scan's segmentation, the artifact's summary"},
+      {"--json", "", &json, 0, 0, "",
+       "Print JSON: the file written, seconds taken, the scan's segmentation, the artifact's summary"},
   };
 }
 
@@ -89,7 +128,8 @@ int run_bake_object(const BakeObjectArgs& a_in) {
   const bool scans = std::any_of(a.inputs.begin(), a.inputs.end(), is_scan);
   if (scans && !std::all_of(a.inputs.begin(), a.inputs.end(), is_scan))
     throw Error(a.inputs.front(), "", "give one mesh, or PCD scans only: not both");
-  if (!scans && a.inputs.size() != 1) throw Error(a.inputs.front(), "", "one mesh per object (several inputs must all be .pcd scans)");
+  if (!scans && a.inputs.size() != 1)
+    throw Error(a.inputs.front(), "", "one mesh per object (several inputs must all be .pcd scans)");
   const std::string& name = a.inputs.front();
 
   formats::ObjectArtifact obj;
@@ -115,7 +155,8 @@ int run_bake_object(const BakeObjectArgs& a_in) {
     }
     if (a.segment.whole_crop && !so.segment.crop) throw Error("--whole-crop", "", "needs --crop");
     so.reconstruct = a.reconstruct;
-    so.reconstruct.method = a.reconstruct_method == "hull" ? tools::Reconstruction::Hull : tools::Reconstruction::Poisson;
+    so.reconstruct.method =
+        a.reconstruct_method == "hull" ? tools::Reconstruction::Hull : tools::Reconstruction::Poisson;
     scan = tools::object_from_scans({a.inputs.begin(), a.inputs.end()}, so);
     obj.mesh = scan->mesh;
     params["object_origin_in_scan"] = {scan->origin_in_scan.x(), scan->origin_in_scan.y(), scan->origin_in_scan.z()};
@@ -123,9 +164,12 @@ int run_bake_object(const BakeObjectArgs& a_in) {
     for (const auto& w : scan->reconstruction.warnings) log_warning(name + ": " + w);
     for (const auto& n : scan->segmented.notes) log_info(name + ": " + n);
     char line[256];
-    std::snprintf(line, sizeof line, "%zu object points, surface %.0f%% seen (within %.1f mm of a point), object frame at (%.3f, %.3f, %.3f) in the scan",
-                  scan->points.size(), 100 * scan->reconstruction.seen_fraction, 1e3 * scan->reconstruction.seen_distance,
-                  scan->origin_in_scan.x(), scan->origin_in_scan.y(), scan->origin_in_scan.z());
+    std::snprintf(line, sizeof line,
+                  "%zu object points, surface %.0f%% seen (within %.1f mm of a point), object frame at (%.3f, %.3f, "
+                  "%.3f) in the scan",
+                  scan->points.size(), 100 * scan->reconstruction.seen_fraction,
+                  1e3 * scan->reconstruction.seen_distance, scan->origin_in_scan.x(), scan->origin_in_scan.y(),
+                  scan->origin_in_scan.z());
     log_info(name + ": " + line);
   } else {
     if (a.dmg_from == "points") throw Error("--dmg-from", "", "points needs PCD scans");
@@ -145,8 +189,9 @@ int run_bake_object(const BakeObjectArgs& a_in) {
   obj.placement = tools::compute_placement_faces(obj.mesh, obj.mass.com, a.faces, name);
   const auto gripper = a.gripper.empty() ? tools::default_gripper() : tools::load_gripper_yaml(a.gripper);
   a.dmg.progress = progress_line();
-  obj.dmg = scan && a.dmg_from == "points" ? tools::build_dmg_from_points(obj.mesh, scan->points, scan->normals, gripper, a.dmg, name)
-                                           : tools::build_dmg(obj.mesh, gripper, a.dmg, name);
+  obj.dmg = scan && a.dmg_from == "points"
+                ? tools::build_dmg_from_points(obj.mesh, scan->points, scan->normals, gripper, a.dmg, name)
+                : tools::build_dmg(obj.mesh, gripper, a.dmg, name);
   obj.grasp_graph = formats::build_grasp_graph_table(obj.dmg, a.rotation_weight);
 
   std::vector<std::filesystem::path> inputs(a.inputs.begin(), a.inputs.end());
@@ -154,7 +199,8 @@ int run_bake_object(const BakeObjectArgs& a_in) {
   obj.header = make_header(params, inputs, log.files());
   // Never write what every loader would refuse (a reconstruction can pass each step and still be unsound).
   if (const auto problems = formats::check_object(obj); !problems.empty())
-    throw Error(name, "", "the baked object is not sound: " + problems.front() + (problems.size() > 1 ? " (and more)" : ""));
+    throw Error(name, "",
+                "the baked object is not sound: " + problems.front() + (problems.size() > 1 ? " (and more)" : ""));
   formats::save_object(std::move(obj), a.out);
   report_written(a.out, a.json, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), extra);
   return 0;

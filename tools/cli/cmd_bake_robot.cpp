@@ -19,23 +19,34 @@ OptionTable BakeRobotArgs::options() {
   return {
       {"--srdf", "srdf", &srdf, 0, 0, "", "SRDF with disabled collision pairs (without one they are computed)"},
       {"--joint-limits", "joint_limits", &joint_limits, 0, 0, "",
-       "MoveIt joint_limits.yaml: velocity and acceleration limits for timed trajectories (default: URDF velocities, 1 rad/s^2)"},
+       "MoveIt joint_limits.yaml: velocity and acceleration limits for timed trajectories (default: URDF velocities, 1 "
+       "rad/s^2)"},
       {"--fixed-joints", "fixed_joints", &fixed_joints, 0, 0, "",
-       "name=value,... joints outside the chain (another arm, a torso) frozen there (rad or m); default: their URDF zero"},
-      {"--write-srdf", "", &write_srdf, 0, 0, "", "Without --srdf: write the computed disabled pairs as an SRDF to review"},
-      {"--collision-samples", "collision_samples", &allowed.samples, 1, 1e6, "", "Without --srdf: random configurations that decide always/never-colliding pairs"},
+       "name=value,... joints outside the chain (another arm, a torso) frozen there (rad or m); default: their URDF "
+       "zero"},
+      {"--write-srdf", "", &write_srdf, 0, 0, "",
+       "Without --srdf: write the computed disabled pairs as an SRDF to review"},
+      {"--collision-samples", "collision_samples", &allowed.samples, 1, 1e6, "",
+       "Without --srdf: random configurations that decide always/never-colliding pairs"},
       {"--package-path", "package_paths", &package_paths, 0, 0, "", "Where package:// resources are found"},
       {"--arm", "arm", &arm, 0, 0, "", "Planning chain BASE_LINK:TIP_LINK"},
-      {"--sphere-max-radius", "sphere_max_radius", &spheres.max_radius, 1e-3, 10, "m", "Sphere model: split spheres larger than this"},
-      {"--sphere-spacing", "sphere_spacing", &spheres.sample_spacing, 1e-4, 1, "m", "Sphere model: sample spacing on and inside the links"},
+      {"--sphere-max-radius", "sphere_max_radius", &spheres.max_radius, 1e-3, 10, "m",
+       "Sphere model: split spheres larger than this"},
+      {"--sphere-spacing", "sphere_spacing", &spheres.sample_spacing, 1e-4, 1, "m",
+       "Sphere model: sample spacing on and inside the links"},
       {"--sphere-count", "sphere_count", &spheres.max_spheres, 1, 10000, "", "Sphere model: most spheres per link"},
-      {"--sphere-max-excess", "sphere_max_excess", &spheres.max_excess, 1e-4, 1, "m", "Sphere model: how far a radius may exceed half its cluster's median extent"},
-      {"--self-table-step", "self_table_step", &self_table_step, 0, 1, "rad", "Self-distance table grid step; 0: no tables"},
-      {"--self-table-stride", "self_table_stride", &self_tables.coarse_stride, 1, 64, "", "Self-distance tables: exact distances every Nth node first, others bounded from them when far from contact"},
-      {"--self-table-exact-below", "self_table_exact_below", &self_tables.exact_below, 0, 10, "m", "Self-distance tables: nodes bounded below this are computed exactly"},
+      {"--sphere-max-excess", "sphere_max_excess", &spheres.max_excess, 1e-4, 1, "m",
+       "Sphere model: how far a radius may exceed half its cluster's median extent"},
+      {"--self-table-step", "self_table_step", &self_table_step, 0, 1, "rad",
+       "Self-distance table grid step; 0: no tables"},
+      {"--self-table-stride", "self_table_stride", &self_tables.coarse_stride, 1, 64, "",
+       "Self-distance tables: exact distances every Nth node first, others bounded from them when far from contact"},
+      {"--self-table-exact-below", "self_table_exact_below", &self_tables.exact_below, 0, 10, "m",
+       "Self-distance tables: nodes bounded below this are computed exactly"},
       {"--threads", "", &threads, 0, 256, "", "Worker threads; 0: every CPU the process may use"},
       {"--out", "", &out, 0, 0, "", "Output artifact"},
-      {"--json", "", &json, 0, 0, "", "Print JSON: the file written, seconds taken, and the artifact's summary (as inspect --json)"},
+      {"--json", "", &json, 0, 0, "",
+       "Print JSON: the file written, seconds taken, and the artifact's summary (as inspect --json)"},
   };
 }
 
@@ -80,7 +91,8 @@ int run_bake_robot(const BakeRobotArgs& a_in) {
     } catch (const std::exception&) {
       throw Error("--fixed-joints", item, "expected name=value (a number in rad or m)");
     }
-    if (used != item.size() - eq - 1 || !std::isfinite(value)) throw Error("--fixed-joints", item, "expected name=value (a finite number)");
+    if (used != item.size() - eq - 1 || !std::isfinite(value))
+      throw Error("--fixed-joints", item, "expected name=value (a finite number)");
     o.fixed_joints.emplace_back(item.substr(0, eq), value);
   }
   if (!a.write_srdf.empty() && !a.srdf.empty())
@@ -96,7 +108,8 @@ int run_bake_robot(const BakeRobotArgs& a_in) {
     m << "no --srdf: " << decided.disabled.size() << " of " << decided.checked_pairs << " link pairs may touch ("
       << decided.count(tools::DisableReason::Adjacent) << " adjacent, " << decided.count(tools::DisableReason::Default)
       << " touching in the default pose, " << decided.count(tools::DisableReason::Always) << " always and "
-      << decided.count(tools::DisableReason::Never) << " never colliding in " << decided.samples << " random configurations)";
+      << decided.count(tools::DisableReason::Never) << " never colliding in " << decided.samples
+      << " random configurations)";
     if (!a.write_srdf.empty()) {
       formats::write_file_atomically(a.write_srdf, tools::srdf_text(robot.model, decided.disabled));
       m << "; written to " << a.write_srdf << " for review (pass it back with --srdf)";

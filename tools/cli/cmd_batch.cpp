@@ -16,7 +16,8 @@ namespace dmgplace::cli {
 
 int run_batch(const BatchArgs& a) {
   std::smatch m;
-  if (!std::regex_match(a.shard, m, std::regex("([0-9]{1,6})/([0-9]{1,6})")) || std::stoi(m[1]) < 1 || std::stoi(m[1]) > std::stoi(m[2]))
+  if (!std::regex_match(a.shard, m, std::regex("([0-9]{1,6})/([0-9]{1,6})")) || std::stoi(m[1]) < 1 ||
+      std::stoi(m[1]) > std::stoi(m[2]))
     throw Error("--shard", "", "expected I/N with 1 <= I <= N, got '" + a.shard + "'");
   const auto cli = std::filesystem::read_symlink("/proc/self/exe");
   const auto out = std::filesystem::absolute(a.out);

@@ -48,7 +48,8 @@ int run_bench_mbm(const BenchMbmArgs& a) {
   if (!a.csv.empty()) {
     csv.open(a.csv);
     if (!csv) throw Error(a.csv, "", "cannot write");
-    csv << "set,problem,planner,run,solved,valid,seconds,length,first_path_seconds,setup_seconds,planner_setup_seconds\n";
+    csv << "set,problem,planner,run,solved,valid,seconds,length,first_path_seconds,setup_seconds,planner_setup_"
+           "seconds\n";
   }
   Stats ours_all, stock_all;
   const bool run_ours = a.planners != "stock", run_stock = a.planners != "ours";
@@ -60,7 +61,8 @@ int run_bench_mbm(const BenchMbmArgs& a) {
   for (const auto& dir : a.dirs) {
     std::vector<fs::path> requests;
     for (const auto& e : fs::directory_iterator(dir))
-      if (e.path().filename().string().rfind("request", 0) == 0 && e.path().extension() == ".yaml") requests.push_back(e.path());
+      if (e.path().filename().string().rfind("request", 0) == 0 && e.path().extension() == ".yaml")
+        requests.push_back(e.path());
     std::sort(requests.begin(), requests.end());
     if (a.limit > 0 && int(requests.size()) > a.limit) requests.resize(std::size_t(a.limit));
     if (requests.empty()) throw Error(dir, "", "no requestNNNN.yaml files");
@@ -74,16 +76,19 @@ int run_bench_mbm(const BenchMbmArgs& a) {
       opt.always_field = a.field == "always";
       auto problem = tools::load_arm_problem(robot, scene, requests[i], opt);
       std::optional<bench::StockFclChecker> stock_checker;
-      if (run_stock) stock_checker.emplace(*problem.kin, problem.scene, a.stock_bvh == "obb" ? runtime::FclMeshNodes::Obb : runtime::FclMeshNodes::Obbrss);
+      if (run_stock)
+        stock_checker.emplace(*problem.kin, problem.scene,
+                              a.stock_bvh == "obb" ? runtime::FclMeshNodes::Obb : runtime::FclMeshNodes::Obbrss);
       if (problem.sdf) field_seconds.push_back(problem.bake_seconds);
       setup_seconds.push_back(problem.setup_seconds);
       auto record = [&](const char* planner, int r, const tools::PlanOutcome& o, Stats& set_stats, Stats& all) {
         add(set_stats, o);
         add(all, o);
         if (csv)
-          csv << set << "," << id << "," << planner << "," << r << "," << o.solved << "," << o.valid << "," << o.seconds << ","
-              << o.length << "," << o.first_path_seconds << "," << (planner == std::string("ours") ? problem.setup_seconds : 0.0) << ","
-              << o.planner_setup_seconds << "\n";
+          csv << set << "," << id << "," << planner << "," << r << "," << o.solved << "," << o.valid << "," << o.seconds
+              << "," << o.length << "," << o.first_path_seconds << ","
+              << (planner == std::string("ours") ? problem.setup_seconds : 0.0) << "," << o.planner_setup_seconds
+              << "\n";
       };
       for (int r = 0; r < a.runs; ++r) {
         const auto seed = std::uint64_t(r + 1);
@@ -97,7 +102,8 @@ int run_bench_mbm(const BenchMbmArgs& a) {
           record("ours", r, o, ours, ours_all);
         }
         if (run_stock)
-          record("ompl_rrtconnect_fcl", r, bench::plan_stock(problem, *stock_checker, a.time_limit, a.resolution), stock, stock_all);
+          record("ompl_rrtconnect_fcl", r, bench::plan_stock(problem, *stock_checker, a.time_limit, a.resolution),
+                 stock, stock_all);
       }
       if (show_progress()) std::cerr << "\r" << set << ": " << (i + 1) << "/" << requests.size() << std::flush;
     }
@@ -107,24 +113,29 @@ int run_bench_mbm(const BenchMbmArgs& a) {
   }
   print("all ours", ours_all);
   print("all OMPL RRTConnect+FCL " + a.stock_bvh, stock_all);
-  std::cout << "ours' scene setup (checkers; a distance field in " << field_seconds.size() << " of " << setup_seconds.size()
-            << " scenes), not in the planning times above: median " << quantile(setup_seconds, 0.5) * 1e3 << " ms, p95 "
-            << quantile(setup_seconds, 0.95) * 1e3 << " ms";
-  if (!field_seconds.empty()) std::cout << " (the field alone: median " << quantile(field_seconds, 0.5) * 1e3 << " ms at " << a.sdf_resolution << " m)";
+  std::cout << "ours' scene setup (checkers; a distance field in " << field_seconds.size() << " of "
+            << setup_seconds.size() << " scenes), not in the planning times above: median "
+            << quantile(setup_seconds, 0.5) * 1e3 << " ms, p95 " << quantile(setup_seconds, 0.95) * 1e3 << " ms";
+  if (!field_seconds.empty())
+    std::cout << " (the field alone: median " << quantile(field_seconds, 0.5) * 1e3 << " ms at " << a.sdf_resolution
+              << " m)";
   std::cout << "\n";
   if (run_ours) {
     print("all ours, planning alone (no space/planner setup)", planning_alone);
     std::vector<double> planner_setup;
-    for (std::size_t i = 0; i < ours_all.times.size(); ++i) planner_setup.push_back(ours_all.times[i] - planning_alone.times[i]);
+    for (std::size_t i = 0; i < ours_all.times.size(); ++i)
+      planner_setup.push_back(ours_all.times[i] - planning_alone.times[i]);
     std::cout << "ours' space and planner setup per run (in the times above, not in planning alone): median "
               << quantile(planner_setup, 0.5) * 1e3 << " ms\n";
   }
   if (run_ours)
-    std::cout << "ours from a new scene to its first path (setup + planning): median " << quantile(setup_and_first, 0.5) * 1e3
-              << " ms, p95 " << quantile(setup_and_first, 0.95) * 1e3 << " ms\n";
+    std::cout << "ours from a new scene to its first path (setup + planning): median "
+              << quantile(setup_and_first, 0.5) * 1e3 << " ms, p95 " << quantile(setup_and_first, 0.95) * 1e3
+              << " ms\n";
   if (run_ours && run_stock)
     std::cout << "ratio of medians (stock / ours): " << quantile(stock_all.times, 0.5) / quantile(ours_all.times, 0.5)
-              << " with our shortcutting, " << quantile(stock_all.first_times, 0.5) / quantile(ours_all.first_times, 0.5)
+              << " with our shortcutting, "
+              << quantile(stock_all.first_times, 0.5) / quantile(ours_all.first_times, 0.5)
               << " to the first path (neither shortened)\n";
   return 0;
 }

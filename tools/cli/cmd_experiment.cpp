@@ -20,8 +20,9 @@ int run_experiment(const ExperimentArgs& a) {
   if (a.time_limit) o.time_limit = *a.time_limit;
   o.redraw_progress = isatty(2);
   const auto t = tools::run_experiment(spec, o, progress_stream());
-  std::cout << spec.name << ": " << t.planned << " runs (" << t.ran << " run now, " << t.skipped << " done before), " << t.solved
-            << " with a solution; summary in " << (std::filesystem::path(a.out) / "summary.csv").string() << "\n";
+  std::cout << spec.name << ": " << t.planned << " runs (" << t.ran << " run now, " << t.skipped << " done before), "
+            << t.solved << " with a solution; summary in " << (std::filesystem::path(a.out) / "summary.csv").string()
+            << "\n";
   return 0;
 }
 

@@ -50,8 +50,11 @@ int run_grasps(const GraspsArgs& a) {
   if (a.json) {
     nlohmann::ordered_json j;
     j["object"] = a.object;
-    j["initial_state"] = {{"state", r.initial_state}, {"node", g0.node}, {"angle_deg", g0.angle * obj.dmg.angle_step_deg},
-                          {"pose", pose(graph.tcp_pose(r.initial_state))}, {"snap_distance", r.snap_distance}};
+    j["initial_state"] = {{"state", r.initial_state},
+                          {"node", g0.node},
+                          {"angle_deg", g0.angle * obj.dmg.angle_step_deg},
+                          {"pose", pose(graph.tcp_pose(r.initial_state))},
+                          {"snap_distance", r.snap_distance}};
     j["grasps"] = nlohmann::ordered_json::array();
     for (const auto& gr : r.grasps) {
       nlohmann::ordered_json e;
@@ -74,12 +77,13 @@ int run_grasps(const GraspsArgs& a) {
   std::printf("initial grasp: state %d (node %d, angle %g deg), %g from the given pose\n", r.initial_state, g0.node,
               g0.angle * obj.dmg.angle_step_deg, r.snap_distance);
   std::printf("%zu reachable grasps (of %d)\n", r.grasps.size(), graph.size());
-  std::printf("%8s %6s %8s %9s %9s %7s  %s\n", "state", "node", "angle", "opening", "cost", "actions", "pose x y z qx qy qz qw");
+  std::printf("%8s %6s %8s %9s %9s %7s  %s\n", "state", "node", "angle", "opening", "cost", "actions",
+              "pose x y z qx qy qz qw");
   for (const auto& gr : r.grasps) {
     const auto& s = graph.state(gr.state);
     const auto p = pose(gr.pose);
-    std::printf("%8d %6d %8g %9.4f %9.4f %7zu ", gr.state, s.node, s.angle * obj.dmg.angle_step_deg, gr.opening, gr.cost,
-                r.actions_to(graph, gr.state).size());
+    std::printf("%8d %6d %8g %9.4f %9.4f %7zu ", gr.state, s.node, s.angle * obj.dmg.angle_step_deg, gr.opening,
+                gr.cost, r.actions_to(graph, gr.state).size());
     for (const auto& v : p) std::printf(" %.4f", v.get<double>());
     std::printf("\n");
   }

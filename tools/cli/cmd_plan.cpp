@@ -14,14 +14,16 @@
 namespace dmgplace::cli {
 
 int run_plan(const PlanArgs& a) {
-  const bool moveit = tools::parse_trajectory_format(a.trajectory_format, "--trajectory-format") == tools::TrajectoryFormat::MoveIt;
+  const bool moveit =
+      tools::parse_trajectory_format(a.trajectory_format, "--trajectory-format") == tools::TrajectoryFormat::MoveIt;
   if (moveit && a.out.empty()) throw Error("--trajectory-format", "moveit", "needs --out (the YAML goes beside it)");
   tools::ArmProblemOptions opt;
   opt.sdf_resolution = a.sdf_resolution;
   auto problem = tools::load_arm_problem(a.robot, a.scene, a.request, opt);
   log_info(problem.sdf ? "scene setup: " + std::to_string(problem.setup_seconds) + " s, of it the distance field " +
                              std::to_string(problem.bake_seconds) + " s"
-                       : "scene setup: " + std::to_string(problem.setup_seconds) + " s (its primitives serve: no distance field)");
+                       : "scene setup: " + std::to_string(problem.setup_seconds) +
+                             " s (its primitives serve: no distance field)");
   auto ours = tools::plan_ours(problem, a.time_limit, a.resolution, a.seed);
   nlohmann::ordered_json j;
   j["solved"] = ours.solved;
@@ -36,10 +38,12 @@ int run_plan(const PlanArgs& a) {
   j["joint_names"] = problem.kin->joint_names();  // the order of every waypoint's values
   j["waypoints"] = ours.path;
   runtime::Trajectory timed;
-  if (ours.solved) timed = runtime::time_arm_path(*problem.kin, ours.path, {a.velocity_scaling, a.acceleration_scaling});
+  if (ours.solved)
+    timed = runtime::time_arm_path(*problem.kin, ours.path, {a.velocity_scaling, a.acceleration_scaling});
   j["trajectory"] = nlohmann::ordered_json::parse(tools::trajectory_json_text(timed));
-  std::cout << (ours.solved ? (ours.valid ? "solved" : "solved but INVALID") : "no solution") << " in " << ours.seconds * 1e3
-            << " ms, " << ours.path.size() << " waypoints, joint-space length " << ours.length << "\n"
+  std::cout << (ours.solved ? (ours.valid ? "solved" : "solved but INVALID") : "no solution") << " in "
+            << ours.seconds * 1e3 << " ms, " << ours.path.size() << " waypoints, joint-space length " << ours.length
+            << "\n"
             << "state checks: " << c.fast.load() << " (" << c.exact_pairs.load() << " needed FCL on flagged links, "
             << c.exact_full.load() << " a full FCL check, " << c.proven_collisions.load()
             << " proved colliding by the spheres' inner balls)\n";

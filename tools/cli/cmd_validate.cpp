@@ -22,7 +22,9 @@ std::vector<std::string> stale(const std::string& file) {
   std::vector<std::string> out;
   try {
     for (const auto& s : formats::check_inputs(file))
-      if (s.changed) out.push_back(file + ": input " + s.path + " (found at " + s.at.string() + ") changed since the bake: bake again");
+      if (s.changed)
+        out.push_back(file + ": input " + s.path + " (found at " + s.at.string() +
+                      ") changed since the bake: bake again");
   } catch (const std::exception& e) {
     out.push_back(e.what());
   }
@@ -40,7 +42,8 @@ SetCheck check_set(const std::vector<std::string>& files) {
   for (const auto& f : files) {
     try {
       const std::string schema = formats::H5Reader(f).header().schema;
-      if (!by_schema.emplace(schema, f).second) c.errors.push_back(f + ": a second " + schema + " artifact in the set (also " + by_schema[schema] + ")");
+      if (!by_schema.emplace(schema, f).second)
+        c.errors.push_back(f + ": a second " + schema + " artifact in the set (also " + by_schema[schema] + ")");
     } catch (const std::exception& e) {
       c.errors.push_back(e.what());
     }
@@ -49,7 +52,8 @@ SetCheck check_set(const std::vector<std::string>& files) {
     if (!by_schema.count(kind)) c.errors.push_back(std::string("--set: no ") + kind + " artifact among the files");
   if (!c.errors.empty()) return c;
   try {
-    const auto world = World::load(by_schema["dmgplace.robot"], by_schema["dmgplace.object"], by_schema["dmgplace.environment"]);
+    const auto world =
+        World::load(by_schema["dmgplace.robot"], by_schema["dmgplace.object"], by_schema["dmgplace.environment"]);
     c.warnings = world->fit_warnings();
   } catch (const std::exception& e) {
     c.errors.push_back(e.what());
@@ -60,13 +64,20 @@ SetCheck check_set(const std::vector<std::string>& files) {
 nlohmann::ordered_json deep_json(const tools::DeepReport& r) {
   nlohmann::ordered_json checks = nlohmann::ordered_json::array();
   for (const auto& c : r.checks)
-    checks.push_back({{"check", c.name}, {"dataset", c.dataset}, {"ok", c.ok()}, {"samples", c.samples}, {"worst", c.worst},
-                      {"tolerance", c.tolerance}, {"unit", c.unit}, {"worst_sample", c.worst_sample}});
+    checks.push_back({{"check", c.name},
+                      {"dataset", c.dataset},
+                      {"ok", c.ok()},
+                      {"samples", c.samples},
+                      {"worst", c.worst},
+                      {"tolerance", c.tolerance},
+                      {"unit", c.unit},
+                      {"worst_sample", c.worst_sample}});
   return {{"checks", checks}, {"notes", r.notes}};
 }
 
 // --deep on one sound file: its failed checks join `problems`; the report is printed or kept for JSON.
-void run_deep(const std::string& f, const ValidateArgs& a, std::vector<std::string>& problems, nlohmann::ordered_json* json) {
+void run_deep(const std::string& f, const ValidateArgs& a, std::vector<std::string>& problems,
+              nlohmann::ordered_json* json) {
   tools::DeepOptions o;
   o.samples = a.samples, o.seed = a.seed, o.check_inputs = a.check_inputs;
   try {
@@ -75,7 +86,8 @@ void run_deep(const std::string& f, const ValidateArgs& a, std::vector<std::stri
     if (json) {
       *json = deep_json(report);
     } else if (!a.quiet) {
-      for (const auto& c : report.checks) std::cout << f << ": deep: " << (c.ok() ? "ok   " : "FAIL ") << tools::describe(c) << "\n";
+      for (const auto& c : report.checks)
+        std::cout << f << ": deep: " << (c.ok() ? "ok   " : "FAIL ") << tools::describe(c) << "\n";
       for (const auto& n : report.notes) std::cout << f << ": deep: note: " << n << "\n";
     }
   } catch (const std::exception& e) {
@@ -105,7 +117,9 @@ int run_validate(const ValidateArgs& a) {
   }
   SetCheck set;
   if (a.set) {
-    if (a.files.size() != 3) set.errors.push_back("--set takes three artifacts (robot, object, environment), got " + std::to_string(a.files.size()));
+    if (a.files.size() != 3)
+      set.errors.push_back("--set takes three artifacts (robot, object, environment), got " +
+                           std::to_string(a.files.size()));
     else if (bad == 0) set = check_set(a.files);
     else set.errors.push_back("--set: not checked, a file above is unsound");
   }

@@ -26,7 +26,10 @@ struct ValidateArgs {
 };
 int run_validate(const ValidateArgs& a);
 
-struct InspectArgs { std::string file; bool json = false; };
+struct InspectArgs {
+  std::string file;
+  bool json = false;
+};
 int run_inspect(const InspectArgs& a);
 
 struct BakeObjectArgs {
@@ -34,19 +37,19 @@ struct BakeObjectArgs {
   std::string out;
   bool json = false;
   double scale = 1.0;
-  std::string com_text;             // "x,y,z": overrides the computed center of mass
-  double mass = 0;                  // <= 0: from volume at 1000 kg/m^3
-  std::string gripper;              // YAML; empty: the built-in dmgarm hand
+  std::string com_text;  // "x,y,z": overrides the computed center of mass
+  double mass = 0;       // <= 0: from volume at 1000 kg/m^3
+  std::string gripper;   // YAML; empty: the built-in dmgarm hand
   tools::DmgOptions dmg;
   tools::FaceOptions faces;
-  double rotation_weight = 0.1;     // grasp graph: cost of in-hand rotation (m per rad)
+  double rotation_weight = 0.1;  // grasp graph: cost of in-hand rotation (m per rad)
   // Scans only.
-  std::string crop_text, near_text; // "x0,y0,z0,x1,y1,z1" / "x,y,z"
+  std::string crop_text, near_text;  // "x0,y0,z0,x1,y1,z1" / "x,y,z"
   tools::ScanSegmentOptions segment;
   std::string support_plane = "auto";
   tools::ReconstructOptions reconstruct;
   std::string reconstruct_method = "poisson";
-  std::string dmg_from = "mesh";    // mesh: patches of the reconstructed surface; points: supervoxels of the scan
+  std::string dmg_from = "mesh";  // mesh: patches of the reconstructed surface; points: supervoxels of the scan
   // Every option above as a row (option_table.hpp): CLI binding and header parameters in one place.
   OptionTable options();
 };
@@ -72,16 +75,16 @@ int run_bake_env(const BakeEnvArgs& a);
 
 struct BakeRobotArgs {
   std::string urdf, srdf, arm, out;
-  std::string joint_limits;         // MoveIt joint_limits.yaml
+  std::string joint_limits;  // MoveIt joint_limits.yaml
   bool json = false;
-  std::string tcp_text;             // TCP pose on the tip: x,y,z,qx,qy,qz,qw
+  std::string tcp_text;  // TCP pose on the tip: x,y,z,qx,qy,qz,qw
   std::vector<std::string> package_paths;
-  std::string write_srdf;           // without --srdf: write the computed allowed pairs here
-  std::string fixed_joints;         // name=value,... joints outside the chain frozen there
+  std::string write_srdf;    // without --srdf: write the computed allowed pairs here
+  std::string fixed_joints;  // name=value,... joints outside the chain frozen there
   tools::SphereCoverOptions spheres;
-  double self_table_step = 0.02;    // radians between self-distance table nodes (0: none)
+  double self_table_step = 0.02;  // radians between self-distance table nodes (0: none)
   tools::SelfTableOptions self_tables;
-  int threads = 0;                  // 0: every CPU the process may use (its affinity mask)
+  int threads = 0;  // 0: every CPU the process may use (its affinity mask)
   tools::AllowedCollisionOptions allowed;
   OptionTable options();  // every option as a row (option_table.hpp)
 };
@@ -99,7 +102,7 @@ int run_plan(const PlanArgs& a);
 struct BenchMbmArgs {
   std::vector<std::string> dirs;
   std::string robot, csv;
-  std::string planners = "both";  // ours, stock or both
+  std::string planners = "both";     // ours, stock or both
   std::string stock_bvh = "obbrss";  // the baseline's FCL mesh BVHs: obbrss (MoveIt's) or obb
   std::string field = "auto";        // ours: auto (none for a scene of few primitives) or always
   int runs = 1, limit = 0;
@@ -117,7 +120,7 @@ struct PlaceArgs {
   std::string variant;  // empty: the query's
   std::string pusher;   // empty: the query's; "none": no pusher
   bool json = false;
-  bool allow_outside = false;  // artifact paths may leave the artifact folder
+  bool allow_outside = false;              // artifact paths may leave the artifact folder
   std::string trajectory_format = "json";  // json or moveit
 };
 int run_place(const PlaceArgs& a);
@@ -130,7 +133,9 @@ struct ExperimentArgs {
 };
 int run_experiment(const ExperimentArgs& a);
 
-struct PlotArgs { std::string dir; };
+struct PlotArgs {
+  std::string dir;
+};
 int run_plot(const PlotArgs& a);
 
 struct ViewArgs {
@@ -140,7 +145,9 @@ struct ViewArgs {
 };
 int run_view(const ViewArgs& a);
 
-struct MakeObjectsArgs { std::string out_dir; };
+struct MakeObjectsArgs {
+  std::string out_dir;
+};
 int run_make_objects(const MakeObjectsArgs& a);
 
 struct BatchArgs {
@@ -153,9 +160,14 @@ struct BatchArgs {
   int array_size = 4;
 };
 int run_batch(const BatchArgs& a);
-struct BatchStatusArgs { std::string dir; bool json = false; };
+struct BatchStatusArgs {
+  std::string dir;
+  bool json = false;
+};
 int run_batch_status(const BatchStatusArgs& a);
-struct BatchCollectArgs { std::string dir, out, csv; };  // out: DATASET.h5, csv: the runs table; at least one
+struct BatchCollectArgs {
+  std::string dir, out, csv;
+};  // out: DATASET.h5, csv: the runs table; at least one
 int run_batch_collect(const BatchCollectArgs& a);
 
 }  // namespace dmgplace::cli

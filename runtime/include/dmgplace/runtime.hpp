@@ -71,7 +71,7 @@ class DMGPLACE_RUNTIME_EXPORT World {
   World(const World&) = delete;
   World& operator=(const World&) = delete;
 
-  int dof() const;                                  // joints of the arm chain
+  int dof() const;                                      // joints of the arm chain
   const std::vector<std::string>& joint_names() const;  // in the order of every q and JointPath
   Eigen::VectorXd lower_limits() const;
   Eigen::VectorXd upper_limits() const;
@@ -88,38 +88,39 @@ class DMGPLACE_RUNTIME_EXPORT World {
   std::unique_ptr<Impl> impl_;
 };
 
-using runtime::StopCondition;  // runtime/stop_condition.hpp, with stop_after_seconds and stop_after_iterations
 using runtime::stop_after_iterations;
 using runtime::stop_after_seconds;
+using runtime::StopCondition;  // runtime/stop_condition.hpp, with stop_after_seconds and stop_after_iterations
 using SolutionCallback = std::function<void(const runtime::PlacementSolution&)>;
 
 // The anytime placement search of Haustein, Cruciani et al. until `stop()` says so. q0 must be
 // within the arm's limits; dmgplace::Error (naming query.source) when the query does not fit.
-DMGPLACE_RUNTIME_EXPORT runtime::PlacementResult place(const World& world, const runtime::PlacementQuery& query, const StopCondition& stop,
-                               const SolutionCallback& on_solution = {});
+DMGPLACE_RUNTIME_EXPORT runtime::PlacementResult place(const World& world, const runtime::PlacementQuery& query,
+                                                       const StopCondition& stop,
+                                                       const SolutionCallback& on_solution = {});
 
 // G(g0): every grasp reachable in-hand from the initial TCP pose `g0` (object frame), cheapest
 // first, with the actions to each (ReachableGrasps::actions_to).
 DMGPLACE_RUNTIME_EXPORT runtime::ReachableGrasps reachable_grasps(const World& world, const Eigen::Isometry3d& g0,
-                                                                 std::optional<double> opening = std::nullopt);
+                                                                  std::optional<double> opening = std::nullopt);
 
 // An arm motion query: from `start` to `goal` through the world's environment, holding the
 // object at `grasp` (TCP in the object frame) or empty-handed.
 struct MotionQuery {
-  Eigen::VectorXd start, goal;              // arm chain joints, within limits
-  std::optional<Eigen::Isometry3d> grasp;   // empty: empty-handed
-  double time_limit = 1.0;                  // s, [0, 1e6]
+  Eigen::VectorXd start, goal;             // arm chain joints, within limits
+  std::optional<Eigen::Isometry3d> grasp;  // empty: empty-handed
+  double time_limit = 1.0;                 // s, [0, 1e6]
   std::uint64_t seed = 1;
-  double resolution = 0.05;                 // joint-space collision check step (rad), [1e-4, 1]
-  runtime::TimingOptions timing;            // the returned path's timing (velocity/acceleration scaling)
+  double resolution = 0.05;       // joint-space collision check step (rad), [1e-4, 1]
+  runtime::TimingOptions timing;  // the returned path's timing (velocity/acceleration scaling)
 };
 
 struct MotionResult {
   bool solved = false;
-  runtime::JointPath path;        // start ... goal, every segment free at `resolution`
-  runtime::Trajectory trajectory; // `path` timed under the arm's limits (query.timing)
-  double seconds = 0;             // planning and timing
-  std::string reason;             // why not, when not solved
+  runtime::JointPath path;         // start ... goal, every segment free at `resolution`
+  runtime::Trajectory trajectory;  // `path` timed under the arm's limits (query.timing)
+  double seconds = 0;              // planning and timing
+  std::string reason;              // why not, when not solved
 };
 
 // Bidirectional RRT-Connect with the two-layer collision checker, shortcut, then timed

@@ -52,19 +52,20 @@ std::shared_ptr<const World> World::load(const std::filesystem::path& robot, con
   auto robot_artifact = formats::load_robot(robot);
   auto environment_artifact = formats::load_environment(environment);
   std::shared_ptr<World> w(new World());
-  w->impl_->world = std::make_unique<runtime::PlacementWorld>(std::move(robot_artifact), std::move(held_object),
-                                                              std::move(environment_artifact), finger_opening.value_or(-1),
-                                                              joint_values, std::move(held));
+  w->impl_->world = std::make_unique<runtime::PlacementWorld>(
+      std::move(robot_artifact), std::move(held_object), std::move(environment_artifact), finger_opening.value_or(-1),
+      joint_values, std::move(held));
   return w;
 }
 
 std::shared_ptr<const World> World::from_artifacts(formats::RobotArtifact robot, formats::ObjectArtifact object,
-                                                   formats::EnvironmentArtifact environment, std::optional<double> finger_opening,
+                                                   formats::EnvironmentArtifact environment,
+                                                   std::optional<double> finger_opening,
                                                    const std::map<std::string, double>& joint_values) {
   check_opening(finger_opening);
   std::shared_ptr<World> w(new World());
-  w->impl_->world = std::make_unique<runtime::PlacementWorld>(std::move(robot), std::move(object), std::move(environment),
-                                                              finger_opening.value_or(-1), joint_values);
+  w->impl_->world = std::make_unique<runtime::PlacementWorld>(
+      std::move(robot), std::move(object), std::move(environment), finger_opening.value_or(-1), joint_values);
   return w;
 }
 
@@ -89,9 +90,11 @@ runtime::PlacementResult place(const World& world, const runtime::PlacementQuery
   return planner.run(stop, on_solution);
 }
 
-runtime::ReachableGrasps reachable_grasps(const World& world, const Eigen::Isometry3d& g0, std::optional<double> opening) {
+runtime::ReachableGrasps reachable_grasps(const World& world, const Eigen::Isometry3d& g0,
+                                          std::optional<double> opening) {
   if (!g0.matrix().allFinite()) throw Error("reachable_grasps", "g0", "not finite");
-  if (opening && !(std::isfinite(*opening) && *opening > 0)) throw Error("reachable_grasps", "opening", "must be finite and > 0 (m)");
+  if (opening && !(std::isfinite(*opening) && *opening > 0))
+    throw Error("reachable_grasps", "opening", "must be finite and > 0 (m)");
   return runtime::reachable_grasps(planner_world(world).grasp_graph(), g0, opening);
 }
 
@@ -100,18 +103,22 @@ namespace {
 void check_motion_query(const runtime::Kinematics& kin, const MotionQuery& q) {
   for (const auto* x : {&q.start, &q.goal}) {
     const char* which = x == &q.start ? "start" : "goal";
-    if (x->size() != kin.dof() || !x->allFinite()) throw Error("plan_motion", which, "needs " + std::to_string(kin.dof()) + " finite joint values");
+    if (x->size() != kin.dof() || !x->allFinite())
+      throw Error("plan_motion", which, "needs " + std::to_string(kin.dof()) + " finite joint values");
     if (!kin.within_limits(*x, 1e-9)) throw Error("plan_motion", which, "outside the joint limits");
   }
   if (q.grasp && !q.grasp->matrix().allFinite()) throw Error("plan_motion", "grasp", "not finite");
-  if (!(q.resolution >= 1e-4 && q.resolution <= 1)) throw Error("plan_motion", "resolution", "must be in [1e-4, 1] rad");
+  if (!(q.resolution >= 1e-4 && q.resolution <= 1))
+    throw Error("plan_motion", "resolution", "must be in [1e-4, 1] rad");
   if (!(q.time_limit >= 0 && q.time_limit <= 1e6)) throw Error("plan_motion", "time_limit", "must be in [0, 1e6] s");
   if (!(q.timing.velocity_scaling > 0 && q.timing.velocity_scaling <= 1))
     throw Error("plan_motion", "timing.velocity_scaling", "must be in (0, 1]");
   if (!(q.timing.acceleration_scaling > 0 && q.timing.acceleration_scaling <= 1))
     throw Error("plan_motion", "timing.acceleration_scaling", "must be in (0, 1]");
-  if (!(q.timing.max_deviation > 0 && q.timing.max_deviation <= 1)) throw Error("plan_motion", "timing.max_deviation", "must be in (0, 1] rad");
-  if (!(q.timing.sample_period > 0 && q.timing.sample_period <= 1)) throw Error("plan_motion", "timing.sample_period", "must be in (0, 1] s");
+  if (!(q.timing.max_deviation > 0 && q.timing.max_deviation <= 1))
+    throw Error("plan_motion", "timing.max_deviation", "must be in (0, 1] rad");
+  if (!(q.timing.sample_period > 0 && q.timing.sample_period <= 1))
+    throw Error("plan_motion", "timing.sample_period", "must be in (0, 1] s");
 }
 
 }  // namespace
@@ -121,7 +128,8 @@ MotionResult plan_motion(const World& world, const MotionQuery& query) {
   const auto& pw = planner_world(world);
   const auto& kin = pw.kinematics();
   check_motion_query(kin, query);
-  const runtime::TwoLayerChecker checker = query.grasp ? pw.grasp_checker(*query.grasp, -1, nullptr) : pw.arm_checker(nullptr);
+  const runtime::TwoLayerChecker checker =
+      query.grasp ? pw.grasp_checker(*query.grasp, -1, nullptr) : pw.arm_checker(nullptr);
   auto si = runtime::make_arm_space(kin, checker, query.resolution);
   MotionResult out;
   const auto since = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };

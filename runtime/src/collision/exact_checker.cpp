@@ -68,11 +68,11 @@ class DistanceGeometry {
 };
 
 struct Part {
-  int link;               // robot link, or -1 for the attached object
-  Geometry geometry;      // for collision queries
+  int link;                                    // robot link, or -1 for the attached object
+  Geometry geometry;                           // for collision queries
   std::shared_ptr<DistanceGeometry> distance;  // links only
-  Eigen::Isometry3d local;  // in the link frame
-  std::shared_ptr<const ConvexSolid> convex;  // for gaps: the primitive, or a mesh's hull (null: none)
+  Eigen::Isometry3d local;                     // in the link frame
+  std::shared_ptr<const ConvexSolid> convex;   // for gaps: the primitive, or a mesh's hull (null: none)
 };
 
 // FCL's CollisionObject constructor rewrites its geometry's local bounds (a mesh's radius passes
@@ -136,8 +136,7 @@ class ObjectPool {
     }
     auto s = std::make_unique<Set>();
     std::lock_guard<std::mutex> lock(fcl_object_mutex());
-    for (const auto& p : parts)
-      s->push_back(std::make_unique<PooledObject>(p.geometry));
+    for (const auto& p : parts) s->push_back(std::make_unique<PooledObject>(p.geometry));
     return s;
   }
   void release(std::unique_ptr<Set> s) {
@@ -151,8 +150,8 @@ class ObjectPool {
 
 struct CollisionMesh::Impl {
   Geometry geometry;
-  std::vector<Part> parts;     // the mesh alone, for its object pool
-  mutable ObjectPool pool;     // mesh_free places it without building an FCL object per call
+  std::vector<Part> parts;  // the mesh alone, for its object pool
+  mutable ObjectPool pool;  // mesh_free places it without building an FCL object per call
 };
 
 CollisionMesh::CollisionMesh(const TriMesh& mesh) {
@@ -173,9 +172,9 @@ struct ExactChecker::Impl {
   std::shared_ptr<std::vector<std::unique_ptr<fcl::CollisionObjectd>>> env_objects;
   std::shared_ptr<std::vector<std::string>> env_names;
   std::shared_ptr<fcl::DynamicAABBTreeCollisionManagerd> env;
-  std::vector<int> touching;  // links the attached object may touch
+  std::vector<int> touching;                                          // links the attached object may touch
   std::shared_ptr<ObjectPool> pool = std::make_shared<ObjectPool>();  // per parts list, never copied
-  bool env_primitives = true;  // every scene shape is a box, cylinder or sphere
+  bool env_primitives = true;                                         // every scene shape is a box, cylinder or sphere
   bool link_meshes = false;  // some link shape is a mesh (FCL tests it through a hierarchy)
   // The scene's primitives as convex solids with their poses, for gaps (when env_primitives).
   std::shared_ptr<std::vector<std::pair<ConvexSolid, Eigen::Isometry3d>>> env_convex;
@@ -198,7 +197,6 @@ bool env_callback(fcl::CollisionObjectd* a, fcl::CollisionObjectd* b, void* data
   }
   return false;
 }
-
 
 void build_self_pairs(ExactChecker::Impl& impl, const Kinematics& kin) {
   const auto& allowed = kin.model().allowed_pairs;
@@ -249,7 +247,8 @@ static void set_environment(ExactChecker::Impl& impl, const Scene& env, double s
     impl.env_primitives = false;
     auto tree = std::make_shared<octomap::OcTree>(scan_resolution);
     for (Eigen::Index i = 0; i < env.points.rows(); ++i)
-      tree->updateNode(octomap::point3d(float(env.points(i, 0)), float(env.points(i, 1)), float(env.points(i, 2))), true);
+      tree->updateNode(octomap::point3d(float(env.points(i, 0)), float(env.points(i, 1)), float(env.points(i, 2))),
+                       true);
     tree->updateInnerOccupancy();
     impl.env_names->push_back("scan");
     auto obj = std::make_unique<fcl::CollisionObjectd>(std::make_shared<fcl::OcTreed>(tree));
@@ -328,8 +327,9 @@ ExactCheck ExactChecker::check(const Eigen::VectorXd& q) const {
     if (hit.hit) {
       out.environment_free = false;
       std::size_t name = reinterpret_cast<std::size_t>(hit.other->getUserData());
-      out.contact = (impl.part_is_object[i] ? std::string("held object") : impl.link_names[std::size_t(impl.parts[i].link)]) +
-                    " / " + (name > 0 ? (*impl.env_names)[name - 1] : std::string("?"));
+      out.contact =
+          (impl.part_is_object[i] ? std::string("held object") : impl.link_names[std::size_t(impl.parts[i].link)]) +
+          " / " + (name > 0 ? (*impl.env_names)[name - 1] : std::string("?"));
       return out;
     }
   }
@@ -339,7 +339,8 @@ ExactCheck ExactChecker::check(const Eigen::VectorXd& q) const {
     if (fcl::collide(objs[std::size_t(a)], objs[std::size_t(b)], req, res) > 0) {
       out.self_free = false;
       auto name = [&](int k) {
-        return impl.part_is_object[std::size_t(k)] ? std::string("held object") : impl.link_names[std::size_t(impl.parts[std::size_t(k)].link)];
+        return impl.part_is_object[std::size_t(k)] ? std::string("held object")
+                                                   : impl.link_names[std::size_t(impl.parts[std::size_t(k)].link)];
       };
       out.contact = name(a) + " / " + name(b);
       return out;
@@ -355,8 +356,9 @@ constexpr double kGapTolerance = 1e-4;
 
 // The scene's primitives by the gap between their bounding balls and the part's, nearest first
 // (this thread's list, valid until the next call).
-const std::vector<std::pair<double, std::size_t>>& by_ball_gap(const ConvexSolid& part, const Eigen::Isometry3d& pose,
-                                                                const std::vector<std::pair<ConvexSolid, Eigen::Isometry3d>>& env) {
+const std::vector<std::pair<double, std::size_t>>& by_ball_gap(
+    const ConvexSolid& part, const Eigen::Isometry3d& pose,
+    const std::vector<std::pair<ConvexSolid, Eigen::Isometry3d>>& env) {
   thread_local std::vector<std::pair<double, std::size_t>> order;
   const Eigen::Vector3d c = pose * part.center();
   order.clear();
@@ -371,8 +373,8 @@ const std::vector<std::pair<double, std::size_t>>& by_ball_gap(const ConvexSolid
 // ball is farther than the gap so far cannot lower it.
 // `hints`: one per scene primitive, where this part's last query of each ended (convex_gap).
 double part_environment_gap(const ConvexSolid& part, const Eigen::Isometry3d& pose,
-                            const std::vector<std::pair<ConvexSolid, Eigen::Isometry3d>>& env, double enough, double gap,
-                            GapHint* hints) {
+                            const std::vector<std::pair<ConvexSolid, Eigen::Isometry3d>>& env, double enough,
+                            double gap, GapHint* hints) {
   const auto& order = by_ball_gap(part, pose, env);
   for (const auto& [ball_gap, k] : order) {
     // Past `enough` by the margin a computed gap gives up, a ball proves enough on its own.
@@ -395,10 +397,12 @@ double part_environment_time(const ConvexSolid& part, const Eigen::Isometry3d& p
   for (const auto& [ball_gap, k] : order) {
     if (t <= 0 || ball_gap - kGapTolerance >= bound) break;  // this ball, and every farther one, lasts longer
     Eigen::Vector3d n;
-    double gap = convex_gap(part, pose, env[k].first, env[k].second, 1e-5, enough_gap + kGapTolerance, &hints[k], &n) - kGapTolerance;
+    double gap = convex_gap(part, pose, env[k].first, env[k].second, 1e-5, enough_gap + kGapTolerance, &hints[k], &n) -
+                 kGapTolerance;
     double tk = gap > 0 ? time(gap, n) : 0.0;
     if (gap > enough_gap && tk < enough_time) {  // stopped early, yet short: the whole gap
-      gap = convex_gap(part, pose, env[k].first, env[k].second, 1e-5, std::numeric_limits<double>::infinity(), &hints[k], &n) -
+      gap = convex_gap(part, pose, env[k].first, env[k].second, 1e-5, std::numeric_limits<double>::infinity(),
+                       &hints[k], &n) -
             kGapTolerance;
       tk = gap > 0 ? time(gap, n) : 0.0;
     }
@@ -452,10 +456,11 @@ bool ExactChecker::mesh_free(const CollisionMesh& mesh, const Eigen::Isometry3d&
   return !hit.hit;
 }
 
-bool ExactChecker::links_environment_free(const std::vector<Eigen::Isometry3d>& poses, const int* links, int count, bool object,
-                                          const std::uint64_t* masks) const {
+bool ExactChecker::links_environment_free(const std::vector<Eigen::Isometry3d>& poses, const int* links, int count,
+                                          bool object, const std::uint64_t* masks) const {
   if (count == 0 && !object) return true;
-  if (poses.size() != kin_->model().links.size()) throw Error("ExactChecker", "link poses", "one pose per link expected");
+  if (poses.size() != kin_->model().links.size())
+    throw Error("ExactChecker", "link poses", "one pose per link expected");
   const Impl& impl = *impl_;
   ObjectPool::Lease lease(*impl.pool, impl.parts);
   const auto& env = *impl.env_objects;
@@ -486,9 +491,11 @@ bool ExactChecker::links_environment_free(const std::vector<Eigen::Isometry3d>& 
   return true;
 }
 
-bool ExactChecker::link_pairs_free(const std::vector<Eigen::Isometry3d>& poses, const std::pair<int, int>* pairs, int count) const {
+bool ExactChecker::link_pairs_free(const std::vector<Eigen::Isometry3d>& poses, const std::pair<int, int>* pairs,
+                                   int count) const {
   if (count == 0) return true;
-  if (poses.size() != kin_->model().links.size()) throw Error("ExactChecker", "link poses", "one pose per link expected");
+  if (poses.size() != kin_->model().links.size())
+    throw Error("ExactChecker", "link poses", "one pose per link expected");
   const Impl& impl = *impl_;
   fcl::CollisionRequestd req;
   ObjectPool::Lease lease(*impl.pool, impl.parts);
@@ -510,7 +517,8 @@ bool ExactChecker::link_pairs_free(const std::vector<Eigen::Isometry3d>& poses, 
 }
 
 std::vector<std::pair<int, int>> ExactChecker::colliding_link_pairs(const std::vector<Eigen::Isometry3d>& poses) const {
-  if (poses.size() != kin_->model().links.size()) throw Error("ExactChecker", "link poses", "one pose per link expected");
+  if (poses.size() != kin_->model().links.size())
+    throw Error("ExactChecker", "link poses", "one pose per link expected");
   const Impl& impl = *impl_;
   fcl::CollisionRequestd req;
   ObjectPool::Lease lease(*impl.pool, impl.parts);
@@ -556,7 +564,8 @@ namespace {
 // (a gap or a time, from infinity) while it stays positive. 0 when the scene is not all primitives
 // or a part has no hull.
 template <class Each>
-double over_link_parts(const ExactChecker::Impl& impl, const std::vector<Eigen::Isometry3d>& poses, int link, Each&& each) {
+double over_link_parts(const ExactChecker::Impl& impl, const std::vector<Eigen::Isometry3d>& poses, int link,
+                       Each&& each) {
   if (!impl.env_primitives) return 0.0;
   double value = std::numeric_limits<double>::infinity();
   const std::size_t np = impl.parts.size(), ne = impl.env_convex ? impl.env_convex->size() : 0;
@@ -572,18 +581,20 @@ double over_link_parts(const ExactChecker::Impl& impl, const std::vector<Eigen::
 }  // namespace
 
 double ExactChecker::link_environment_gap(const std::vector<Eigen::Isometry3d>& poses, int link, double enough) const {
-  return over_link_parts(*impl_, poses, link, [&](const ConvexSolid& part, const Eigen::Isometry3d& pose, double gap, GapHint* hints) {
-    return part_environment_gap(part, pose, *impl_->env_convex, enough, gap, hints);
-  });
+  return over_link_parts(*impl_, poses, link,
+                         [&](const ConvexSolid& part, const Eigen::Isometry3d& pose, double gap, GapHint* hints) {
+                           return part_environment_gap(part, pose, *impl_->env_convex, enough, gap, hints);
+                         });
 }
 
 double ExactChecker::link_environment_time(const std::vector<Eigen::Isometry3d>& poses, int link, double enough_gap,
                                            double enough_time,
                                            const std::function<double(double, const Eigen::Vector3d&)>& time,
                                            const std::function<double(double)>& reach) const {
-  const double t =
-      over_link_parts(*impl_, poses, link, [&](const ConvexSolid& part, const Eigen::Isometry3d& pose, double sofar, GapHint* hints) {
-        return part_environment_time(part, pose, *impl_->env_convex, enough_gap, enough_time, time, reach, sofar, hints);
+  const double t = over_link_parts(
+      *impl_, poses, link, [&](const ConvexSolid& part, const Eigen::Isometry3d& pose, double sofar, GapHint* hints) {
+        return part_environment_time(part, pose, *impl_->env_convex, enough_gap, enough_time, time, reach, sofar,
+                                     hints);
       });
   // Shapes were skipped as lasting `enough_time`, not as lasting t.
   return std::min(t, enough_time);
@@ -598,7 +609,8 @@ bool ExactChecker::gaps_are_cheap() const {
 
 bool ExactChecker::links_have_meshes() const { return impl_->link_meshes; }
 
-double ExactChecker::link_pair_gap(const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b, double enough) const {
+double ExactChecker::link_pair_gap(const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b,
+                                   double enough) const {
   const Impl& impl = *impl_;
   double gap = std::numeric_limits<double>::infinity();
   const std::size_t np = impl.parts.size(), ne = impl.env_convex ? impl.env_convex->size() : 0;
@@ -611,9 +623,10 @@ double ExactChecker::link_pair_gap(const std::vector<Eigen::Isometry3d>& poses, 
       const Part& pb = impl.parts[j];
       if (impl.part_is_object[j] || pb.link != link_b) continue;
       if (!pb.convex) return 0.0;
-      gap = std::min(gap, convex_gap(*pa.convex, poses[std::size_t(link_a)] * pa.local, *pb.convex,
-                                     poses[std::size_t(link_b)] * pb.local, 1e-5, enough + kGapTolerance, &hints[i * np + j]) -
-                              kGapTolerance);
+      gap = std::min(
+          gap, convex_gap(*pa.convex, poses[std::size_t(link_a)] * pa.local, *pb.convex,
+                          poses[std::size_t(link_b)] * pb.local, 1e-5, enough + kGapTolerance, &hints[i * np + j]) -
+                   kGapTolerance);
     }
   }
   return gap;
@@ -625,7 +638,8 @@ bool ExactChecker::segment_free(const Eigen::VectorXd& a, const Eigen::VectorXd&
 
 ExactChecker ExactChecker::with_kinematics(const Kinematics& kin) const {
   if (&kin.model() != &kin_->model())
-    throw Error("ExactChecker", "kinematics", "a different robot model: only joint values outside the chain may differ");
+    throw Error("ExactChecker", "kinematics",
+                "a different robot model: only joint values outside the chain may differ");
   ExactChecker c(*this);
   c.kin_ = &kin;
   return c;

@@ -30,10 +30,17 @@ std::shared_ptr<fcl::CollisionGeometryd> fcl_mesh(const TriMesh& mesh, FclMeshNo
 std::shared_ptr<fcl::CollisionGeometryd> fcl_geometry(const Shape& s, FclMeshNodes mesh_nodes) {
   std::shared_ptr<fcl::CollisionGeometryd> g;
   switch (s.type) {
-    case ShapeType::Box: g = std::make_shared<fcl::Boxd>(s.size.x(), s.size.y(), s.size.z()); break;
-    case ShapeType::Cylinder: g = std::make_shared<fcl::Cylinderd>(s.size[0], s.size[1]); break;
-    case ShapeType::Sphere: g = std::make_shared<fcl::Sphered>(s.size[0]); break;
-    case ShapeType::Mesh: return fcl_mesh(s.mesh, mesh_nodes);
+    case ShapeType::Box:
+      g = std::make_shared<fcl::Boxd>(s.size.x(), s.size.y(), s.size.z());
+      break;
+    case ShapeType::Cylinder:
+      g = std::make_shared<fcl::Cylinderd>(s.size[0], s.size[1]);
+      break;
+    case ShapeType::Sphere:
+      g = std::make_shared<fcl::Sphered>(s.size[0]);
+      break;
+    case ShapeType::Mesh:
+      return fcl_mesh(s.mesh, mesh_nodes);
   }
   g->computeLocalAABB();
   return g;

@@ -48,7 +48,7 @@ class CubeLattice {
       : m_(m), start_(start), cell_(cell), n_(n), near_(std::size_t(n.prod())) {
     const double scale = std::max({start.cwiseAbs().maxCoeff(), cell * n.maxCoeff(), 1e-3});
     const double reach = radius + 1e-9 * scale;  // only triangles surely beyond reach are left out
-    const double touch = 1e-9 * scale;  // a line through a triangle passes through its box
+    const double touch = 1e-9 * scale;           // a line through a triangle passes through its box
     for (int a = 0; a < 3; ++a) crossing_[a].resize(std::size_t(n.prod() / n[a]));
     for (int t = 0; t < m.triangles.rows(); ++t) {
       Eigen::AlignedBox3d box;
@@ -66,7 +66,9 @@ class CubeLattice {
     }
   }
 
-  Eigen::Vector3d center(int i, int j, int k) const { return start_ + cell_ * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5); }
+  Eigen::Vector3d center(int i, int j, int k) const {
+    return start_ + cell_ * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5);
+  }
   const std::vector<int>& near(int i, int j, int k) const { return near_[index(i, j, k)]; }
 
   // inside_mesh at a cube center: the same three axis rays, tested only against the triangles
@@ -77,7 +79,8 @@ class CubeLattice {
     int votes = 0;
     for (int axis = 0; axis < 3; ++axis) {
       int hits = 0;
-      for (int t : crossing_[axis][line(axis, cube[(axis + 1) % 3], cube[(axis + 2) % 3])]) hits += crosses(m_, t, c, axis);
+      for (int t : crossing_[axis][line(axis, cube[(axis + 1) % 3], cube[(axis + 2) % 3])])
+        hits += crosses(m_, t, c, axis);
       votes += hits % 2;
     }
     return votes >= 2;
@@ -96,8 +99,12 @@ class CubeLattice {
     return out;
   }
   // Lines along `axis`, by the cube indices y, z on the next two axes (cyclically).
-  std::size_t line(int axis, int y, int z) const { return std::size_t(y) + std::size_t(n_[(axis + 1) % 3]) * std::size_t(z); }
-  std::size_t index(int i, int j, int k) const { return std::size_t(i) + std::size_t(n_.x()) * (std::size_t(j) + std::size_t(n_.y()) * k); }
+  std::size_t line(int axis, int y, int z) const {
+    return std::size_t(y) + std::size_t(n_[(axis + 1) % 3]) * std::size_t(z);
+  }
+  std::size_t index(int i, int j, int k) const {
+    return std::size_t(i) + std::size_t(n_.x()) * (std::size_t(j) + std::size_t(n_.y()) * k);
+  }
 
   const TriMesh& m_;
   Eigen::Vector3d start_;
@@ -136,7 +143,9 @@ SphereSet cover_object(const TriMesh& m, int cells_per_axis) {
         double d2 = std::numeric_limits<double>::infinity();
         for (int t : lattice.near(i, j, k)) {
           if (d2 <= radius * radius) break;
-          d2 = std::min(d2, (formats::closest_point_on_triangle(c, vertex(m, t, 0), vertex(m, t, 1), vertex(m, t, 2)) - c).squaredNorm());
+          d2 = std::min(d2,
+                        (formats::closest_point_on_triangle(c, vertex(m, t, 0), vertex(m, t, 1), vertex(m, t, 2)) - c)
+                            .squaredNorm());
         }
         // A cube touches the surface when the surface comes within its circumscribed sphere.
         if (d2 <= radius * radius || lattice.inside(i, j, k)) {

@@ -40,12 +40,14 @@ DMGPLACE_LANES_INLINE double blocks_min(const std::vector<Block>& blocks, const 
     for (int h = 0; h < 4; h += L) {
       const V dx = px - load(&b.origin[0][h]), dy = py - load(&b.origin[1][h]), dz = pz - load(&b.origin[2][h]);
       auto row = [&](int r) {
-        return load(&b.to_local[3 * r][h]) * dx + load(&b.to_local[3 * r + 1][h]) * dy + load(&b.to_local[3 * r + 2][h]) * dz;
+        return load(&b.to_local[3 * r][h]) * dx + load(&b.to_local[3 * r + 1][h]) * dy +
+               load(&b.to_local[3 * r + 2][h]) * dz;
       };
       const V lx = row(0), ly = row(1), lz = row(2);
       V d;
       if (b.type == ShapeType::Box) {
-        const V qx = abs(lx) - load(&b.half[0][h]), qy = abs(ly) - load(&b.half[1][h]), qz = abs(lz) - load(&b.half[2][h]);
+        const V qx = abs(lx) - load(&b.half[0][h]), qy = abs(ly) - load(&b.half[1][h]),
+                qz = abs(lz) - load(&b.half[2][h]);
         const V ox = max0(qx), oy = max0(qy), oz = max0(qz);
         d = sqrt(ox * ox + oy * oy + oz * oz) + min(max(qx, max(qy, qz)), zero);
       } else if (b.type == ShapeType::Cylinder) {
@@ -120,14 +122,14 @@ DMGPLACE_LANES_INLINE void PrimitiveObstacles::lanes_min(const std::vector<LaneP
 }
 
 // No FMA here either: both paths round alike.
-__attribute__((target("avx2"), flatten)) void PrimitiveObstacles::distances_avx2(const std::vector<LanePrimitive>& prims,
-                                                                                const float* x, const float* y,
-                                                                                const float* z, float* out) {
+__attribute__((target("avx2"), flatten)) void PrimitiveObstacles::distances_avx2(
+    const std::vector<LanePrimitive>& prims, const float* x, const float* y, const float* z, float* out) {
   lanes_min(prims, x, y, z, out);
 }
 
-__attribute__((flatten)) void PrimitiveObstacles::distances_portable(const std::vector<LanePrimitive>& prims, const float* x,
-                                                                     const float* y, const float* z, float* out) {
+__attribute__((flatten)) void PrimitiveObstacles::distances_portable(const std::vector<LanePrimitive>& prims,
+                                                                     const float* x, const float* y, const float* z,
+                                                                     float* out) {
   lanes_min(prims, x, y, z, out);
 }
 

@@ -31,10 +31,14 @@ double local_signed_distance(ShapeType type, const Eigen::Vector3d& half, const 
 
 Eigen::Vector3d half_extents(const Shape& s) {
   switch (s.type) {
-    case ShapeType::Box: return 0.5 * s.size;
-    case ShapeType::Cylinder: return Eigen::Vector3d(s.size[0], 0, 0.5 * s.size[1]);  // FCL: axis z, centered
-    case ShapeType::Sphere: return Eigen::Vector3d::Constant(s.size[0]);
-    case ShapeType::Mesh: break;
+    case ShapeType::Box:
+      return 0.5 * s.size;
+    case ShapeType::Cylinder:
+      return Eigen::Vector3d(s.size[0], 0, 0.5 * s.size[1]);  // FCL: axis z, centered
+    case ShapeType::Sphere:
+      return Eigen::Vector3d::Constant(s.size[0]);
+    case ShapeType::Mesh:
+      break;
   }
   return Eigen::Vector3d::Zero();
 }
@@ -68,7 +72,7 @@ std::shared_ptr<const PrimitiveObstacles> PrimitiveObstacles::from_scene(const S
       p.half = half_extents(s);
       p.bound_radius = s.type == ShapeType::Box        ? p.half.norm()
                        : s.type == ShapeType::Cylinder ? std::hypot(p.half.x(), p.half.z())
-                                                        : p.half.x();
+                                                       : p.half.x();
       out->prims_.push_back(p);
       out->lanes_.push_back(to_lanes(p));
       out->extent_ = std::max(out->extent_, p.origin.cwiseAbs().maxCoeff() + p.bound_radius);

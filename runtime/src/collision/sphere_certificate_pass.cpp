@@ -29,7 +29,7 @@ void SphereFieldChecker::Pass::certificate() {
   // time kept, so the smallest-first scan reads only the candidates still short of it.
   double beyond = std::numeric_limits<double>::infinity();
   double isotropic = std::numeric_limits<double>::infinity();  // the smallest time a directional bound raised
-  auto keep = [&](std::size_t at) {  // after s.times[at] changed
+  auto keep = [&](std::size_t at) {                            // after s.times[at] changed
     if (s.times[at] < limit) return;
     beyond = std::min(beyond, s.times[at]);
     s.cands[at] = s.cands.back();
@@ -163,11 +163,14 @@ double SphereFieldChecker::Pass::field_sphere_gaps(const Candidate& cand, double
   for (int i = b.begin; i < b.end; ++i) {
     const auto& sp = c.spheres_[std::size_t(i)];
     const Eigen::Vector3d& w = s.world[std::size_t(i)];
-    const double co = known && !std::isnan(s.sphere_coarse[std::size_t(i)]) ? s.sphere_coarse[std::size_t(i)] : c.coarse_lower_bound(w);
-    const double fi = known && !std::isnan(s.sphere_fine[std::size_t(i)]) ? s.sphere_fine[std::size_t(i)] : c.fine_lower_bound(w);
+    const double co = known && !std::isnan(s.sphere_coarse[std::size_t(i)]) ? s.sphere_coarse[std::size_t(i)]
+                                                                            : c.coarse_lower_bound(w);
+    const double fi =
+        known && !std::isnan(s.sphere_fine[std::size_t(i)]) ? s.sphere_fine[std::size_t(i)] : c.fine_lower_bound(w);
     const double sc = std::max(co, fi) - sp.radius - c.padding_;
     s.sphere_gap[std::size_t(i)] = sc;
-    if (c.obstacles_ && (sc < kExactBelow || sc + sp.radius + c.padding_ > kBandShare * c.band_)) s.exact_order.push_back({sc, i});
+    if (c.obstacles_ && (sc < kExactBelow || sc + sp.radius + c.padding_ > kBandShare * c.band_))
+      s.exact_order.push_back({sc, i});
     else clearance = std::min(clearance, sc);
   }
   std::sort(s.exact_order.begin(), s.exact_order.end());
@@ -183,7 +186,8 @@ double SphereFieldChecker::Pass::field_sphere_gaps(const Candidate& cand, double
       }
       need = std::numeric_limits<double>::infinity();  // fell short: the rest exactly
     }
-    s.sphere_gap[std::size_t(i)] = std::max(sc, exact_distance(cand.index, i) - c.spheres_[std::size_t(i)].radius - c.padding_);
+    s.sphere_gap[std::size_t(i)] =
+        std::max(sc, exact_distance(cand.index, i) - c.spheres_[std::size_t(i)].radius - c.padding_);
     clearance = std::min(clearance, s.sphere_gap[std::size_t(i)]);
     ++k;
   }
@@ -244,8 +248,8 @@ void SphereFieldChecker::Pass::levers(std::size_t bi) {
   }
 }
 
-DisplacementBound SphereFieldChecker::Pass::ball_speed(std::size_t bi, const std::vector<ChainJoint>& joints, const int* at,
-                                                      BallVelocity* velocity) {
+DisplacementBound SphereFieldChecker::Pass::ball_speed(std::size_t bi, const std::vector<ChainJoint>& joints,
+                                                       const int* at, BallVelocity* velocity) {
   levers(bi);
   const Body& b = c.bodies_[bi];
   BallMotion m(s.body_center[bi], b.radius);

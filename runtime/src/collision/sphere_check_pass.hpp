@@ -26,13 +26,13 @@ struct SphereFieldChecker::Pass {
   // A clearance (a body's to the scene, a pair's gap) that limits the certificate, refined in
   // levels until its limit is final or beyond what the caller needs.
   struct Candidate {
-    double t;          // how long `clearance` lasts, as far as known
-    double clearance;  // metres
-    std::size_t index; // body, or pair
+    double t;           // how long `clearance` lasts, as far as known
+    double clearance;   // metres
+    std::size_t index;  // body, or pair
     bool pair;
-    bool fine;         // the clearance is already sphere by sphere
-    int level;         // 0 static speed, 1 local speed, 2 local speed and sphere clearances (final
-                       // unless `directional`)
+    bool fine;  // the clearance is already sphere by sphere
+    int level;  // 0 static speed, 1 local speed, 2 local speed and sphere clearances (final
+                // unless `directional`)
     DisplacementBound speed;
     bool exact_center = false;  // a body's bounding sphere was measured against the exact primitives
     bool directional = false;   // level 2 but short of the limit: a directional time may raise it
@@ -42,7 +42,7 @@ struct SphereFieldChecker::Pass {
     std::vector<Eigen::Vector3d> body_center, world;
     // Per body, what this query has done for it (BodyFlag bits): one clear per query.
     std::vector<std::uint8_t> body_flags;
-    std::vector<double> body_clear;   // certified mode: each body's clearance to the scene
+    std::vector<double> body_clear;  // certified mode: each body's clearance to the scene
     std::vector<Candidate> cands;
     std::vector<double> times;  // cands' t, packed: the certificate's smallest-first scan reads only these
     std::vector<std::pair<double, int>> exact_order;  // a body's spheres to ask the exact shapes: field bound, sphere
@@ -79,7 +79,7 @@ struct SphereFieldChecker::Pass {
 
   // Each returns false when the answer is final (a proven collision, or more pairs than fit).
   bool environment();
-  bool body_clear(std::size_t bi, bool exact);           // environment's steps
+  bool body_clear(std::size_t bi, bool exact);  // environment's steps
   bool environment_spheres(std::size_t bi, bool exact);
   void flag_environment_link(std::size_t bi);  // (once per body and query)
   bool self_pairs();
@@ -132,7 +132,9 @@ struct SphereFieldChecker::Pass {
   void distances_of(int count, Point point, double* out) const;
 
   // T p as R p + t: Eigen multiplies an Isometry3d's whole 4x4 matrix into (p, 1).
-  static Eigen::Vector3d moved(const Eigen::Isometry3d& T, const Eigen::Vector3d& p) { return T.linear() * p + T.translation(); }
+  static Eigen::Vector3d moved(const Eigen::Isometry3d& T, const Eigen::Vector3d& p) {
+    return T.linear() * p + T.translation();
+  }
   // World sphere centers of a body, computed at most once per query.
   void centers(std::size_t bi) {
     if (has(bi, kWorld)) return;
@@ -157,7 +159,9 @@ struct SphereFieldChecker::Pass {
     return speeds[index];
   }
   const double* speeds = nullptr;
-  bool outside(const Eigen::Vector3d& p) const { return ((p - c.lo_).array() < 0).any() || ((c.hi_ - p).array() < 0).any(); }
+  bool outside(const Eigen::Vector3d& p) const {
+    return ((p - c.lo_).array() < 0).any() || ((c.hi_ - p).array() < 0).any();
+  }
 
   const SphereFieldChecker& c;
   const Eigen::VectorXd* q;  // null for a speed query (link_time, pair_time): no self pairs then

@@ -172,15 +172,17 @@ void SphereFieldChecker::Pass::exact_distances(std::size_t bi) {
   mark(bi, kDistances);
   centers(bi);
   const Body& b = c.bodies_[bi];
-  distances_of(b.end - b.begin, [&](int k) -> const Eigen::Vector3d& { return s.world[std::size_t(b.begin + k)]; },
-               &s.sphere_exact[std::size_t(b.begin)]);
+  distances_of(
+      b.end - b.begin, [&](int k) -> const Eigen::Vector3d& { return s.world[std::size_t(b.begin + k)]; },
+      &s.sphere_exact[std::size_t(b.begin)]);
 }
 
 void SphereFieldChecker::Pass::body_distances() {
   // Static bodies too: every lane costs the same, and most bodies move.
   s.body_exact.resize(c.bodies_.size());
-  distances_of(int(c.bodies_.size()), [&](int k) -> const Eigen::Vector3d& { return s.body_center[std::size_t(k)]; },
-               s.body_exact.data());
+  distances_of(
+      int(c.bodies_.size()), [&](int k) -> const Eigen::Vector3d& { return s.body_center[std::size_t(k)]; },
+      s.body_exact.data());
 }
 
 }  // namespace dmgplace::runtime

@@ -28,7 +28,8 @@ SphereFieldChecker::SphereFieldChecker(const Kinematics& kin, std::vector<format
                                        std::shared_ptr<const PrimitiveObstacles> obstacles, double padding)
     : kin_(&kin), spheres_(std::move(spheres)), allowed_(kin.model().allowed_pairs), band_(1e9), padding_(padding) {
   if (!obstacles || !obstacles->all_have_bits())
-    throw Error("SphereFieldChecker", "scene", "without a distance field the scene must be at most 64 exact primitives");
+    throw Error("SphereFieldChecker", "scene",
+                "without a distance field the scene must be at most 64 exact primitives");
   check_and_sort_spheres();
   set_exact_obstacles(std::move(obstacles));
 }
@@ -40,7 +41,8 @@ void SphereFieldChecker::check_and_sort_spheres() {
   std::stable_sort(spheres_.begin(), spheres_.end(),
                    [](const formats::LinkSphere& a, const formats::LinkSphere& b) { return a.link < b.link; });
   auto inner = std::make_shared<std::vector<double>>();
-  for (const auto& s : spheres_) inner->push_back(inner_radius(kin_->model().links[std::size_t(s.link)].collision, s.center));
+  for (const auto& s : spheres_)
+    inner->push_back(inner_radius(kin_->model().links[std::size_t(s.link)].collision, s.center));
   inner_ = std::move(inner);
   build_bodies();
 }
@@ -103,7 +105,8 @@ void SphereFieldChecker::shape_body(Body& b) const {
   for (int i = b.begin; i < b.end; ++i) box.extend(spheres_[std::size_t(i)].center);
   b.center = box.center();
   for (int i = b.begin; i < b.end; ++i)
-    b.radius = std::max(b.radius, (spheres_[std::size_t(i)].center - b.center).norm() + spheres_[std::size_t(i)].radius);
+    b.radius =
+        std::max(b.radius, (spheres_[std::size_t(i)].center - b.center).norm() + spheres_[std::size_t(i)].radius);
   // A capsule only for three spheres or more, where it is well under the bounding sphere (else
   // its test costs more than it settles: with two spheres, testing both is as cheap), and
   // inside it, so the lanes' pose error bound covers its ends.
@@ -114,8 +117,8 @@ void SphereFieldChecker::shape_body(Body& b) const {
     radii.push_back(spheres_[std::size_t(i)].radius);
   }
   const auto capsule = bounding_capsule(centers, radii);
-  b.has_capsule = capsule && b.end - b.begin >= 3 && capsule->radius < 0.8 * b.radius && (capsule->from - b.center).norm() <= b.radius &&
-                  (capsule->to - b.center).norm() <= b.radius;
+  b.has_capsule = capsule && b.end - b.begin >= 3 && capsule->radius < 0.8 * b.radius &&
+                  (capsule->from - b.center).norm() <= b.radius && (capsule->to - b.center).norm() <= b.radius;
   if (b.has_capsule) {
     b.capsule = *capsule;
     b.inv_len2 = 1.0 / (capsule->to - capsule->from).squaredNorm();
@@ -133,7 +136,8 @@ void SphereFieldChecker::chain_body(Body& b, const std::vector<int>& parent_join
     const int j = parent_joint[std::size_t(l)];
     const Joint& jt = model.joints[std::size_t(j)];
     const bool prismatic = jt.type == JointType::Prismatic;
-    if (kin_->chain_slot(j) >= 0) b.chain.push_back({kin_->chain_slot(j), prismatic ? 1.0 : reach, jt.child, jt.axis.normalized(), prismatic});
+    if (kin_->chain_slot(j) >= 0)
+      b.chain.push_back({kin_->chain_slot(j), prismatic ? 1.0 : reach, jt.child, jt.axis.normalized(), prismatic});
     reach += jt.origin.translation().norm() + (prismatic ? std::max(std::abs(jt.lower), std::abs(jt.upper)) : 0.0);
     l = jt.parent;
   }
@@ -161,7 +165,8 @@ void SphereFieldChecker::build_pair_spheres() {
 SphereFieldChecker::PairMoves SphereFieldChecker::relative_moves(const Body& a, const Body& b) {
   auto only = [](const Body& x, const Body& y, std::vector<ChainJoint>& out, std::vector<int>& at) {
     for (std::size_t k = 0; k < x.chain.size(); ++k)
-      if (std::none_of(y.chain.begin(), y.chain.end(), [&](const ChainJoint& d) { return d.slot == x.chain[k].slot; })) {
+      if (std::none_of(y.chain.begin(), y.chain.end(),
+                       [&](const ChainJoint& d) { return d.slot == x.chain[k].slot; })) {
         out.push_back(x.chain[k]);
         at.push_back(int(k));
       }
@@ -193,7 +198,8 @@ void SphereFieldChecker::build_pairs() {
       if (!a.moving && !b.moving && !a.attached && !b.attached) continue;  // never changes: not our concern
       if (a.attached || b.attached) {
         const int other = a.attached ? b.link : a.link;
-        if (other == attached_link_ || std::find(touching_.begin(), touching_.end(), other) != touching_.end()) continue;
+        if (other == attached_link_ || std::find(touching_.begin(), touching_.end(), other) != touching_.end())
+          continue;
         add_pair(i, j, -1);
         continue;
       }
@@ -201,7 +207,8 @@ void SphereFieldChecker::build_pairs() {
       int table = -1;
       for (std::size_t t = 0; tables_ && t < tables_->size(); ++t) {
         const auto& tt = (*tables_)[t].data;
-        if ((tt.link_a == a.link && tt.link_b == b.link) || (tt.link_a == b.link && tt.link_b == a.link)) table = int(t);
+        if ((tt.link_a == a.link && tt.link_b == b.link) || (tt.link_a == b.link && tt.link_b == a.link))
+          table = int(t);
       }
       add_pair(i, j, table);
     }
@@ -286,14 +293,16 @@ SphereFieldChecker SphereFieldChecker::with_attached(AttachedSpheres object) con
   c.attached_link_ = object.link;
   c.attached_begin_ = int(c.spheres_.size());
   c.touching_ = std::move(object.touching_links);
-  for (std::size_t i = 0; i < object.centers.size(); ++i) c.spheres_.push_back({object.link, object.centers[i], object.radii[i]});
+  for (std::size_t i = 0; i < object.centers.size(); ++i)
+    c.spheres_.push_back({object.link, object.centers[i], object.radii[i]});
   c.build_bodies();
   return c;
 }
 
 SphereFieldChecker SphereFieldChecker::with_kinematics(const Kinematics& kin) const {
   if (&kin.model() != &kin_->model())
-    throw Error("SphereFieldChecker", "kinematics", "a different robot model: only joint values outside the chain may differ");
+    throw Error("SphereFieldChecker", "kinematics",
+                "a different robot model: only joint values outside the chain may differ");
   SphereFieldChecker c = *this;
   c.kin_ = &kin;
   c.build_bodies();  // reaches come from the model (prismatic travel included), rebuilt anyway
@@ -314,7 +323,8 @@ SphereCheck SphereFieldChecker::check(const Eigen::VectorXd& q, const std::vecto
   return evaluate(q, poses, nullptr, 0.0);
 }
 
-SphereCheck SphereFieldChecker::check_along(const Eigen::VectorXd& q, const Eigen::VectorXd& direction, double enough) const {
+SphereCheck SphereFieldChecker::check_along(const Eigen::VectorXd& q, const Eigen::VectorXd& direction,
+                                            double enough) const {
   return evaluate(q, poses_at(q), &direction, enough);
 }
 
@@ -328,8 +338,9 @@ SphereFieldChecker::Pass::Scratch& SphereFieldChecker::Pass::thread_scratch() {
   return scratch;
 }
 
-SphereFieldChecker::Pass::Pass(const SphereFieldChecker& checker, const Eigen::VectorXd* q_, const std::vector<Eigen::Isometry3d>& poses_,
-                               const Eigen::VectorXd* dir_, double enough_)
+SphereFieldChecker::Pass::Pass(const SphereFieldChecker& checker, const Eigen::VectorXd* q_,
+                               const std::vector<Eigen::Isometry3d>& poses_, const Eigen::VectorXd* dir_,
+                               double enough_)
     : c(checker), q(q_), poses(poses_), dir(dir_), enough(enough_),
       certify(dir_ && checker.certifiable_ && enough_ > 0),  // enough 0: the caller needs no certificate
       s(thread_scratch()) {
@@ -357,7 +368,8 @@ SphereFieldChecker::Pass::Pass(const SphereFieldChecker& checker, const Eigen::V
 
 SphereCheck SphereFieldChecker::evaluate(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses,
                                          const Eigen::VectorXd* dir, double enough) const {
-  if (poses.size() != kin_->model().links.size()) throw Error("SphereFieldChecker", "link poses", "one pose per link expected");
+  if (poses.size() != kin_->model().links.size())
+    throw Error("SphereFieldChecker", "link poses", "one pose per link expected");
   Pass pass(*this, &q, poses, dir, enough);
   if (pass.environment() && pass.self_pairs() && pass.certify) pass.certificate();
   return pass.out;
@@ -375,8 +387,9 @@ double SphereFieldChecker::pair_time(const std::vector<Eigen::Isometry3d>& poses
   return gap > 0 && pair_speed(poses, link_a, link_b, direction, v) ? v.time_to_move(gap) : 0.0;
 }
 
-bool SphereFieldChecker::link_speed(const std::vector<Eigen::Isometry3d>& poses, int link, const Eigen::VectorXd& direction,
-                                    DisplacementBound& bound, BallVelocity* velocity) const {
+bool SphereFieldChecker::link_speed(const std::vector<Eigen::Isometry3d>& poses, int link,
+                                    const Eigen::VectorXd& direction, DisplacementBound& bound,
+                                    BallVelocity* velocity) const {
   if (!certifiable_) return false;
   for (std::size_t bi = 0; bi < bodies_.size(); ++bi) {
     const Body& b = bodies_[bi];
@@ -395,7 +408,8 @@ bool SphereFieldChecker::pair_speed(const std::vector<Eigen::Isometry3d>& poses,
   for (std::size_t pi = 0; pi < pairs_.size(); ++pi) {
     const auto ia = std::size_t(pairs_[pi].a), ib = std::size_t(pairs_[pi].b);
     const Body &a = bodies_[ia], &b = bodies_[ib];
-    if (a.attached || b.attached || !((a.link == link_a && b.link == link_b) || (a.link == link_b && b.link == link_a))) continue;
+    if (a.attached || b.attached || !((a.link == link_a && b.link == link_b) || (a.link == link_b && b.link == link_a)))
+      continue;
     Pass pass(*this, nullptr, poses, &direction, std::numeric_limits<double>::infinity());
     pass.s.body_center[ia] = poses[std::size_t(a.link)] * a.center;
     pass.s.body_center[ib] = poses[std::size_t(b.link)] * b.center;

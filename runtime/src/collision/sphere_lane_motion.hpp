@@ -162,7 +162,8 @@ struct SphereFieldChecker::LaneMotion {
       g2 = x < 1e-3 ? 0.5 * s.turn * t * t * (1 + x * 0.34) : (std::expm1(x) - x) / s.turn;
     }
     const F gronwall = s.v0 * splatf(float(g1 * (1 + 1e-6)));
-    const F taylor = s.first * splatf(float(t)) + s.second * splatf(float(0.5 * t * t)) + s.v0 * splatf(float(g2 * (1 + 1e-6)));
+    const F taylor =
+        s.first * splatf(float(t)) + s.second * splatf(float(0.5 * t * t)) + s.v0 * splatf(float(g2 * (1 + 1e-6)));
     const F d = lanes::min(lanes::min(gronwall, taylor), splatf(float(s.reach_speed * t))) * splatf(1 + 1e-5f);
     alignas(32) float out[LinkPoseLanesD::kLanes];
     lanes::store(out, d);
@@ -211,7 +212,8 @@ struct SphereFieldChecker::LaneMotion {
     slot_done[slot] = 1;
     const auto& T = poses.pose[std::size_t(j.child)];
     auto e = [&](int i) __attribute__((always_inline)) { return lanes::load(T[std::size_t(i)].data()); };
-    const F x = lanes::splatf(float(j.axis.x())), y = lanes::splatf(float(j.axis.y())), z = lanes::splatf(float(j.axis.z()));
+    const F x = lanes::splatf(float(j.axis.x())), y = lanes::splatf(float(j.axis.y())),
+            z = lanes::splatf(float(j.axis.z()));
     lanes::store(axis[slot].x, e(0) * x + e(1) * y + e(2) * z);
     lanes::store(axis[slot].y, e(3) * x + e(4) * y + e(5) * z);
     lanes::store(axis[slot].z, e(6) * x + e(7) * y + e(8) * z);

@@ -53,8 +53,8 @@ struct SphereFieldChecker::LanePass {
   std::uint64_t reach = ~std::uint64_t(0);
   float body_widen = 0;  // the current body's
 
-  DMGPLACE_LANE_PASS_INLINE LanePass(const SphereFieldChecker& checker, const double* const* q, int count, const float* w,
-                                     const LaneMotion* m, bool wide_lanes)
+  DMGPLACE_LANE_PASS_INLINE LanePass(const SphereFieldChecker& checker, const double* const* q, int count,
+                                     const float* w, const LaneMotion* m, bool wide_lanes)
       : c(checker), motion(m), widen(w), wide(wide_lanes), at(checker.lane_bodies()), s(scratch()),
         all((1u << count) - 1), alive(all), prims(checker.obstacles_.get()) {
     for (int k = 0; k < N; ++k) in[k] = q[k < count ? k : 0];  // idle lanes repeat the first
@@ -97,9 +97,10 @@ struct SphereFieldChecker::LanePass {
     const Capsule& k = at.capsule[bi];
     const kernels::PoseLanes pose = pose_of(bi);
     Xyz to;
-    kernels::transform(pose, lanes::splatf(float(k.from.x())), lanes::splatf(float(k.from.y())), lanes::splatf(float(k.from.z())),
-                       s.cap_from[bi]);
-    kernels::transform(pose, lanes::splatf(float(k.to.x())), lanes::splatf(float(k.to.y())), lanes::splatf(float(k.to.z())), to);
+    kernels::transform(pose, lanes::splatf(float(k.from.x())), lanes::splatf(float(k.from.y())),
+                       lanes::splatf(float(k.from.z())), s.cap_from[bi]);
+    kernels::transform(pose, lanes::splatf(float(k.to.x())), lanes::splatf(float(k.to.y())),
+                       lanes::splatf(float(k.to.z())), to);
     lanes::store(s.cap_dir[bi].x, lanes::load(to.x) - lanes::load(s.cap_from[bi].x));
     lanes::store(s.cap_dir[bi].y, lanes::load(to.y) - lanes::load(s.cap_from[bi].y));
     lanes::store(s.cap_dir[bi].z, lanes::load(to.z) - lanes::load(s.cap_from[bi].z));
@@ -114,13 +115,19 @@ struct SphereFieldChecker::LanePass {
   DMGPLACE_LANE_PASS_INLINE CapsuleLanes capsule_lanes(std::size_t bi) {
     capsule_of(bi);
     const Xyz &f = s.cap_from[bi], &d = s.cap_dir[bi];
-    return CapsuleLanes{lanes::load(f.x), lanes::load(f.y), lanes::load(f.z), lanes::load(d.x), lanes::load(d.y),
-                        lanes::load(d.z), lanes::splatf(float(c.bodies_[bi].inv_len2)), float(at.capsule[bi].radius) + capsule_margin};
+    return CapsuleLanes{lanes::load(f.x),
+                        lanes::load(f.y),
+                        lanes::load(f.z),
+                        lanes::load(d.x),
+                        lanes::load(d.y),
+                        lanes::load(d.z),
+                        lanes::splatf(float(c.bodies_[bi].inv_len2)),
+                        float(at.capsule[bi].radius) + capsule_margin};
   }
   DMGPLACE_LANE_PASS_INLINE std::uint32_t near_capsule(const Xyz& p, const CapsuleLanes& k, float reach_to) const {
     const float r = reach_to + k.radius;
-    return lanes::bits(kernels::near_segment(lanes::load(p.x), lanes::load(p.y), lanes::load(p.z), k.fx, k.fy, k.fz, k.dx, k.dy,
-                                           k.dz, k.inv_len2, lanes::splatf(r * r)),
+    return lanes::bits(kernels::near_segment(lanes::load(p.x), lanes::load(p.y), lanes::load(p.z), k.fx, k.fy, k.fz,
+                                             k.dx, k.dy, k.dz, k.inv_len2, lanes::splatf(r * r)),
                        wide);
   }
 
@@ -144,8 +151,8 @@ struct SphereFieldChecker::LanePass {
     for (std::size_t bi = 0; bi < c.bodies_.size(); ++bi) {
       const Body& b = c.bodies_[bi];
       const Eigen::Vector3d& bc = at.center[bi];
-      kernels::transform(pose_of(bi), lanes::splatf(float(bc.x())), lanes::splatf(float(bc.y())), lanes::splatf(float(bc.z())),
-                         s.center[bi]);
+      kernels::transform(pose_of(bi), lanes::splatf(float(bc.x())), lanes::splatf(float(bc.y())),
+                         lanes::splatf(float(bc.z())), s.center[bi]);
       in_range &= kernels::within(s.center[bi], limit);
       if (!b.moving && !b.attached) continue;
       body_widen = widened(bi);
@@ -176,7 +183,8 @@ struct SphereFieldChecker::LanePass {
   DMGPLACE_LANE_PASS_INLINE std::uint32_t pair_near(std::size_t pi, float& pair_widen, CapsuleLanes& kb) {
     const Pair& p = c.pairs_[pi];
     const Xyz &ca = s.center[std::size_t(p.a)], &cb = s.center[std::size_t(p.b)];
-    std::uint32_t near = lanes::bits(kernels::overlaps(ca, cb, float(p.reach) + pair_margin + pair_widen), wide) & alive;
+    std::uint32_t near =
+        lanes::bits(kernels::overlaps(ca, cb, float(p.reach) + pair_margin + pair_widen), wide) & alive;
     if (!near) return 0;
     // A pair with a table asks it first, the pair's motion over the reach bounded by the smaller
     // of its static widening and the table's own slopes times its joints' travel: the wrist pairs
@@ -209,7 +217,8 @@ struct SphereFieldChecker::LanePass {
   }
 
   // The lanes of `near` where a sphere of pair pi's body a touches one of body b's.
-  DMGPLACE_LANE_PASS_INLINE std::uint32_t pair_hits(std::size_t pi, std::uint32_t near, float pair_widen, const CapsuleLanes& kb) {
+  DMGPLACE_LANE_PASS_INLINE std::uint32_t pair_hits(std::size_t pi, std::uint32_t near, float pair_widen,
+                                                    const CapsuleLanes& kb) {
     const Pair& p = c.pairs_[pi];
     const Body &a = c.bodies_[std::size_t(p.a)], &b = c.bodies_[std::size_t(p.b)];
     const Xyz& cb = s.center[std::size_t(p.b)];
@@ -223,7 +232,8 @@ struct SphereFieldChecker::LanePass {
       // A sphere clear of b's bounding sphere (or capsule) in every lane still open cannot touch
       // b's spheres.
       const std::uint32_t open = near & ~hit;
-      if (!((b.has_capsule ? near_capsule(wa, kb, ra) : lanes::bits(kernels::overlaps(wa, cb, ra + float(b.radius)), wide)) &
+      if (!((b.has_capsule ? near_capsule(wa, kb, ra)
+                           : lanes::bits(kernels::overlaps(wa, cb, ra + float(b.radius)), wide)) &
             open))
         continue;
       // The same float sums and squares as ra + r_j in scalars, all lanes at once.

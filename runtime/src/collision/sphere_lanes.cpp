@@ -26,9 +26,11 @@ constexpr int N = LinkPoseLanesD::kLanes;
 }  // namespace
 
 // Table::lower_bound for 8 configurations (kernels/table_lookup.hpp).
-inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::Table::apart_lanes(const double* const* q, double padding,
-                                                                                            bool wide) const {
-  return kernels::table_apart({slot, data.lower, data.step, inv_step, data.slope, data.count, tenths_mm.data()}, q, padding, wide);
+inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::Table::apart_lanes(const double* const* q,
+                                                                                           double padding,
+                                                                                           bool wide) const {
+  return kernels::table_apart({slot, data.lower, data.step, inv_step, data.slope, data.count, tenths_mm.data()}, q,
+                              padding, wide);
 }
 
 void SphereFieldChecker::set_lane_bounds() {
@@ -63,9 +65,10 @@ void SphereFieldChecker::set_exact_obstacles(std::shared_ptr<const PrimitiveObst
 
 // The environment pass, then the self pairs (sphere_lane_pass.hpp), on 8 configurations.
 inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lanes_body(const SphereFieldChecker& c,
-                                                                                        const double* const* q, int count,
-                                                                                        const float* widen,
-                                                                                        const LaneMotion* motion, bool wide) {
+                                                                                        const double* const* q,
+                                                                                        int count, const float* widen,
+                                                                                        const LaneMotion* motion,
+                                                                                        bool wide) {
   LanePass p(c, q, count, widen, motion, wide);
   if (!p.environment()) return 0;
   if (!p.self_pairs()) return 0;
@@ -74,10 +77,8 @@ inline __attribute__((always_inline)) std::uint32_t SphereFieldChecker::free_lan
 
 // flatten: lanes::movemask_avx (AVX only, so not always_inline) is inlined here too; left to the
 // inliner, this function is past its size limits and each mask became a call.
-__attribute__((target("avx2,fma"), flatten)) std::uint32_t SphereFieldChecker::free_lanes_avx2(const SphereFieldChecker& c,
-                                                                                               const double* const* q,
-                                                                                               int count, const float* widen,
-                                                                                               const LaneMotion* motion) {
+__attribute__((target("avx2,fma"), flatten)) std::uint32_t SphereFieldChecker::free_lanes_avx2(
+    const SphereFieldChecker& c, const double* const* q, int count, const float* widen, const LaneMotion* motion) {
   return free_lanes_body(c, q, count, widen, motion, true);
 }
 

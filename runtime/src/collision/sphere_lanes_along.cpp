@@ -20,7 +20,8 @@ const std::vector<double>& SphereFieldChecker::static_speeds(const Eigen::Vector
   };
   thread_local Last last;
   const auto n = std::size_t(direction.size());
-  if (last.id == id_ && last.direction.size() == n && std::equal(last.direction.begin(), last.direction.end(), direction.data()))
+  if (last.id == id_ && last.direction.size() == n &&
+      std::equal(last.direction.begin(), last.direction.end(), direction.data()))
     return last.speeds;
   if (direction.size() != static_reach_.cols())
     throw Error("SphereFieldChecker", "direction", "one entry per chain joint expected");
@@ -33,7 +34,8 @@ const std::vector<double>& SphereFieldChecker::static_speeds(const Eigen::Vector
   return last.speeds;
 }
 
-bool SphereFieldChecker::static_widening(const Eigen::VectorXd& direction, double reach, std::vector<float>& widen) const {
+bool SphereFieldChecker::static_widening(const Eigen::VectorXd& direction, double reach,
+                                         std::vector<float>& widen) const {
   // How far each body (then each pair, relative to each other) can move over `reach` along
   // +-direction: the static bound of check_along's first cut, rounded up into floats.
   widen.clear();
@@ -61,7 +63,8 @@ std::vector<SphereFieldChecker::MotionBound> SphereFieldChecker::motion_bounds(c
                                                                                const Eigen::VectorXd& direction,
                                                                                double reach) const {
   std::vector<MotionBound> out;
-  if (count <= 0 || !(reach > 0) || !certifiable_ || direction.size() != kin_->dof() || !direction.allFinite()) return out;
+  if (count <= 0 || !(reach > 0) || !certifiable_ || direction.size() != kin_->dof() || !direction.allFinite())
+    return out;
   count = std::min(count, LinkPoseLanesD::kLanes);
   std::vector<float> widen;
   if (!static_widening(direction, reach, widen)) return out;
@@ -96,7 +99,8 @@ std::vector<SphereFieldChecker::MotionBound> SphereFieldChecker::motion_bounds(c
     m.link_a = a.link;
     m.link_b = b.link;
     m.attached = a.attached || b.attached;
-    fill(m, widen[bodies_.size() + pi], [&](std::uint32_t lane) { return motion.pair(*this, pi, poses, center.data(), lane); });
+    fill(m, widen[bodies_.size() + pi],
+         [&](std::uint32_t lane) { return motion.pair(*this, pi, poses, center.data(), lane); });
     out.push_back(m);
   }
   return out;

@@ -30,7 +30,8 @@ inline __attribute__((always_inline)) SphereFieldChecker::PairContact SphereFiel
   for (int g = 0; g < wa; g += lanes::W) {
     const D dx = lanes::load(la + g) - cx, dy = lanes::load(la + wa + g) - cy, dz = lanes::load(la + 2 * wa + g) - cz;
     const D rab = lanes::load(la + 3 * wa + g) + reach_b;
-    for (std::uint32_t near = lanes::bits((lanes::M)(dx * dx + dy * dy + dz * dz < rab * rab), Wide); near; near &= near - 1) {
+    for (std::uint32_t near = lanes::bits((lanes::M)(dx * dx + dy * dy + dz * dz < rab * rab), Wide); near;
+         near &= near - 1) {
       const int i = g + __builtin_ctz(near);
       if (!relative) {
         R.noalias() = Tb.linear().transpose() * Ta.linear();
@@ -41,7 +42,8 @@ inline __attribute__((always_inline)) SphereFieldChecker::PairContact SphereFiel
       const D qx = splat(q.x()), qy = splat(q.y()), qz = splat(q.z());
       const D ra = splat(la[3 * wa + i] + c.padding_);
       for (int h = 0; h < wb; h += lanes::W) {
-        const D ex = lanes::load(lb + h) - qx, ey = lanes::load(lb + wb + h) - qy, ez = lanes::load(lb + 2 * wb + h) - qz;
+        const D ex = lanes::load(lb + h) - qx, ey = lanes::load(lb + wb + h) - qy,
+                ez = lanes::load(lb + 2 * wb + h) - qz;
         const D r = ra + lanes::load(lb + 3 * wb + h);
         const D s2 = ex * ex + ey * ey + ez * ez;
         if (const std::uint32_t hit = lanes::bits((lanes::M)(s2 < r * r), Wide)) {
@@ -61,8 +63,10 @@ __attribute__((target("avx2"), flatten)) SphereFieldChecker::PairContact SphereF
 }
 
 SphereFieldChecker::PairContact SphereFieldChecker::pair_contact(const Pair& p, const Eigen::Isometry3d& Ta,
-                                                                 const Eigen::Isometry3d& Tb, const Eigen::Vector3d& cb) const {
-  return simd_path() == SimdPath::Avx2 ? pair_contact_avx2(*this, p, Ta, Tb, cb) : pair_contact_body<false>(*this, p, Ta, Tb, cb);
+                                                                 const Eigen::Isometry3d& Tb,
+                                                                 const Eigen::Vector3d& cb) const {
+  return simd_path() == SimdPath::Avx2 ? pair_contact_avx2(*this, p, Ta, Tb, cb)
+                                       : pair_contact_body<false>(*this, p, Ta, Tb, cb);
 }
 
 }  // namespace dmgplace::runtime

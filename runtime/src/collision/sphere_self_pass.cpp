@@ -46,8 +46,8 @@ bool SphereFieldChecker::Pass::self_pairs() {
     }
     if (!certify_this) {
       // No gaps to measure: the first overlap decides, in the bodies' own frames.
-      const PairContact k = c.pair_contact(p, poses[std::size_t(a.link)], poses[std::size_t(b.link)],
-                                           s.body_center[std::size_t(p.b)]);
+      const PairContact k =
+          c.pair_contact(p, poses[std::size_t(a.link)], poses[std::size_t(b.link)], s.body_center[std::size_t(p.b)]);
       if (k.i < 0) continue;
       if (proven_overlap(k.i, k.j, k.s2)) return false;
       flag(a, b);

@@ -30,7 +30,8 @@ std::optional<Capsule> bounding_capsule(const std::vector<Eigen::Vector3d>& cent
   Capsule k;
   k.from = mean + lo * axis;
   k.to = mean + hi * axis;
-  for (std::size_t i = 0; i < n; ++i) k.radius = std::max(k.radius, distance_to_segment(centers[i], k.from, k.to) + radii[i]);
+  for (std::size_t i = 0; i < n; ++i)
+    k.radius = std::max(k.radius, distance_to_segment(centers[i], k.from, k.to) + radii[i]);
   k.radius += 1e-9 * (1 + k.radius);  // the distances' own rounding, rounded up
   return k;
 }

@@ -48,7 +48,8 @@ ConvexSolid ConvexSolid::hull(const std::vector<Eigen::Vector3d>& points) {
   return s;
 }
 
-ConvexSolid ConvexSolid::hull(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3i>& triangles) {
+ConvexSolid ConvexSolid::hull(const std::vector<Eigen::Vector3d>& points,
+                              const std::vector<Eigen::Vector3i>& triangles) {
   ConvexSolid s = hull(points);
   const int n = int(points.size());
   std::vector<std::vector<int>> around(points.size());
@@ -80,9 +81,12 @@ ConvexSolid ConvexSolid::hull(const std::vector<Eigen::Vector3d>& points, const 
 
 std::optional<ConvexSolid> ConvexSolid::of(const Shape& shape) {
   switch (shape.type) {
-    case ShapeType::Box: return box(shape.size / 2);
-    case ShapeType::Cylinder: return cylinder(shape.size[0], shape.size[1] / 2);
-    case ShapeType::Sphere: return sphere(shape.size[0]);
+    case ShapeType::Box:
+      return box(shape.size / 2);
+    case ShapeType::Cylinder:
+      return cylinder(shape.size[0], shape.size[1] / 2);
+    case ShapeType::Sphere:
+      return sphere(shape.size[0]);
     case ShapeType::Mesh: {
       if (shape.hull.rows() == 0) return std::nullopt;
       std::vector<int> index(std::size_t(shape.mesh.vertices.rows()), -1);  // mesh vertex -> hull point
@@ -253,8 +257,14 @@ Eigen::Vector3d closest_on_triangle(Simplex& s) {
     Simplex e1{{a, b}, 2}, e2{{b, c}, 2}, e3{{a, c}, 2};
     const Eigen::Vector3d q1 = closest_on_segment(e1), q2 = closest_on_segment(e2), q3 = closest_on_segment(e3);
     const double n1 = q1.squaredNorm(), n2 = q2.squaredNorm(), n3 = q3.squaredNorm();
-    if (n1 <= n2 && n1 <= n3) { s = e1; return q1; }
-    if (n2 <= n3) { s = e2; return q2; }
+    if (n1 <= n2 && n1 <= n3) {
+      s = e1;
+      return q1;
+    }
+    if (n2 <= n3) {
+      s = e2;
+      return q2;
+    }
     s = e3;
     return q3;
   }
@@ -295,10 +305,12 @@ double convex_gap(const ConvexSolid& a, const Eigen::Isometry3d& ta, const Conve
   // miss on a hull that is convex only to the artifact check's tolerance (1e-9 of its extent).
   const double slack = 1e-12 * (1 + a.radius() + b.radius()) + a.climb_slack() + b.climb_slack();
   // Support of A - B against direction v, in the world frame.
-  int from_a = hint ? hint->from_a : -1, from_b = hint ? hint->from_b : -1;  // hull vertices of the last supports: the next climbs start there
+  int from_a = hint ? hint->from_a : -1,
+      from_b = hint ? hint->from_b : -1;  // hull vertices of the last supports: the next climbs start there
   // (R p + t spelled out: Eigen multiplies an Isometry3d's whole 4x4 matrix into (p, 1).)
   auto support = [&](const Eigen::Vector3d& v) -> Eigen::Vector3d {
-    const Eigen::Vector3d pa = a.support(ta.linear().transpose() * -v, from_a), pb = b.support(tb.linear().transpose() * v, from_b);
+    const Eigen::Vector3d pa = a.support(ta.linear().transpose() * -v, from_a),
+                          pb = b.support(tb.linear().transpose() * v, from_b);
     return (ta.linear() * pa + ta.translation()) - (tb.linear() * pb + tb.translation());
   };
   // A hinted start is a direction only: until the first support, v is no point of A - B, so its

@@ -13,7 +13,8 @@ Grid3::Grid3(const Eigen::Vector3d& origin, double resolution, const std::array<
   values_.assign(std::size_t(dims[0]) * std::size_t(dims[1]) * std::size_t(dims[2]), fill);
 }
 
-Grid3::Grid3(const Eigen::Vector3d& origin, double resolution, const std::array<int, 3>& dims, std::vector<float>&& values)
+Grid3::Grid3(const Eigen::Vector3d& origin, double resolution, const std::array<int, 3>& dims,
+             std::vector<float>&& values)
     : origin_(origin), resolution_(resolution), inv_resolution_(1.0 / resolution), dims_(dims) {
   if (!(resolution > 0) || dims[0] < 2 || dims[1] < 2 || dims[2] < 2)
     throw std::invalid_argument("Grid3 needs a positive resolution and at least 2 samples per axis");

@@ -24,7 +24,8 @@ GraspGraph::GraspGraph(formats::Dmg dmg, const formats::GraspGraphTable& t) : dm
   graph_.offsets.assign(t.offsets.begin(), t.offsets.end());
   graph_.targets.assign(t.targets.begin(), t.targets.end());
   graph_.costs = t.costs;
-  for (auto m : t.moves) moves_.push_back(m == formats::GraspMoveKind::Rotation ? GraspMove::Rotation : GraspMove::Translation);
+  for (auto m : t.moves)
+    moves_.push_back(m == formats::GraspMoveKind::Rotation ? GraspMove::Rotation : GraspMove::Translation);
 }
 
 int GraspGraph::find(int node, int angle) const {

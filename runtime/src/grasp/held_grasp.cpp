@@ -8,7 +8,9 @@
 
 namespace dmgplace::runtime {
 namespace {
-Eigen::Vector3d vertex(const TriMesh& m, Eigen::Index t, int k) { return m.vertices.row(m.triangles(t, k)).transpose(); }
+Eigen::Vector3d vertex(const TriMesh& m, Eigen::Index t, int k) {
+  return m.vertices.row(m.triangles(t, k)).transpose();
+}
 
 // Parameter t of the line o + t d crossing triangle abc (Moller-Trumbore, both directions).
 std::optional<double> crossing(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& a,
@@ -29,7 +31,8 @@ std::optional<double> crossing(const Eigen::Vector3d& o, const Eigen::Vector3d& 
 double surface_distance(const TriMesh& m, const Eigen::Vector3d& p) {
   double best = std::numeric_limits<double>::infinity();
   for (Eigen::Index t = 0; t < m.triangles.rows(); ++t)
-    best = std::min(best, (formats::closest_point_on_triangle(p, vertex(m, t, 0), vertex(m, t, 1), vertex(m, t, 2)) - p).norm());
+    best = std::min(
+        best, (formats::closest_point_on_triangle(p, vertex(m, t, 0), vertex(m, t, 1), vertex(m, t, 2)) - p).norm());
   return best;
 }
 

@@ -5,7 +5,8 @@
 
 namespace dmgplace::runtime {
 
-ReachableGrasps reachable_grasps(const GraspGraph& g, const Eigen::Isometry3d& initial_tcp, std::optional<double> opening) {
+ReachableGrasps reachable_grasps(const GraspGraph& g, const Eigen::Isometry3d& initial_tcp,
+                                 std::optional<double> opening) {
   ReachableGrasps r;
   r.initial_state = g.snap(initial_tcp, opening, &r.snap_distance);
   if (r.initial_state < 0) return r;

@@ -49,7 +49,8 @@ ob::SpaceInformationPtr make_space(const Kinematics& kin, ValidityFn valid, doub
   });
   si->setStateValidityCheckingResolution(resolution / space->getMaximumExtent());
   if (certificate)
-    si->setMotionValidator(std::make_shared<CertifiedMotionValidator>(si, std::move(certificate), std::move(proven_free)));
+    si->setMotionValidator(
+        std::make_shared<CertifiedMotionValidator>(si, std::move(certificate), std::move(proven_free)));
   si->setup();
   return si;
 }
@@ -57,7 +58,8 @@ ob::SpaceInformationPtr make_space(const Kinematics& kin, ValidityFn valid, doub
 
 ob::SpaceInformationPtr make_arm_space(const Kinematics& kin, ValidityFn valid, double resolution,
                                        FreeDistanceFn free_distance) {
-  return make_space(kin, std::move(valid), resolution, CertifiedMotionValidator::certificate_of(std::move(free_distance)), nullptr);
+  return make_space(kin, std::move(valid), resolution,
+                    CertifiedMotionValidator::certificate_of(std::move(free_distance)), nullptr);
 }
 
 ob::SpaceInformationPtr make_arm_space(const Kinematics& kin, const TwoLayerChecker& checker, double resolution) {

@@ -12,7 +12,8 @@ namespace ob = ompl::base;
 namespace dmgplace::runtime {
 namespace {
 constexpr int kBatch = 8;  // SphereFieldChecker::free_lanes' lanes
-constexpr int kBatchRange = 2 * kBatch;  // wider uncertified ranges are bisected (fewer states, when certificates return)
+constexpr int kBatchRange =
+    2 * kBatch;  // wider uncertified ranges are bisected (fewer states, when certificates return)
 // A span batch's lanes reach T states each way, where T x kSpanShare is within the neighbouring
 // certificate: the batch widens by a static speed bound, which lasts about half as far as a
 // certificate's local one (bench-mbm: shares 1.5-2 best, smaller ones slower; docs/perf-log.md).
@@ -225,7 +226,8 @@ struct CertifiedMotionValidator::Call {
     // Ranges from a plain far end (e = 0 with an estimate: the first range, and the stretches its
     // span batch's lanes leave) are raked only up to one batch: beyond, the first range takes one
     // span batch rather than two raked ones, a stretch certified checks.
-    if (v.proven_free_ && e == 0 && size >= 2 && size <= (se > 0 ? kBatch : kBatchRange)) return check_batch(lo, hi, far_in_batch && first);
+    if (v.proven_free_ && e == 0 && size >= 2 && size <= (se > 0 ? kBatch : kBatchRange))
+      return check_batch(lo, hi, far_in_batch && first);
     const int span = (size + kBatch - 1) / (2 * kBatch);  // the least T with 8 (2T + 1) >= size, for size > 8
     if (v.proven_free_ && !certified_only && size > kBatch && span * kSpanShare <= std::max(1, se))
       return check_span(lo, hi, e, se, span, far_in_batch && first);

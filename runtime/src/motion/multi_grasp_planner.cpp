@@ -13,9 +13,8 @@ namespace dmgplace::runtime {
 
 MultiGraspPlanner::MultiGraspPlanner(SpaceFactory factory, std::vector<double> start, int threads, std::uint64_t seed,
                                      double slice_seconds)
-    : factory_(std::move(factory)), start_(std::move(start)),
-      threads_(threads > 0 ? threads : available_cpus()), seed_(seed),
-      slice_(slice_seconds) {}
+    : factory_(std::move(factory)), start_(std::move(start)), threads_(threads > 0 ? threads : available_cpus()),
+      seed_(seed), slice_(slice_seconds) {}
 
 MultiGraspPlanner::~MultiGraspPlanner() { stop(); }
 

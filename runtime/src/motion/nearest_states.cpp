@@ -98,7 +98,8 @@ std::size_t NearestStates::nearest(const double* q) const {
     query_ = q;
     return gnat_->nn.nearest(kProbe);
   }
-  return simd_path() == SimdPath::Avx2 ? scan_avx2(blocks_.data(), size(), dim_, q) : scan_portable(blocks_.data(), size(), dim_, q);
+  return simd_path() == SimdPath::Avx2 ? scan_avx2(blocks_.data(), size(), dim_, q)
+                                       : scan_portable(blocks_.data(), size(), dim_, q);
 }
 
 }  // namespace dmgplace::runtime

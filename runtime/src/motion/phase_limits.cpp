@@ -38,15 +38,9 @@ bool parabola_within(double g0, double gm, double g1, double bound) {
 
 PhaseLimits::PhaseLimits(const BlendedPath& path, const Eigen::VectorXd& max_velocity,
                          const Eigen::VectorXd& max_acceleration, double margin)
-    : path_(path),
-      n_(max_velocity.size()),
-      vmax_(max_velocity),
-      amax_(max_acceleration),
-      veff_(max_velocity * (1 - margin)),
-      aeff_(max_acceleration * (1 - margin)),
-      cache_store_(std::size_t(2 * kCached * n_)),
-      acc_(std::size_t(3 * n_)),
-      vel2_(std::size_t(3 * n_)) {
+    : path_(path), n_(max_velocity.size()), vmax_(max_velocity), amax_(max_acceleration),
+      veff_(max_velocity * (1 - margin)), aeff_(max_acceleration * (1 - margin)),
+      cache_store_(std::size_t(2 * kCached * n_)), acc_(std::size_t(3 * n_)), vel2_(std::size_t(3 * n_)) {
   for (int i = 0; i < kCached; ++i) {
     cache_[i].dq = cache_store_.data() + 2 * i * n_;
     cache_[i].ddq = cache_[i].dq + n_;

@@ -87,8 +87,8 @@ class PhaseLimits {
 
   const BlendedPath& path_;
   const Eigen::Index n_;
-  Eigen::VectorXd vmax_, amax_;       // true limits
-  Eigen::VectorXd veff_, aeff_;       // shrunk by the margin
+  Eigen::VectorXd vmax_, amax_;  // true limits
+  Eigen::VectorXd veff_, aeff_;  // shrunk by the margin
   mutable Point cache_[kCached];
   mutable std::vector<double> cache_store_;  // f', f'' of each cached point
   mutable int cache_next_ = 0;               // the slot the next miss replaces

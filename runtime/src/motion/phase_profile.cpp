@@ -242,8 +242,8 @@ class ProfileBuilder {
     if (right < s0) return std::nullopt;
     const auto brake = [&](double s) { return u1 - 2 * a * (s1 - s); };
     const auto profile = [&](std::size_t i, double s) { return knots_[i].u + 2 * knots_[i].a * (s - knots_[i].s); };
-    const auto after = std::upper_bound(knots_.begin(), knots_.end(), right,
-                                       [](double v, const ProfileKnot& k) { return v < k.s; });
+    const auto after =
+        std::upper_bound(knots_.begin(), knots_.end(), right, [](double v, const ProfileKnot& k) { return v < k.s; });
     std::size_t i = std::size_t(after - knots_.begin()) - 1;  // the last knot at or before `right`
     double xr = right, dr = brake(right) - profile(i, right);
     if (dr >= 0) return right;

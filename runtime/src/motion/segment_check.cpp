@@ -22,7 +22,9 @@ bool segment_valid(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double re
 
 bool path_valid(const std::vector<std::vector<double>>& path, const ValidityFn& valid, double resolution) {
   if (path.empty()) return false;
-  auto at = [&](std::size_t i) { return Eigen::Map<const Eigen::VectorXd>(path[i].data(), Eigen::Index(path[i].size())); };
+  auto at = [&](std::size_t i) {
+    return Eigen::Map<const Eigen::VectorXd>(path[i].data(), Eigen::Index(path[i].size()));
+  };
   Eigen::VectorXd prev = at(0);
   if (!valid(prev)) return false;
   for (std::size_t i = 1; i < path.size(); ++i) {

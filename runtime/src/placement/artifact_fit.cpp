@@ -43,7 +43,8 @@ ArtifactFit check_fit(const formats::ObjectArtifact& object, const std::vector<f
   constexpr double kOpeningSlack = 0.005;
   if (fingers < 2) {
     fit.warnings.push_back(names.robot + ": the hand has " + std::to_string(fingers) +
-                           " finger links behind a movable joint; the gripper opening against " + names.object + " is not checked");
+                           " finger links behind a movable joint; the gripper opening against " + names.object +
+                           " is not checked");
   } else if (dmg_opening > robot_max_opening + kOpeningSlack) {
     fit.errors.push_back(names.object + " and " + names.robot + ": the object's DMG was built for a gripper opening " +
                          metres(dmg_opening) + ", the robot's fingers open " + metres(robot_max_opening) +
@@ -58,8 +59,8 @@ ArtifactFit check_fit(const formats::ObjectArtifact& object, const std::vector<f
     double closest = std::numeric_limits<double>::infinity();
     for (const auto& r : regions) closest = std::min(closest, nearest(r));
     if (closest > reach)
-      fit.errors.push_back(names.environment + " and " + names.robot + ": the nearest placement region is " + metres(closest) +
-                           " from the arm's base, beyond its reach of at most " + metres(reach) +
+      fit.errors.push_back(names.environment + " and " + names.robot + ": the nearest placement region is " +
+                           metres(closest) + " from the arm's base, beyond its reach of at most " + metres(reach) +
                            " (a frame mismatch? bake-env --frame places the scene in the robot's base frame)");
   }
   // Units.
@@ -68,7 +69,8 @@ ArtifactFit check_fit(const formats::ObjectArtifact& object, const std::vector<f
     if (size.norm() > 2.0)
       fit.warnings.push_back(names.object + ": " + metres(size.norm()) +
                              " across: a mesh in millimetres baked without --scale 0.001?");
-    if (size.norm() < 0.005) fit.warnings.push_back(names.object + ": " + metres(size.norm()) + " across: a mesh in metres scaled twice?");
+    if (size.norm() < 0.005)
+      fit.warnings.push_back(names.object + ": " + metres(size.norm()) + " across: a mesh in metres scaled twice?");
   }
   return fit;
 }

@@ -11,7 +11,8 @@ IkOptions ik_options(const PlacementOptions& o) {
 
 double GoalCheck::reward(const PlacementOptions& o) const {
   if (valid()) return 1.0;
-  const double total = o.reward_arm_free + o.reward_object_free + o.reward_contact + o.reward_objective + o.reward_reachable;
+  const double total =
+      o.reward_arm_free + o.reward_object_free + o.reward_contact + o.reward_objective + o.reward_reachable;
   if (!(total > 0)) return 0.0;
   // The objective is credited only where the pose is a placement (stable, object free): an
   // unstable pose "improving" on the best would otherwise earn more than a feasible one that does
@@ -24,8 +25,8 @@ double GoalCheck::reward(const PlacementOptions& o) const {
 
 GoalValidator::GoalValidator(const PlacementWorld& world, const SearchSpace& space, const Objective& objective,
                              PerGraspCheckers& per_grasp, GraspSelector& selector, const PlacementQuery& query)
-    : world_(&world), space_(&space), objective_(&objective), per_grasp_(&per_grasp), selector_(&selector), query_(&query),
-      ik_(world.kinematics(), ik_options(query.options)) {}
+    : world_(&world), space_(&space), objective_(&objective), per_grasp_(&per_grasp), selector_(&selector),
+      query_(&query), ik_(world.kinematics(), ik_options(query.options)) {}
 
 Eigen::Isometry3d GoalValidator::lifted(const Eigen::Isometry3d& resting) const {
   Eigen::Isometry3d x = resting;

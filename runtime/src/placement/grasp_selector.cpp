@@ -4,11 +4,11 @@
 
 namespace dmgplace::runtime {
 
-GraspSelector::GraspSelector(PerGraspCheckers& per_grasp, const PlacementTree& tree, PlacementVariant variant, double p_accept,
-                             int hand_tries, HandFree hand_free)
-    : per_grasp_(&per_grasp), tree_(&tree), variant_(variant), p_accept_(p_accept), hand_tries_(std::max(0, hand_tries)),
-      hand_free_(std::move(hand_free)),
-      in_g_(std::size_t(per_grasp.size()), 0), unusable_(std::size_t(per_grasp.size()), 0) {}
+GraspSelector::GraspSelector(PerGraspCheckers& per_grasp, const PlacementTree& tree, PlacementVariant variant,
+                             double p_accept, int hand_tries, HandFree hand_free)
+    : per_grasp_(&per_grasp), tree_(&tree), variant_(variant), p_accept_(p_accept),
+      hand_tries_(std::max(0, hand_tries)), hand_free_(std::move(hand_free)), in_g_(std::size_t(per_grasp.size()), 0),
+      unusable_(std::size_t(per_grasp.size()), 0) {}
 
 void GraspSelector::cache(int node, int grasp) {
   for (int n = node; n >= 0; n = tree_->node(n).parent) {

@@ -32,7 +32,8 @@ LocalOptimum optimize_locally(const LocalProblem& p, const Eigen::VectorXd& q_st
     IkResult r;
     if (ok) {
       r = ik.solve(up * p.tcp_in_object, q, unused_rng);
-      ok = r.success && (r.q - q).cwiseAbs().maxCoeff() <= max_jump && segment_valid(q, r.q, o.motion_resolution, valid);
+      ok =
+          r.success && (r.q - q).cwiseAbs().maxCoeff() <= max_jump && segment_valid(q, r.q, o.motion_resolution, valid);
     }
     if (!ok) {
       step *= 0.5;

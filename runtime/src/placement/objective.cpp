@@ -6,8 +6,8 @@
 
 namespace dmgplace::runtime {
 
-Objective::Objective(std::vector<ObjectiveTerm> terms, const EnvironmentModel& env, const formats::ObjectArtifact& object,
-                     std::vector<Eigen::Vector3d> points)
+Objective::Objective(std::vector<ObjectiveTerm> terms, const EnvironmentModel& env,
+                     const formats::ObjectArtifact& object, std::vector<Eigen::Vector3d> points)
     : terms_(std::move(terms)), env_(&env), com_(object.mass.com), points_(std::move(points)) {
   if (terms_.empty()) throw Error("query", "objective", "no objective term");
   for (auto& t : terms_) {
@@ -34,10 +34,18 @@ double Objective::value(const Eigen::Isometry3d& pose) const {
   double v = 0;
   for (const auto& t : terms_) {
     switch (t.kind) {
-      case ObjectiveTerm::Kind::Clearance: v += t.weight * clearance(pose); break;
-      case ObjectiveTerm::Kind::Depth: v += t.weight * com.dot(t.vector); break;
-      case ObjectiveTerm::Kind::Distance: v -= t.weight * (com - t.vector).norm(); break;
-      case ObjectiveTerm::Kind::Upright: v += t.weight * (pose.linear() * t.vector).z(); break;
+      case ObjectiveTerm::Kind::Clearance:
+        v += t.weight * clearance(pose);
+        break;
+      case ObjectiveTerm::Kind::Depth:
+        v += t.weight * com.dot(t.vector);
+        break;
+      case ObjectiveTerm::Kind::Distance:
+        v -= t.weight * (com - t.vector).norm();
+        break;
+      case ObjectiveTerm::Kind::Upright:
+        v += t.weight * (pose.linear() * t.vector).z();
+        break;
     }
   }
   return v;

@@ -9,7 +9,8 @@ std::shared_ptr<const TwoLayerChecker> PerGraspCheckers::checker(int g) {
   std::lock_guard<std::mutex> lock(mutex_);
   auto it = checkers_.find(g);
   if (it != checkers_.end()) return it->second;
-  auto c = std::make_shared<const TwoLayerChecker>(world_->grasp_checker(grasps_[std::size_t(g)].pose, grasps_[std::size_t(g)].opening, counters_));
+  auto c = std::make_shared<const TwoLayerChecker>(
+      world_->grasp_checker(grasps_[std::size_t(g)].pose, grasps_[std::size_t(g)].opening, counters_));
   checkers_[g] = c;
   return c;
 }

@@ -37,10 +37,13 @@ std::pair<Eigen::Vector3d, double> bounding_ball(const TriMesh& mesh) {
 }
 }  // namespace
 
-PlacementPlanner::PlacementPlanner(const PlacementWorld& world, PlacementQuery query) : world_(&world), query_(std::move(query)) {
+PlacementPlanner::PlacementPlanner(const PlacementWorld& world, PlacementQuery query)
+    : world_(&world), query_(std::move(query)) {
   const Kinematics& kin = world.kinematics();
   if (query_.q0.size() != kin.dof())
-    throw Error(query_.source, "q0", "has " + std::to_string(query_.q0.size()) + " values, the arm has " + std::to_string(kin.dof()) + " joints");
+    throw Error(
+        query_.source, "q0",
+        "has " + std::to_string(query_.q0.size()) + " values, the arm has " + std::to_string(kin.dof()) + " joints");
   if (!query_.q0.allFinite()) throw Error(query_.source, "q0", "not finite (NaN or infinity)");
   if (!kin.within_limits(query_.q0, 1e-6)) throw Error(query_.source, "q0", "outside the joint limits");
   if (!query_.g0.matrix().allFinite()) throw Error(query_.source, "initial_grasp", "not finite");
@@ -53,23 +56,26 @@ PlacementPlanner::PlacementPlanner(const PlacementWorld& world, PlacementQuery q
     const double d = surface_distance(world.object().mesh, query_.g0.translation());
     if (!(d <= reach))
       throw Error(query_.source, "initial_grasp",
-                  "the TCP is " + std::to_string(d) + " m from the object's surface; a parallel-jaw grasp holds it within " +
-                      std::to_string(reach) + " m (half the gripper's maximum opening plus the contact tolerance)");
+                  "the TCP is " + std::to_string(d) +
+                      " m from the object's surface; a parallel-jaw grasp holds it within " + std::to_string(reach) +
+                      " m (half the gripper's maximum opening plus the contact tolerance)");
   }
-  if (query_.volume && (query_.volume->isEmpty() || !query_.volume->min().allFinite() || !query_.volume->max().allFinite()))
+  if (query_.volume &&
+      (query_.volume->isEmpty() || !query_.volume->min().allFinite() || !query_.volume->max().allFinite()))
     throw Error(query_.source, "volume", "empty or not finite (need xmin <= xmax, ...)");
   check_placement_options(query_.options, query_.source);
   if (const auto& r = query_.retreat_configuration) {
     const std::string el = "retreat_configuration";
     if (r->size() != kin.dof())
-      throw Error(query_.source, el, "has " + std::to_string(r->size()) + " values, the arm has " + std::to_string(kin.dof()) + " joints");
+      throw Error(query_.source, el,
+                  "has " + std::to_string(r->size()) + " values, the arm has " + std::to_string(kin.dof()) + " joints");
     if (!r->allFinite()) throw Error(query_.source, el, "not finite (NaN or infinity)");
     if (!kin.within_limits(*r, 1e-6)) throw Error(query_.source, el, "outside the joint limits");
     if (!world.exact().is_free(*r)) throw Error(query_.source, el, "in collision: " + world.exact().check(*r).contact);
   }
   if (query_.pusher)
-    pusher_ = std::make_unique<PushPlanner>(world, *query_.pusher, query_.q0, query_.options.motion_resolution, query_.seed,
-                                            query_.source);
+    pusher_ = std::make_unique<PushPlanner>(world, *query_.pusher, query_.q0, query_.options.motion_resolution,
+                                            query_.seed, query_.source);
 }
 
 PlacementPlanner::~PlacementPlanner() = default;
@@ -199,7 +205,8 @@ struct PlacementPlanner::Run {
     result.initial_opening = grasps[0].opening;
     per_grasp = std::make_unique<PerGraspCheckers>(world, std::move(grasps), q.q0);
     if (pusher) result.pusher_joints = pusher->kinematics().joint_names();
-    if (!world.exact().is_free(q.q0)) return "the start configuration q0 is in collision: " + world.exact().check(q.q0).contact;
+    if (!world.exact().is_free(q.q0))
+      return "the start configuration q0 is in collision: " + world.exact().check(q.q0).contact;
     if (q.variant == PlacementVariant::NoRegrasp && !per_grasp->usable(0))
       return "holding the object with g0, the start configuration is in collision: " +
              world.grasp_exact(q.g0, per_grasp->grasp(0).opening).check(q.q0).contact;
@@ -210,12 +217,15 @@ struct PlacementPlanner::Run {
     selector = std::make_unique<GraspSelector>(*per_grasp, *tree, q.variant, o.p_accept, o.hand_tries, hand_free);
     validator = std::make_unique<GoalValidator>(world, *space, *objective, *per_grasp, *selector, q);
     // Each grasp's checker is kept by per_grasp for the whole run, so its space may refer to it.
-    auto factory = [this](int g) { return make_arm_space(world.kinematics(), *per_grasp->checker(g), o.motion_resolution); };
+    auto factory = [this](int g) {
+      return make_arm_space(world.kinematics(), *per_grasp->checker(g), o.motion_resolution);
+    };
     motion = std::make_unique<MultiGraspPlanner>(factory, std::vector<double>(q.q0.data(), q.q0.data() + q.q0.size()),
                                                  std::max(1, o.threads), q.seed);
     motion->set_path_validator([this](int g, const JointPath& path) {
       const ExactChecker& exact = per_grasp->checker(g)->exact();
-      return path_valid(path, [&exact](const Eigen::VectorXd& x) { return exact.is_free(x); }, o.motion_resolution);
+      return path_valid(
+          path, [&exact](const Eigen::VectorXd& x) { return exact.is_free(x); }, o.motion_resolution);
     });
     return {};
   }
@@ -305,7 +315,9 @@ struct PlacementPlanner::Run {
     // must too, each segment at the same states: keep the longest exact-valid prefix.
     const ExactChecker& exact = checker->exact();
     const ValidityFn exact_free = [&exact](const Eigen::VectorXd& x) { return exact.is_free(x); };
-    const auto vec = [](const std::vector<double>& v) { return Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size())); };
+    const auto vec = [](const std::vector<double>& v) {
+      return Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size()));
+    };
     std::size_t valid_steps = 0;
     for (Eigen::VectorXd prev = vec(gp.found.path.back()); valid_steps < opt.steps.size(); ++valid_steps) {
       const Eigen::VectorXd next = vec(opt.steps[valid_steps]);
@@ -335,7 +347,8 @@ struct PlacementPlanner::Run {
   // configuration. Fills sol.retreat and sol.release_opening; false when there is none. The
   // fingers open release_clearance each; where no retreat is found so, they try opening only as
   // far as the gripper's contact tolerance (a narrower hand fits where a wider one does not).
-  bool plan_whole_retreat(const Eigen::Isometry3d& pose, const JointPath& path, double grasp_opening, PlacementSolution& sol) {
+  bool plan_whole_retreat(const Eigen::Isometry3d& pose, const JointPath& path, double grasp_opening,
+                          PlacementSolution& sol) {
     const auto& gripper = world.object().dmg.gripper;
     const double wide = std::min(gripper.max_opening, grasp_opening + 2 * o.release_clearance);
     const double narrow = std::min(wide, grasp_opening + 2 * gripper.contact_tolerance);
@@ -344,7 +357,9 @@ struct PlacementPlanner::Run {
 
   // plan_whole_retreat with the fingers opened to `opening` at release.
   bool retreat_at(const Eigen::Isometry3d& pose, const JointPath& path, double opening, PlacementSolution& sol) {
-    const auto vec = [](const std::vector<double>& v) { return Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size())); };
+    const auto vec = [](const std::vector<double>& v) {
+      return Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size()));
+    };
     Eigen::Isometry3d up = pose;
     up.translation().z() += o.lift;
     const ExactChecker released = world.released_exact(up, opening);
@@ -354,9 +369,11 @@ struct PlacementPlanner::Run {
     const Eigen::Vector3d back = -world.kinematics().tip_pose(q_place).linear().col(2);
     const ExactChecker placed = world.placed_exact(up, opening);
     const ValidityFn clear = [&placed](const Eigen::VectorXd& x) { return placed.is_free(x); };
-    Retreat r = plan_retreat(world.kinematics(), released, q_place, back, o.retreat_distance, o.motion_resolution, clear);
+    Retreat r =
+        plan_retreat(world.kinematics(), released, q_place, back, o.retreat_distance, o.motion_resolution, clear);
     if (!r.ok && back.z() < 0.99)
-      r = plan_retreat(world.kinematics(), released, q_place, Eigen::Vector3d::UnitZ(), o.retreat_distance, o.motion_resolution, clear);
+      r = plan_retreat(world.kinematics(), released, q_place, Eigen::Vector3d::UnitZ(), o.retreat_distance,
+                       o.motion_resolution, clear);
     if (!r.ok) return false;
     const JointPath motion = retreat_motion(placed, opening, up, vec(r.path.back()), path);
     if (motion.empty()) return false;
@@ -408,7 +425,8 @@ struct PlacementPlanner::Run {
     sol.opening = grasp.opening;
     sol.grasp_cost = grasp.cost;
     sol.in_hand = std::move(actions);
-    if (pusher && !sol.in_hand.empty()) sol.pushes = pusher->plan(sol.in_hand, timing()).value();  // planned when the grasp was admitted
+    if (pusher && !sol.in_hand.empty())
+      sol.pushes = pusher->plan(sol.in_hand, timing()).value();  // planned when the grasp was admitted
     sol.path = std::move(path);
     sol.trajectory = time_arm_path(world.kinematics(), sol.path, timing());
     sol.retreat_trajectory = time_arm_path(world.kinematics(), sol.retreat, timing());
@@ -425,9 +443,10 @@ struct PlacementPlanner::Run {
     std::ostringstream s;
     s << "no placement found in " << elapsed() << " s";
     if (exhausted) s << " (the search space has no node left)";
-    s << ": " << c.samples << " poses sampled, " << c.stable << " stable, " << c.object_free << " of them free of the scene, "
-      << c.improving << " of those improving; " << c.ik_calls << " IK calls (" << c.ik_solutions << " solved, " << c.reachable
-      << " collision-free), " << c.goals << " valid goals, " << c.paths << " arm paths";
+    s << ": " << c.samples << " poses sampled, " << c.stable << " stable, " << c.object_free
+      << " of them free of the scene, " << c.improving << " of those improving; " << c.ik_calls << " IK calls ("
+      << c.ik_solutions << " solved, " << c.reachable << " collision-free), " << c.goals << " valid goals, " << c.paths
+      << " arm paths";
     if (c.paths_rejected) s << ", " << c.paths_rejected << " arm paths refused by the exact re-check";
     if (c.retreat_failures) s << ", " << c.retreat_failures << " placements without a free retreat";
     if (c.push_failures) s << ", " << c.push_failures << " grasps whose in-hand actions the pusher could not perform";

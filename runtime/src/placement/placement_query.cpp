@@ -8,9 +8,12 @@ namespace dmgplace::runtime {
 
 const char* to_string(PlacementVariant v) {
   switch (v) {
-    case PlacementVariant::Full: return "full";
-    case PlacementVariant::RandomGrasp: return "random-grasp";
-    case PlacementVariant::NoRegrasp: return "no-regrasp";
+    case PlacementVariant::Full:
+      return "full";
+    case PlacementVariant::RandomGrasp:
+      return "random-grasp";
+    case PlacementVariant::NoRegrasp:
+      return "no-regrasp";
   }
   return "?";
 }
@@ -23,10 +26,14 @@ std::optional<PlacementVariant> parse_variant(const std::string& s) {
 
 const char* to_string(ObjectiveTerm::Kind k) {
   switch (k) {
-    case ObjectiveTerm::Kind::Clearance: return "clearance";
-    case ObjectiveTerm::Kind::Depth: return "depth";
-    case ObjectiveTerm::Kind::Distance: return "distance";
-    case ObjectiveTerm::Kind::Upright: return "upright";
+    case ObjectiveTerm::Kind::Clearance:
+      return "clearance";
+    case ObjectiveTerm::Kind::Depth:
+      return "depth";
+    case ObjectiveTerm::Kind::Distance:
+      return "distance";
+    case ObjectiveTerm::Kind::Upright:
+      return "upright";
   }
   return "?";
 }
@@ -50,25 +57,32 @@ const std::vector<PlacementOptionSpec>& placement_option_specs() {
       {"reward_objective", &O::reward_objective, 0, 1000, "relaxed reward weight: objective improves"},
       {"reward_reachable", &O::reward_reachable, 0, 1000, "relaxed reward weight: IK solution exists"},
       {"p_accept", &O::p_accept, 0, 1, "probability of keeping a cached grasp (Algorithm 3)"},
-      {"hand_tries", &O::hand_tries, 0, 100000, "hand-checked draws outside the grasp cache before an unchecked one (0: the paper's)"},
+      {"hand_tries", &O::hand_tries, 0, 100000,
+       "hand-checked draws outside the grasp cache before an unchecked one (0: the paper's)"},
       {"lift", &O::lift, 0, 0.1, "goal configurations hold the object this far above the support (m)"},
       {"ik_restarts", &O::ik_restarts, 0, 1000, "random IK restarts after the seed"},
       {"motion_resolution", &O::motion_resolution, 1e-4, 1, "joint-space collision check step (rad)"},
       {"threads", &O::threads, 0, 256, "planner worker threads; 0: synchronous and deterministic"},
-      {"slice_iterations", &O::slice_iterations, 1, 1000000, "synchronous mode: planner iterations per round, shared by the grasps with goals"},
+      {"slice_iterations", &O::slice_iterations, 1, 1000000,
+       "synchronous mode: planner iterations per round, shared by the grasps with goals"},
       {"max_open_goals", &O::max_open_goals, 1, 100000, "goal sampling pauses while this many wait for a path"},
       {"optimize_locally", &O::optimize_locally, 0, 0, "gradient ascent of the objective after each solution"},
       {"local_step", &O::local_step, 1e-6, 1, "initial local-optimisation step (m; rad for theta)"},
       {"local_min_step", &O::local_min_step, 1e-9, 1, "local optimisation stops below this step"},
       {"local_iterations", &O::local_iterations, 0, 100000, "local optimisation steps"},
-      {"check_retreat", &O::check_retreat, 0, 0, "require a retreat after release: withdraw, then a motion to the retreat configuration"},
-      {"release_clearance", &O::release_clearance, 0, 0.1, "the fingers open this far beyond the grasp's opening, each, to let go (m)"},
-      {"retreat_distance", &O::retreat_distance, 0, 1, "longest straight withdrawal of the open hand before the retreat motion (m)"},
+      {"check_retreat", &O::check_retreat, 0, 0,
+       "require a retreat after release: withdraw, then a motion to the retreat configuration"},
+      {"release_clearance", &O::release_clearance, 0, 0.1,
+       "the fingers open this far beyond the grasp's opening, each, to let go (m)"},
+      {"retreat_distance", &O::retreat_distance, 0, 1,
+       "longest straight withdrawal of the open hand before the retreat motion (m)"},
       {"retreat_iterations", &O::retreat_iterations, 1, 10000000, "retreat motion: planner iterations per placement"},
       {"retreat_time", &O::retreat_time, 1e-3, 1000, "retreat motion: seconds per placement at most"},
       {"tie_tolerance", &O::tie_tolerance, 0, 1, "objective values this close count as equal"},
-      {"velocity_scaling", &O::velocity_scaling, 1e-6, 1, "timed trajectories: fraction of the joints' velocity limits"},
-      {"acceleration_scaling", &O::acceleration_scaling, 1e-6, 1, "timed trajectories: fraction of the joints' acceleration limits"},
+      {"velocity_scaling", &O::velocity_scaling, 1e-6, 1,
+       "timed trajectories: fraction of the joints' velocity limits"},
+      {"acceleration_scaling", &O::acceleration_scaling, 1e-6, 1,
+       "timed trajectories: fraction of the joints' acceleration limits"},
   };
   return specs;
 }

@@ -47,7 +47,8 @@ PlacementWorld::PlacementWorld(formats::RobotArtifact robot, formats::ObjectArti
     return h.source_file.empty() ? std::string("<") + kind + " artifact>" : h.source_file;
   };
   if (env.sdf.empty())
-    throw Error(name(env.header, "environment"), "/fields/sdf", "the artifact has no distance field; bake it with `dmgplace bake-env`");
+    throw Error(name(env.header, "environment"), "/fields/sdf",
+                "the artifact has no distance field; bake it with `dmgplace bake-env`");
   if (env.clearance.empty())
     throw Error(name(env.header, "environment"), "/fields/clearance",
                 "the artifact has no clearance field; bake it with `dmgplace bake-env`");
@@ -96,7 +97,9 @@ PlacementWorld::PlacementWorld(formats::RobotArtifact robot, formats::ObjectArti
   object_spheres_ = std::move(models.spheres);
 }
 
-HeldObjectModels HeldObjectModels::build(const TriMesh& mesh) { return {std::make_unique<CollisionMesh>(mesh), cover_object(mesh)}; }
+HeldObjectModels HeldObjectModels::build(const TriMesh& mesh) {
+  return {std::make_unique<CollisionMesh>(mesh), cover_object(mesh)};
+}
 
 void PlacementWorld::set_fingers(Kinematics& kin, double opening) const {
   // Finger joints: movable joints outside the chain whose child is a hand link; each finger
@@ -115,14 +118,19 @@ void PlacementWorld::set_robot_joints(const std::map<std::string, double>& value
     const std::string where = "joint '" + name + "'";
     if (j < 0) throw Error(file, where, "no joint of that name in robot '" + m.name + "'");
     const Joint& jt = m.joints[std::size_t(j)];
-    if (kin_->chain_slot(j) >= 0) throw Error(file, where, "is a joint of the planning chain: it belongs in the start configuration");
-    if (jt.type == JointType::Fixed) throw Error(file, where, "is fixed (in the URDF, or frozen by bake-robot --fixed-joints)");
-    if (jt.mimic >= 0) throw Error(file, where, "follows '" + m.joints[std::size_t(jt.mimic)].name + "' (mimic): set that one");
+    if (kin_->chain_slot(j) >= 0)
+      throw Error(file, where, "is a joint of the planning chain: it belongs in the start configuration");
+    if (jt.type == JointType::Fixed)
+      throw Error(file, where, "is fixed (in the URDF, or frozen by bake-robot --fixed-joints)");
+    if (jt.mimic >= 0)
+      throw Error(file, where, "follows '" + m.joints[std::size_t(jt.mimic)].name + "' (mimic): set that one");
     if (std::find(hand_.links.begin(), hand_.links.end(), jt.child) != hand_.links.end())
       throw Error(file, where, "moves a finger: fingers follow each grasp's opening");
-    if (!std::isfinite(value) || (jt.type != JointType::Continuous && (value < jt.lower - 1e-9 || value > jt.upper + 1e-9)))
-      throw Error(file, where, "value " + std::to_string(value) + " outside its limits [" + std::to_string(jt.lower) + ", " +
-                                   std::to_string(jt.upper) + "]");
+    if (!std::isfinite(value) ||
+        (jt.type != JointType::Continuous && (value < jt.lower - 1e-9 || value > jt.upper + 1e-9)))
+      throw Error(file, where,
+                  "value " + std::to_string(value) + " outside its limits [" + std::to_string(jt.lower) + ", " +
+                      std::to_string(jt.upper) + "]");
     kin_->set_joint_value(name, value);
   }
 }
@@ -162,7 +170,9 @@ double PlacementWorld::finger_travel() const {
   return gap(1e3) - gap(0);  // driven to their upper and lower limits
 }
 
-const Kinematics& PlacementWorld::kinematics_at(double opening) const { return opening >= 0 ? *fingers_at(opening).kin : *kin_; }
+const Kinematics& PlacementWorld::kinematics_at(double opening) const {
+  return opening >= 0 ? *fingers_at(opening).kin : *kin_;
+}
 
 TwoLayerChecker PlacementWorld::grasp_checker(const Eigen::Isometry3d& tcp_in_object, double opening,
                                               std::shared_ptr<CheckCounters> counters) const {
@@ -177,9 +187,10 @@ TwoLayerChecker PlacementWorld::grasp_checker(const Eigen::Isometry3d& tcp_in_ob
     att.centers.push_back(object_in_tip * object_spheres_.centers[i]);
     att.radii.push_back(object_spheres_.radii[i]);
   }
-  return TwoLayerChecker(fast_->with_kinematics(kin).with_attached(std::move(att)),
-                         exact_->with_kinematics(kin).with_attached(*object_mesh_, kin_->tip_link(), object_in_tip, hand_.links),
-                         std::move(counters));
+  return TwoLayerChecker(
+      fast_->with_kinematics(kin).with_attached(std::move(att)),
+      exact_->with_kinematics(kin).with_attached(*object_mesh_, kin_->tip_link(), object_in_tip, hand_.links),
+      std::move(counters));
 }
 
 TwoLayerChecker PlacementWorld::arm_checker(std::shared_ptr<CheckCounters> counters, double opening) const {
@@ -194,11 +205,13 @@ ExactChecker PlacementWorld::grasp_exact(const Eigen::Isometry3d& tcp_in_object,
 }
 
 ExactChecker PlacementWorld::released_exact(const Eigen::Isometry3d& object_pose, double opening) const {
-  return exact_->with_kinematics(kinematics_at(opening)).with_attached(*object_mesh_, kin_->base_link(), object_pose, hand_.fingers);
+  return exact_->with_kinematics(kinematics_at(opening))
+      .with_attached(*object_mesh_, kin_->base_link(), object_pose, hand_.fingers);
 }
 
 ExactChecker PlacementWorld::placed_exact(const Eigen::Isometry3d& object_pose, double opening) const {
-  return exact_->with_kinematics(kinematics_at(opening)).with_attached(*object_mesh_, kin_->base_link(), object_pose, {});
+  return exact_->with_kinematics(kinematics_at(opening))
+      .with_attached(*object_mesh_, kin_->base_link(), object_pose, {});
 }
 
 bool PlacementWorld::hand_free(const Eigen::Isometry3d& tcp_world, double opening) const {

@@ -12,12 +12,12 @@
 
 namespace dmgplace::runtime {
 namespace {
-constexpr int kContacts = 8;           // candidate contacts tried per action
-constexpr int kSpins = 4;              // tool turns about its axis tried per tool axis
-constexpr double kTilt = 0.5;          // rad: the tool's axis may lean this far from the push (four ways)
-constexpr double kContactSpacing = 0.1;   // of the object's size, between candidate contacts
-constexpr double kMaxJointStep = 0.25;    // rad: one Cartesian step may move a joint this far (else the IK jumped)
-constexpr double kMaxTurnStep = 0.05;     // rad of the object's turn per Cartesian step
+constexpr int kContacts = 8;             // candidate contacts tried per action
+constexpr int kSpins = 4;                // tool turns about its axis tried per tool axis
+constexpr double kTilt = 0.5;            // rad: the tool's axis may lean this far from the push (four ways)
+constexpr double kContactSpacing = 0.1;  // of the object's size, between candidate contacts
+constexpr double kMaxJointStep = 0.25;   // rad: one Cartesian step may move a joint this far (else the IK jumped)
+constexpr double kMaxTurnStep = 0.05;    // rad of the object's turn per Cartesian step
 
 // The pusher's links that may touch the object while pushing: those rigid with the TCP (no chain
 // joint between them and the tip) that have collision geometry, less the link the last chain joint
@@ -76,8 +76,8 @@ std::vector<Eigen::Isometry3d> tool_frames(const Eigen::Vector3d& point, const E
 const Eigen::Map<const Eigen::VectorXd> vec(const std::vector<double>& v) { return {v.data(), Eigen::Index(v.size())}; }
 }  // namespace
 
-PushPlanner::PushPlanner(const PlacementWorld& world, const PusherSpec& spec, const Eigen::VectorXd& q0, double resolution,
-                         std::uint64_t seed, const std::string& source)
+PushPlanner::PushPlanner(const PlacementWorld& world, const PusherSpec& spec, const Eigen::VectorXd& q0,
+                         double resolution, std::uint64_t seed, const std::string& source)
     : world_(world), spec_(spec), q0_(q0), resolution_(resolution), seed_(seed) {
   const Kinematics& arm = world.kinematics();
   const RobotModel& m = arm.model();
@@ -90,20 +90,24 @@ PushPlanner::PushPlanner(const PlacementWorld& world, const PusherSpec& spec, co
     kin_ = std::make_unique<Kinematics>(m, arm_base, spec.tip);
     own = std::make_unique<Kinematics>(m, spec.base, spec.tip);
   } catch (const Error& e) {
-    throw Error(source, el, "'" + spec.base + ":" + spec.tip + "' is not a chain below the grasping arm's base '" + arm_base +
-                                "': " + e.what());
+    throw Error(source, el,
+                "'" + spec.base + ":" + spec.tip + "' is not a chain below the grasping arm's base '" + arm_base +
+                    "': " + e.what());
   }
   if (own->dof() != kin_->dof())
-    throw Error(source, el, "joints move between the grasping arm's base '" + arm_base + "' and the pusher's base '" + spec.base +
-                                "': the pusher's base must be rigid with it");
+    throw Error(source, el,
+                "joints move between the grasping arm's base '" + arm_base + "' and the pusher's base '" + spec.base +
+                    "': the pusher's base must be rigid with it");
   if (kin_->dof() == 0) throw Error(source, el, "the chain '" + spec.base + ":" + spec.tip + "' has no moving joint");
   for (const auto& name : kin_->joint_names())
     if (arm.chain_slot(m.joint_index(name)) >= 0)
-      throw Error(source, el, "the chain shares joint '" + name + "' with the grasping arm: the pusher must be another arm");
+      throw Error(source, el,
+                  "the chain shares joint '" + name + "' with the grasping arm: the pusher must be another arm");
   if (!spec.tcp.matrix().allFinite()) throw Error(source, "pusher.tcp", "not finite (NaN or infinity)");
   auto positive = [&](double v, double hi, const char* name) {
     if (!(std::isfinite(v) && v > 0 && v <= hi))
-      throw Error(source, std::string("pusher.") + name, "must be in (0, " + number_text(hi) + "], got " + number_text(v));
+      throw Error(source, std::string("pusher.") + name,
+                  "must be in (0, " + number_text(hi) + "], got " + number_text(v));
   };
   positive(spec.standoff, 0.5, "standoff");
   positive(spec.step, 0.05, "step");
@@ -117,18 +121,22 @@ PushPlanner::PushPlanner(const PlacementWorld& world, const PusherSpec& spec, co
     kin_->set_joint_value(jt.name, arm.joint_value(int(j), q0));
   }
   start_.resize(kin_->dof());
-  for (int i = 0; i < kin_->dof(); ++i) start_[i] = arm.joint_value(m.joint_index(kin_->joint_names()[std::size_t(i)]), q0);
+  for (int i = 0; i < kin_->dof(); ++i)
+    start_[i] = arm.joint_value(m.joint_index(kin_->joint_names()[std::size_t(i)]), q0);
   if (!kin_->within_limits(start_, 1e-6))
-    throw Error(source, "pusher", "the pusher's joints are outside its limits where the world holds them; name them in start");
+    throw Error(source, "pusher",
+                "the pusher's joints are outside its limits where the world holds them; name them in start");
   exact_ = std::make_unique<ExactChecker>(*kin_, world.scene());
   const ExactCheck at_start = exact_->check(start_);
-  if (!at_start.free()) throw Error(source, "pusher", "the pusher's start configuration is in collision: " + at_start.contact);
+  if (!at_start.free())
+    throw Error(source, "pusher", "the pusher's start configuration is in collision: " + at_start.contact);
   tool_ = rigid_tool_links(*kin_);
   Eigen::AlignedBox3d box;
   for (Eigen::Index i = 0; i < world.object().mesh.vertices.rows(); ++i)
     box.extend(Eigen::Vector3d(world.object().mesh.vertices.row(i).transpose()));
   contact_spacing_ = kContactSpacing * box.diagonal().norm();
-  if (tool_.empty()) throw Error(source, el, "no link with collision geometry is rigid with the pusher's tip: nothing to push with");
+  if (tool_.empty())
+    throw Error(source, el, "no link with collision geometry is rigid with the pusher's tip: nothing to push with");
 }
 
 PushPlanner::~PushPlanner() = default;
@@ -143,7 +151,8 @@ double PushPlanner::seconds() const {
   return seconds_;
 }
 
-std::optional<std::vector<PushPlan>> PushPlanner::plan(const std::vector<InHandAction>& actions, const TimingOptions& timing) {
+std::optional<std::vector<PushPlan>> PushPlanner::plan(const std::vector<InHandAction>& actions,
+                                                       const TimingOptions& timing) {
   std::vector<PushPlan> out;
   for (std::size_t i = 0; i < actions.size(); ++i) {
     const std::pair<int, int> key{actions[i].from_state, actions[i].to_state};
@@ -166,7 +175,8 @@ std::optional<std::vector<PushPlan>> PushPlanner::plan(const std::vector<InHandA
     }
     if (!p) return std::nullopt;
     p->action = int(i);
-    if (timing.velocity_scaling != 1 || timing.acceleration_scaling != 1) p->trajectory = time_arm_path(*kin_, p->path, timing);
+    if (timing.velocity_scaling != 1 || timing.acceleration_scaling != 1)
+      p->trajectory = time_arm_path(*kin_, p->path, timing);
     out.push_back(std::move(*p));
   }
   return out;
@@ -187,8 +197,9 @@ struct PushCheckers {
 // The TCP's waypoints with a tool frame `at_contact` at contact c: `n_in` steps in over the
 // standoff, `n_push` along the push (the contact carried by the object, the tool turning with
 // it), `n_in` back out along the contact normal at the push's end.
-std::vector<PushWaypoint> push_waypoints(const Eigen::Isometry3d& at_contact, const PushContact& c, const ObjectMotion& motion,
-                                         double standoff, int n_in, int n_push, const PushCheckers& k) {
+std::vector<PushWaypoint> push_waypoints(const Eigen::Isometry3d& at_contact, const PushContact& c,
+                                         const ObjectMotion& motion, double standoff, int n_in, int n_push,
+                                         const PushCheckers& k) {
   std::vector<PushWaypoint> way;
   for (int i = 0; i <= n_in; ++i) {
     Eigen::Isometry3d f = at_contact;
@@ -210,7 +221,8 @@ std::vector<PushWaypoint> push_waypoints(const Eigen::Isometry3d& at_contact, co
 }
 }  // namespace
 
-JointPath PushPlanner::cartesian_path(const std::vector<PushWaypoint>& way, const Kinematics& kin, std::mt19937_64& rng) const {
+JointPath PushPlanner::cartesian_path(const std::vector<PushWaypoint>& way, const Kinematics& kin,
+                                      std::mt19937_64& rng) const {
   IkOptions first_ik;
   first_ik.max_restarts = 8;
   IkOptions step_ik;
@@ -279,7 +291,8 @@ std::optional<PushPlan> PushPlanner::plan_action(const InHandAction& a) {
       budget.seed = rng();
       auto connect = [&](const Eigen::VectorXd& from, const Eigen::VectorXd& to, const ValidityFn& valid) -> JointPath {
         if (segment_valid(from, to, resolution_, valid))
-          return {std::vector<double>(from.data(), from.data() + from.size()), std::vector<double>(to.data(), to.data() + to.size())};
+          return {std::vector<double>(from.data(), from.data() + from.size()),
+                  std::vector<double>(to.data(), to.data() + to.size())};
         return plan_free_motion(kin, valid, from, to, budget);
       };
       const JointPath in = connect(start_, vec(cart.front()), free_before);

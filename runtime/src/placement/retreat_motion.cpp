@@ -20,12 +20,15 @@ JointPath retrace_approach(const RetreatScene& s, const Eigen::VectorXd& from, c
                            double resolution) {
   if (approach.empty()) return {};
   const ValidityFn valid = [&s](const Eigen::VectorXd& q) { return retreat_state_free(s, q); };
-  const auto vec = [](const std::vector<double>& v) { return Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size())); };
+  const auto vec = [](const std::vector<double>& v) {
+    return Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size()));
+  };
   // back_free: how many of the approach's first waypoints lead back to its start, every segment free.
   std::size_t back_free = 0;
   if (valid(vec(approach[0]))) {
     back_free = 1;
-    while (back_free < approach.size() && segment_valid(vec(approach[back_free]), vec(approach[back_free - 1]), resolution, valid))
+    while (back_free < approach.size() &&
+           segment_valid(vec(approach[back_free]), vec(approach[back_free - 1]), resolution, valid))
       ++back_free;
   }
   for (std::size_t j = back_free; j-- > 0;) {
@@ -39,7 +42,8 @@ JointPath retrace_approach(const RetreatScene& s, const Eigen::VectorXd& from, c
 
 JointPath plan_retreat_motion(const RetreatScene& s, const Eigen::VectorXd& from, const Eigen::VectorXd& to,
                               const RetreatBudget& budget) {
-  return plan_free_motion(*s.kin, [&s](const Eigen::VectorXd& q) { return retreat_state_free(s, q); }, from, to, budget);
+  return plan_free_motion(
+      *s.kin, [&s](const Eigen::VectorXd& q) { return retreat_state_free(s, q); }, from, to, budget);
 }
 
 }  // namespace dmgplace::runtime

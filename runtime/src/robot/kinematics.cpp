@@ -39,7 +39,8 @@ bool snap_quarter_turns(Eigen::Matrix3d& O, int perm[3], double sign[3]) {
 // Is the unit axis a within kSnap of +-e_i? Then a is made exactly that and i returned, else -1.
 int snap_axis(Eigen::Vector3d& a, double& sign) {
   for (int i = 0; i < 3; ++i)
-    if (std::abs(std::abs(a[i]) - 1) <= kSnap && std::abs(a[(i + 1) % 3]) <= kSnap && std::abs(a[(i + 2) % 3]) <= kSnap) {
+    if (std::abs(std::abs(a[i]) - 1) <= kSnap && std::abs(a[(i + 1) % 3]) <= kSnap &&
+        std::abs(a[(i + 2) % 3]) <= kSnap) {
       sign = a[i] > 0 ? 1.0 : -1.0;
       a = sign * Eigen::Vector3d::Unit(i);
       return i;
@@ -77,14 +78,18 @@ Kinematics::Kinematics(const RobotModel& model, const std::string& base, const s
   // Path tip -> base.
   for (int link = tip_, steps = 0; link != base_; ++steps) {
     int j = parent_joint[std::size_t(link)];
-    if (j < 0 || steps > int(nl)) throw Error(model_->name, "arm chain", "'" + tip + "' does not descend from '" + base + "'");
+    if (j < 0 || steps > int(nl))
+      throw Error(model_->name, "arm chain", "'" + tip + "' does not descend from '" + base + "'");
     path_joints_.push_back(j);
     link = model_->joints[std::size_t(j)].parent;
   }
   std::reverse(path_joints_.begin(), path_joints_.end());
   path_moving_end_ = path_joints_.size();
-  while (path_moving_end_ > 0 && model_->joints[std::size_t(path_joints_[path_moving_end_ - 1])].type == JointType::Fixed) --path_moving_end_;
-  for (std::size_t k = path_moving_end_; k < path_joints_.size(); ++k) path_tail_ = path_tail_ * model_->joints[std::size_t(path_joints_[k])].origin;
+  while (path_moving_end_ > 0 &&
+         model_->joints[std::size_t(path_joints_[path_moving_end_ - 1])].type == JointType::Fixed)
+    --path_moving_end_;
+  for (std::size_t k = path_moving_end_; k < path_joints_.size(); ++k)
+    path_tail_ = path_tail_ * model_->joints[std::size_t(path_joints_[k])].origin;
   chain_slot_.assign(nj, -1);
   for (int j : path_joints_) {
     const auto& jt = model_->joints[std::size_t(j)];
@@ -151,7 +156,8 @@ double Kinematics::joint_value(int j, const Eigen::VectorXd& q) const {
 }
 
 // Always inlined: in link_poses' loop a call made forward kinematics measurably slower.
-__attribute__((always_inline)) inline void Kinematics::compose(int j, const Eigen::VectorXd& q, const Eigen::Isometry3d& parent,
+__attribute__((always_inline)) inline void Kinematics::compose(int j, const Eigen::VectorXd& q,
+                                                               const Eigen::Isometry3d& parent,
                                                                Eigen::Isometry3d& child, const double* sincos) const {
   const auto& jt = model_->joints[std::size_t(j)];
   const auto& m = terms_[std::size_t(j)];
@@ -227,14 +233,17 @@ Eigen::Isometry3d Kinematics::tip_pose(const Eigen::VectorXd& q) const { return 
 
 void Kinematics::jacobian(const Eigen::VectorXd& q, Jacobian& J) const { chain_pose(q, &J); }
 
-Eigen::Isometry3d Kinematics::tip_pose_and_jacobian(const Eigen::VectorXd& q, Jacobian& J) const { return chain_pose(q, &J); }
+Eigen::Isometry3d Kinematics::tip_pose_and_jacobian(const Eigen::VectorXd& q, Jacobian& J) const {
+  return chain_pose(q, &J);
+}
 
 Eigen::Isometry3d Kinematics::chain_pose(const Eigen::VectorXd& q, Jacobian* J) const {
   // Base to tip as link_poses composes it (each joint's motion folded into its origin: 3x3
   // products, no 4x4 temporaries). A joint's axis and origin in the base frame give its column; a
   // mimic joint on the path adds its motion to the column of the joint it follows.
   if (J) J->setZero(6, dof());
-  Eigen::Isometry3d T[2] = {Eigen::Isometry3d::Identity(), Eigen::Isometry3d::Identity()};  // parent, child, alternating
+  Eigen::Isometry3d T[2] = {Eigen::Isometry3d::Identity(),
+                            Eigen::Isometry3d::Identity()};  // parent, child, alternating
   int cur = 0;
   Eigen::Vector3d axes[64], origins[64];
   int cols[64];

@@ -74,7 +74,8 @@ DMGPLACE_LANES_INLINE void joint_values(const JointPlan& j, const double* const*
 // What the joint's transform needs of its values: sin and cos (revolute) or the value (prismatic)
 // in T, from the doubles vd (into sd/cd, then sf/cf/vf rounded once, for floats).
 template <class T, bool Wide>
-DMGPLACE_LANES_INLINE void joint_terms(const JointPlan& j, const double* vd, double* sd, double* cd, T* sf, T* cf, T* vf) {
+DMGPLACE_LANES_INLINE void joint_terms(const JointPlan& j, const double* vd, double* sd, double* cd, T* sf, T* cf,
+                                       T* vf) {
   if constexpr (std::is_same_v<T, double>) {
     if (j.type == 1) sincos_lanes(vd, sd, cd);
   } else if (j.type == 1) {
@@ -93,7 +94,8 @@ DMGPLACE_LANES_INLINE void joint_terms(const JointPlan& j, const double* vd, dou
 
 // Child pose = parent pose x the joint's transform at its values (v, s, c), W lanes at a time.
 template <class T, class Pose>
-DMGPLACE_LANES_INLINE void compose_joint(const JointPlan& j, const Pose& A, Pose& C, const T* v, const T* s, const T* c) {
+DMGPLACE_LANES_INLINE void compose_joint(const JointPlan& j, const Pose& A, Pose& C, const T* v, const T* s,
+                                         const T* c) {
   using D = lanes::VectorOf<T>;
   constexpr int W = int(sizeof(D) / sizeof(T));
   static_assert(N % W == 0);
@@ -152,7 +154,8 @@ DMGPLACE_LANES_INLINE void to_base_frame(LinkPoseLanes<T>& out, int base) {
       for (int k = 0; k < N; ++k) Bi[3 * r + col][k] = B[std::size_t(3 * col + r)][std::size_t(k)];  // transpose
   for (int r = 0; r < 3; ++r)
     for (int k = 0; k < N; ++k)
-      Bi[9 + r][k] = -(Bi[3 * r][k] * B[9][std::size_t(k)] + Bi[3 * r + 1][k] * B[10][std::size_t(k)] + Bi[3 * r + 2][k] * B[11][std::size_t(k)]);
+      Bi[9 + r][k] = -(Bi[3 * r][k] * B[9][std::size_t(k)] + Bi[3 * r + 1][k] * B[10][std::size_t(k)] +
+                       Bi[3 * r + 2][k] * B[11][std::size_t(k)]);
   alignas(64) T X[12][N];
   for (auto& L : P) {
     for (int r = 0; r < 3; ++r)
@@ -161,8 +164,8 @@ DMGPLACE_LANES_INLINE void to_base_frame(LinkPoseLanes<T>& out, int base) {
           const int e = col < 3 ? 3 * r + col : 9 + r;
           const int x = col < 3 ? col : 9;  // column col of L's rotation, or its translation
           const T dot = Bi[3 * r][k] * L[std::size_t(col < 3 ? x : 9)][std::size_t(k)] +
-                             Bi[3 * r + 1][k] * L[std::size_t(col < 3 ? 3 + x : 10)][std::size_t(k)] +
-                             Bi[3 * r + 2][k] * L[std::size_t(col < 3 ? 6 + x : 11)][std::size_t(k)];
+                        Bi[3 * r + 1][k] * L[std::size_t(col < 3 ? 3 + x : 10)][std::size_t(k)] +
+                        Bi[3 * r + 2][k] * L[std::size_t(col < 3 ? 6 + x : 11)][std::size_t(k)];
           X[e][k] = dot + (col < 3 ? T(0) : Bi[9 + r][k]);
         }
     for (int e = 0; e < 12; ++e)
@@ -176,8 +179,9 @@ DMGPLACE_LANES_INLINE void to_base_frame(LinkPoseLanes<T>& out, int base) {
 // a time), with the joint's constants splatted into registers: as plain loops over lanes GCC kept
 // some scalar (it cannot tell the child's stores from the plan's constants).
 template <class T, bool Wide>
-inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>& plan, const std::vector<int>& roots, int base,
-                                                   bool base_is_root, const double* const* q, LinkPoseLanes<T>& out) {
+inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>& plan, const std::vector<int>& roots,
+                                                   int base, bool base_is_root, const double* const* q,
+                                                   LinkPoseLanes<T>& out) {
   auto& P = out.pose;
   for (int r : roots)
     for (int e = 0; e < 12; ++e) P[std::size_t(r)][std::size_t(e)].fill(e == 0 || e == 4 || e == 8 ? 1.0 : 0.0);
@@ -194,8 +198,9 @@ inline __attribute__((always_inline)) void fk_body(const std::vector<JointPlan>&
 }
 
 template <class T>
-__attribute__((target("avx2,fma"))) void fk_avx2(const std::vector<JointPlan>& plan, const std::vector<int>& roots, int base,
-                                                 bool base_is_root, const double* const* q, LinkPoseLanes<T>& out) {
+__attribute__((target("avx2,fma"))) void fk_avx2(const std::vector<JointPlan>& plan, const std::vector<int>& roots,
+                                                 int base, bool base_is_root, const double* const* q,
+                                                 LinkPoseLanes<T>& out) {
   fk_body<T, true>(plan, roots, base, base_is_root, q, out);
 }
 
@@ -316,7 +321,6 @@ void Kinematics::Lanes::link_poses(const double* const* q, LinkPoseLanesF& out) 
 void Kinematics::Lanes::frame_poses(const double* const* q, LinkPoseLanesF& out) const {
   fk(frame_plan_, roots_, base_, base_is_root_, q, links_, out);
 }
-
 
 // A joint the chain does not drive (fixed, or set outside the chain) carries its child rigidly
 // with its parent: the child joins the parent's frame, at the parent's offset composed with the

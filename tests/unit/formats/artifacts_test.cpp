@@ -19,7 +19,8 @@ TriMesh unit_cube() {
   m.vertices.resize(8, 3);
   for (int i = 0; i < 8; ++i) m.vertices.row(i) << (i & 1), (i >> 1 & 1), (i >> 2 & 1);
   m.triangles.resize(12, 3);
-  m.triangles << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5;
+  m.triangles << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3,
+      7, 5;
   return m;
 }
 
@@ -52,11 +53,22 @@ RobotArtifact sample_robot() {
   mesh.hull = mesh.mesh.triangles;  // a cube is its own hull
   m.links[2].collision.push_back(mesh);
   Joint j1;
-  j1.name = "j1"; j1.type = JointType::Revolute; j1.parent = 0; j1.child = 1;
-  j1.lower = -2; j1.upper = 2; j1.velocity = 1; j1.acceleration = 2.5;
+  j1.name = "j1";
+  j1.type = JointType::Revolute;
+  j1.parent = 0;
+  j1.child = 1;
+  j1.lower = -2;
+  j1.upper = 2;
+  j1.velocity = 1;
+  j1.acceleration = 2.5;
   j1.origin.translation() = Eigen::Vector3d(0, 0, 0.2);
   Joint j2 = j1;
-  j2.name = "j2"; j2.type = JointType::Prismatic; j2.parent = 1; j2.child = 2; j2.mimic = 0; j2.mimic_multiplier = 0.5;
+  j2.name = "j2";
+  j2.type = JointType::Prismatic;
+  j2.parent = 1;
+  j2.child = 2;
+  j2.mimic = 0;
+  j2.mimic_multiplier = 0.5;
   j2.axis = Eigen::Vector3d::UnitY();
   m.joints = {j1, j2};
   m.arm_base = "base";
@@ -428,8 +440,9 @@ TEST(LoadGate, ZeroCollisionQuaternionIsRefused) {
   test::TempDir dir;
   save_robot(sample_robot(), dir / "r.h5");
   test::mutate_dataset(dir / "r.h5", dir / "q.h5", "links/collision/pose", 3, 0);  // shape 0: x y z qx qy qz qw
-  for (std::size_t k = 4; k < 7; ++k) test::mutate_dataset(dir / "q.h5", dir / "q.h5.tmp", "links/collision/pose", k, 0),
-                                       std::filesystem::rename(dir / "q.h5.tmp", dir / "q.h5");
+  for (std::size_t k = 4; k < 7; ++k)
+    test::mutate_dataset(dir / "q.h5", dir / "q.h5.tmp", "links/collision/pose", k, 0),
+        std::filesystem::rename(dir / "q.h5.tmp", dir / "q.h5");
   ASSERT_TRUE(verify_checksums_ok(dir / "q.h5"));
   try {
     load_robot(dir / "q.h5");
@@ -456,6 +469,7 @@ TEST(LoadGate, OverflowingRangesAndHugeVerticesAreRefused) {
   EXPECT_THAT(test::error_of([&] { load_object(dir / "far.h5"); }), ::testing::HasSubstr("a vertex beyond 1000 m"));
   auto r = sample_robot();
   save_robot(r, dir / "r.h5");
-  test::mutate_dataset(dir / "r.h5", dir / "shape.h5", "links/collision/mesh_ranges", 5, 9.3e18);  // shape 1's vertex count
+  test::mutate_dataset(dir / "r.h5", dir / "shape.h5", "links/collision/mesh_ranges", 5,
+                       9.3e18);  // shape 1's vertex count
   EXPECT_THAT(test::error_of([&] { load_robot(dir / "shape.h5"); }), ::testing::HasSubstr("mesh range outside"));
 }

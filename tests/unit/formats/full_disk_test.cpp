@@ -37,7 +37,8 @@ TEST(FullDisk, H5WriterOnAFullTmpfsFailsAndLeavesNothing) {
   const auto target = disk / "a.h5";
   write_artifact(target, 100);
   const std::string before = test::read_text(target);
-  EXPECT_THAT(test::error_of([&] { write_artifact(target); }), AllOf(HasSubstr(target.string()), HasSubstr("disk full")));
+  EXPECT_THAT(test::error_of([&] { write_artifact(target); }),
+              AllOf(HasSubstr(target.string()), HasSubstr("disk full")));
   EXPECT_THAT(disk.files_except("a.h5"), IsEmpty());
   EXPECT_TRUE(test::read_text(target) == before) << "the previous artifact was replaced";
 }

@@ -85,7 +85,12 @@ TEST(H5IO, ShapeTypeAndMissingDatasetErrorsNameFileAndDataset) {
   EXPECT_TRUE(is_error_naming([&] { r.read_f64("g/values", {-1}); }, "wrong shape"));
   EXPECT_TRUE(is_error_naming([&] { r.read_i32("g/values", {-1, 3}); }, "wrong element type"));
   EXPECT_TRUE(is_error_naming([&] { r.read_f64("nope/x", {-1}); }, "missing dataset"));
-  EXPECT_TRUE(is_error_naming([&] { r.read_f64("g/values", {1000, 3}); r.read_f64("nope", {1}); }, "a.h5"));
+  EXPECT_TRUE(is_error_naming(
+      [&] {
+        r.read_f64("g/values", {1000, 3});
+        r.read_f64("nope", {1});
+      },
+      "a.h5"));
 }
 
 TEST(H5IO, SchemaMismatchIsReported) {
@@ -157,11 +162,13 @@ TEST(H5IO, AnyFlippedByteIsDetectedOrHarmless) {
       auto names = r.read_strings("names");
       // The contiguous dataset has no Fletcher32: its SHA-256 alone must catch a flipped byte.
       auto field = r.read_f32("g/field", {10, 20, 30});
-      if (r.header().schema != "dmgplace.test" || r.header().schema_version != 3) throw dmgplace::Error("header changed");
+      if (r.header().schema != "dmgplace.test" || r.header().schema_version != 3)
+        throw dmgplace::Error("header changed");
       if (r.header().parameters_json != R"({"a":1})" || r.header().inputs.size() != 2 ||
           r.header().inputs[0].path != "in/a.stl")
         throw dmgplace::Error("header changed");
-      for (std::size_t i = 0; i < v.data.size(); ++i) ASSERT_DOUBLE_EQ(v.data[i], std::sin(double(i))) << "byte " << pos;
+      for (std::size_t i = 0; i < v.data.size(); ++i)
+        ASSERT_DOUBLE_EQ(v.data[i], std::sin(double(i))) << "byte " << pos;
       ASSERT_EQ(idx(1, 2), 6) << "byte " << pos;
       ASSERT_EQ(names.size(), 3u) << "byte " << pos;
       ASSERT_EQ(field.data, field_values()) << "byte " << pos;
@@ -183,8 +190,13 @@ TEST(H5IO, Utf8StringsRoundTripAsHdf5StringsWithTheirDigest) {
     w.ordered_group("t");
     w.write_utf8_strings("t/names", names);
     w.write_utf8_strings("t/none", {});
-    EXPECT_TRUE(is_error_naming([&] { w.write_utf8_strings("nul", {std::string("a\0b", 3)}); }, "nul[0]: string contains a NUL byte"));
-    EXPECT_TRUE(is_error_naming([&] { w.write_utf8_strings("bad", {"ok", "\xC3("}); }, "bad[1]: string is not valid UTF-8"));
+    EXPECT_TRUE(is_error_naming([&] { w.write_utf8_strings("nul", {std::string("a\0b", 3)}); },
+                                "nul[0]: string contains a NUL byte"));
+    EXPECT_TRUE(is_error_naming(
+        [&] {
+          w.write_utf8_strings("bad", {"ok", "\xC3("});
+        },
+        "bad[1]: string is not valid UTF-8"));
     w.commit();
   }
   H5Reader r(dir / "s.h5");

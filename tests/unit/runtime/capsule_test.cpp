@@ -25,17 +25,17 @@ Eigen::Vector3d random_unit(std::mt19937_64& rng) {
 
 // The lane test as the AVX2 batch runs it (fused multiply-adds) and as the portable build does.
 __attribute__((target("avx2,fma"))) std::uint32_t near_fma(const float* p, const float* f, const float* d, float inv,
-                                                            float reach2) {
+                                                           float reach2) {
   using lanes::load;
   using lanes::splatf;
-  return lanes::bits(kernels::near_segment(load(p), load(p + 8), load(p + 16), load(f), load(f + 8), load(f + 16), load(d),
-                                         load(d + 8), load(d + 16), splatf(inv), splatf(reach2)));
+  return lanes::bits(kernels::near_segment(load(p), load(p + 8), load(p + 16), load(f), load(f + 8), load(f + 16),
+                                           load(d), load(d + 8), load(d + 16), splatf(inv), splatf(reach2)));
 }
 std::uint32_t near_plain(const float* p, const float* f, const float* d, float inv, float reach2) {
   using lanes::load;
   using lanes::splatf;
-  return lanes::bits(kernels::near_segment(load(p), load(p + 8), load(p + 16), load(f), load(f + 8), load(f + 16), load(d),
-                                         load(d + 8), load(d + 16), splatf(inv), splatf(reach2)));
+  return lanes::bits(kernels::near_segment(load(p), load(p + 8), load(p + 16), load(f), load(f + 8), load(f + 16),
+                                           load(d), load(d + 8), load(d + 16), splatf(inv), splatf(reach2)));
 }
 
 }  // namespace
@@ -60,7 +60,8 @@ TEST(Capsule, HoldsEverySphereItWasFittedTo) {
     const auto k = bounding_capsule(centers, radii);
     ASSERT_TRUE(k.has_value());
     double bounding = 0;
-    for (int i = 0; i < n; ++i) bounding = std::max(bounding, (centers[std::size_t(i)] - centers[0]).norm() + radii[std::size_t(i)]);
+    for (int i = 0; i < n; ++i)
+      bounding = std::max(bounding, (centers[std::size_t(i)] - centers[0]).norm() + radii[std::size_t(i)]);
     for (int i = 0; i < n; ++i) {
       const auto& c = centers[std::size_t(i)];
       ASSERT_LE(distance_to_segment(c, k->from, k->to) + radii[std::size_t(i)], k->radius) << "sphere " << i;
@@ -112,14 +113,17 @@ TEST(Capsule, LaneSegmentTestIsWithinItsRoundingOfTheExactDistance) {
       }
       for (int k = 0; k < 8; ++k) {
         for (int a = 0; a < 3; ++a) p[8 * a + k] = pts[std::size_t(k)][a], f[8 * a + k] = ff[a], d[8 * a + k] = df[a];
-        exact[k] = distance_to_segment(pts[std::size_t(k)].cast<double>(), ff.cast<double>(), ff.cast<double>() + df.cast<double>());
+        exact[k] = distance_to_segment(pts[std::size_t(k)].cast<double>(), ff.cast<double>(),
+                                       ff.cast<double>() + df.cast<double>());
       }
       // One reach for all lanes: one lane's exact distance, nudged up or down by a little.
       const double reach = exact[round % 8] * (1 + (round % 3 - 1) * 1e-6);
       const float inv = float(1.0 / df.cast<double>().squaredNorm());
       const std::uint32_t bits = test(p, f, d, inv, float(reach * reach));
       for (int k = 0; k < 8; ++k) {
-        const double slack = kernels::kSegmentRounding * u * ((pts[std::size_t(k)] - ff).cast<double>().norm() + df.norm()) + 2 * u * reach;
+        const double slack =
+            kernels::kSegmentRounding * u * ((pts[std::size_t(k)] - ff).cast<double>().norm() + df.norm()) +
+            2 * u * reach;
         if (bits >> k & 1) {
           ++near;
           ASSERT_LT(exact[k], reach + slack) << "near, though the exact distance is well past the reach";

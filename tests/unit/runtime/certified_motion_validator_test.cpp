@@ -18,7 +18,9 @@ namespace ob = ompl::base;
 using dmgplace::runtime::CertifiedMotionValidator;
 
 namespace {
-struct Disc { double x, y, r; };
+struct Disc {
+  double x, y, r;
+};
 const std::vector<Disc> kDiscs = {{3, 3, 1}, {6, 7, 1.5}, {7, 2, 0.5}, {2, 8, 0.8}};
 
 double clearance(double x, double y) {
@@ -123,7 +125,8 @@ struct ProofRecorder {
   int unproven(int first, int last) const {
     for (int s = first; s <= last; ++s) {
       const double t = length * s / steps();
-      if (!std::any_of(proven.begin(), proven.end(), [&](const auto& in) { return in.first - 1e-9 <= t && t <= in.second + 1e-9; }))
+      if (!std::any_of(proven.begin(), proven.end(),
+                       [&](const auto& in) { return in.first - 1e-9 <= t && t <= in.second + 1e-9; }))
         return s;
     }
     return 0;
@@ -263,8 +266,8 @@ TEST(CertifiedMotionValidator, EveryStateOfAValidMotionIsProvenBySomeCheck) {
     if (!certified.checkMotion(a.get(), b.get())) continue;
     ++valid;
     const int s = rec.unproven(1, rec.steps());
-    ASSERT_EQ(s, 0) << "state " << s << " of " << rec.steps() << " unproven on (" << a[0] << ", " << a[1] << ") -> (" << b[0]
-                    << ", " << b[1] << ")";
+    ASSERT_EQ(s, 0) << "state " << s << " of " << rec.steps() << " unproven on (" << a[0] << ", " << a[1] << ") -> ("
+                    << b[0] << ", " << b[1] << ")";
   }
   EXPECT_GT(valid, 300);
   EXPECT_GT(rec.merged_lanes, 1000) << "neighbouring span lanes must fail together";
@@ -290,12 +293,13 @@ TEST(CertifiedMotionValidator, BetweenValidEndsKeepsTheDiscreteAnswersAndSkipsTh
     while (clearance(b[0], b[1]) <= 0);
     rec.begin(a, b);
     const bool c = certified.checkMotionBetweenValid(a.get(), b.get());
-    ASSERT_EQ(c, discrete.checkMotion(a.get(), b.get())) << "motion (" << a[0] << ", " << a[1] << ") -> (" << b[0] << ", " << b[1] << ")";
+    ASSERT_EQ(c, discrete.checkMotion(a.get(), b.get()))
+        << "motion (" << a[0] << ", " << a[1] << ") -> (" << b[0] << ", " << b[1] << ")";
     (c ? valid : invalid)++;
     if (!c) continue;
     const int s = rec.unproven(1, rec.steps() - 1);  // (the far end is valid by contract)
-    ASSERT_EQ(s, 0) << "state " << s << " of " << rec.steps() << " unproven on (" << a[0] << ", " << a[1] << ") -> (" << b[0]
-                    << ", " << b[1] << ")";
+    ASSERT_EQ(s, 0) << "state " << s << " of " << rec.steps() << " unproven on (" << a[0] << ", " << a[1] << ") -> ("
+                    << b[0] << ", " << b[1] << ")";
   }
   EXPECT_GT(valid, 300);
   EXPECT_GT(invalid, 300);
@@ -315,10 +319,10 @@ TEST(CertifiedMotionValidator, SpanBatchesFollowTheCertificatesEstimate) {
   auto spans_with = [&](double share) {
     long spans = 0;
     CertifiedMotionValidator certified(
-        si,
-        CertifiedMotionValidator::CertificateFn([&](const Eigen::VectorXd& q, const Eigen::VectorXd&, double) {
+        si, CertifiedMotionValidator::CertificateFn([&](const Eigen::VectorXd& q, const Eigen::VectorXd&, double) {
           const double c = clearance(q[0], q[1]);
-          return c > 0 ? CertifiedMotionValidator::Certificate{c, share * c} : CertifiedMotionValidator::Certificate{-1.0, -1.0};
+          return c > 0 ? CertifiedMotionValidator::Certificate{c, share * c}
+                       : CertifiedMotionValidator::Certificate{-1.0, -1.0};
         }),
         [&](const double* const* q, int count, const Eigen::VectorXd&, double reach) {
           spans += reach > 0;
@@ -373,7 +377,8 @@ TEST(CertifiedMotionValidator, FarEndIsAPlainCheckWhereBatchesTakeTheMotion) {
         CertifiedMotionValidator::CertificateFn([&](const Eigen::VectorXd& q, const Eigen::VectorXd&, double enough) {
           if ((q - far).norm() < 1e-9) needs.push_back(enough);
           const double c = clearance(q[0], q[1]);
-          return c > 0 ? CertifiedMotionValidator::Certificate{c / 2, c / 2} : CertifiedMotionValidator::Certificate{-1.0, -1.0};
+          return c > 0 ? CertifiedMotionValidator::Certificate{c / 2, c / 2}
+                       : CertifiedMotionValidator::Certificate{-1.0, -1.0};
         }),
         proven);
     std::mt19937_64 rng(17);
@@ -410,8 +415,7 @@ TEST(CertifiedMotionValidator, AMotionGoesToOneBatchInTheOpen) {
   double reach = 0;
   auto make = [&] {
     return std::make_unique<CertifiedMotionValidator>(
-        si,
-        CertifiedMotionValidator::CertificateFn([&](const Eigen::VectorXd&, const Eigen::VectorXd&, double enough) {
+        si, CertifiedMotionValidator::CertificateFn([&](const Eigen::VectorXd&, const Eigen::VectorXd&, double enough) {
           (enough > 0 ? certified : far_ends) += 1;
           return CertifiedMotionValidator::Certificate{100.0, 100.0};
         }),
@@ -465,12 +469,12 @@ TEST(CertifiedMotionValidator, FarEndsGoToTheFirstBatchWhereSeldomBlocked) {
   int far_first = 0, far_later = 0, far_in_lane = 0;
   std::mt19937_64 lanes(5);
   CertifiedMotionValidator certified(
-      si,
-      CertifiedMotionValidator::CertificateFn([&](const Eigen::VectorXd& q, const Eigen::VectorXd&, double) {
+      si, CertifiedMotionValidator::CertificateFn([&](const Eigen::VectorXd& q, const Eigen::VectorXd&, double) {
         if ((q - far).norm() < 1e-9) (calls == 0 ? far_first : far_later) += 1;
         ++calls;
         const double c = clearance(q[0], q[1]);
-        return c > 0 ? CertifiedMotionValidator::Certificate{c / 2, c / 2} : CertifiedMotionValidator::Certificate{-1.0, -1.0};
+        return c > 0 ? CertifiedMotionValidator::Certificate{c / 2, c / 2}
+                     : CertifiedMotionValidator::Certificate{-1.0, -1.0};
       }),
       [&](const double* const* q, int count, const Eigen::VectorXd&, double reach) {
         std::uint32_t mask = 0;  // a quarter of clear lanes left undecided

@@ -90,9 +90,9 @@ TEST(Certificate, KeepsTheRobotClearOfItselfAndTheSceneForEveryEnough) {
         for (double t = step; t <= reach; t += step) {
           const Eigen::VectorXd x = q + sign * t * dir;
           if (!w.kin.within_limits(x)) break;
-          ASSERT_TRUE(exact.is_free(x)) << "certified " << c.free_distance << " (enough " << enough << ") from q = "
-                                        << q.transpose() << " along " << (sign * dir).transpose() << " but t = " << t
-                                        << " collides";
+          ASSERT_TRUE(exact.is_free(x)) << "certified " << c.free_distance << " (enough " << enough
+                                        << ") from q = " << q.transpose() << " along " << (sign * dir).transpose()
+                                        << " but t = " << t << " collides";
         }
     }
   }
@@ -111,7 +111,9 @@ TEST(Certificate, FarFromTheSceneTheFieldsBandDoesNotCapIt) {
   scene.objects.push_back({"far", {box({0.1, 0.1, 0.1}, {3, 0, 0.5})}});
   const double band = 0.3;
   SphereFieldChecker field_only(
-      kin, arm.spheres, test::analytic_sdf(scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.4), Eigen::Vector3d(1.2, 1.2, 1.6)), 0.02, band),
+      kin, arm.spheres,
+      test::analytic_sdf(scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.4), Eigen::Vector3d(1.2, 1.2, 1.6)),
+                         0.02, band),
       band);
   field_only.set_self_tables(test::self_distance_tables(kin, arm.spheres));
   SphereFieldChecker fast = field_only;
@@ -161,7 +163,9 @@ TEST(Certificate, LinkAndPairTimesKeepEveryPointWithinTheGap) {
   std::vector<std::vector<Eigen::Vector3d>> points(w.kin.model().links.size());
   for (const auto& sp : w.arm.spheres) {
     points[std::size_t(sp.link)].push_back(sp.center);
-    for (int k = 0; k < 6; ++k) points[std::size_t(sp.link)].push_back(sp.center + sp.radius * Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized());
+    for (int k = 0; k < 6; ++k)
+      points[std::size_t(sp.link)].push_back(sp.center +
+                                             sp.radius * Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized());
   }
   const auto moving = w.kin.moving_links();
   std::vector<int> links;
@@ -205,7 +209,8 @@ TEST(Certificate, LinkAndPairTimesKeepEveryPointWithinTheGap) {
       const auto xa = world(q + t * dir, a), xb = world(q + t * dir, b);
       for (std::size_t i = 0; i < pa.size(); ++i)
         for (std::size_t j = 0; j < pb.size(); ++j)
-          ASSERT_LT(std::abs((xa[i] - xb[j]).norm() - (pa[i] - pb[j]).norm()), gap) << "links " << a << ", " << b << " at t = " << t;
+          ASSERT_LT(std::abs((xa[i] - xb[j]).norm() - (pa[i] - pb[j]).norm()), gap)
+              << "links " << a << ", " << b << " at t = " << t;
     }
     ++pair_cases;
   }

@@ -47,7 +47,8 @@ TEST(FastLayerWithoutField, AnswersAsWithAFieldItNeverReads) {
     for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
     const Eigen::VectorXd dir = random_q(w.kin, rng) - qs[0];
     ASSERT_EQ(with_field.free_lanes(ptr), without.free_lanes(ptr));
-    ASSERT_EQ(with_field.free_lanes_along(ptr, LinkPoseLanesD::kLanes, dir, 0.05), without.free_lanes_along(ptr, LinkPoseLanesD::kLanes, dir, 0.05));
+    ASSERT_EQ(with_field.free_lanes_along(ptr, LinkPoseLanesD::kLanes, dir, 0.05),
+              without.free_lanes_along(ptr, LinkPoseLanesD::kLanes, dir, 0.05));
     const SphereCheck a = with_field.check_along(qs[0], dir), b = without.check_along(qs[0], dir);
     ASSERT_EQ(a.free(), b.free());
     ASSERT_EQ(a.env_link_count, b.env_link_count);
@@ -239,7 +240,8 @@ TEST(TwoLayer, AGapsSignQueryAgreesWithTheFullGap) {
     w.kin.link_poses(random_q(w.kin, rng), poses);
     for (int a = 0; a < links; ++a) {
       if (w.arm.model.links[std::size_t(a)].collision.empty()) continue;
-      agree(exact.link_environment_gap(poses, a, 0.0), exact.link_environment_gap(poses, a), w.arm.model.links[std::size_t(a)].name);
+      agree(exact.link_environment_gap(poses, a, 0.0), exact.link_environment_gap(poses, a),
+            w.arm.model.links[std::size_t(a)].name);
       for (int b = a + 1; b < links; ++b)
         if (!w.arm.model.links[std::size_t(b)].collision.empty())
           agree(exact.link_pair_gap(poses, a, b, 0.0), exact.link_pair_gap(poses, a, b), "pair");

@@ -84,7 +84,8 @@ Scene random_primitives(std::mt19937_64& rng, int count, double spread) {
   std::normal_distribution<double> g(0, 1);
   Scene scene;
   for (int k = 0; k < count; ++k) {
-    Shape s = box(Eigen::Vector3d(0.1 + spread * std::abs(u(rng)), 0.1 + spread * std::abs(u(rng)), 0.05 + spread * std::abs(u(rng))),
+    Shape s = box(Eigen::Vector3d(0.1 + spread * std::abs(u(rng)), 0.1 + spread * std::abs(u(rng)),
+                                  0.05 + spread * std::abs(u(rng))),
                   Eigen::Vector3d(u(rng), u(rng), u(rng)));
     s.type = k % 3 == 0 ? ShapeType::Box : k % 3 == 1 ? ShapeType::Cylinder : ShapeType::Sphere;
     if (s.type != ShapeType::Box) s.size.z() = 0;
@@ -124,7 +125,8 @@ TriMesh uv_sphere(double radius) {
 }  // namespace dmgplace::test::collision
 
 SphereFieldChecker FastLayer::make(const dmgplace::test::collision::ShelfWorld& w) const {
-  if (GetParam() == Form::ExactPrimitivesNoField) return SphereFieldChecker(w.kin, w.arm.spheres, PrimitiveObstacles::from_scene(w.scene));
+  if (GetParam() == Form::ExactPrimitivesNoField)
+    return SphereFieldChecker(w.kin, w.arm.spheres, PrimitiveObstacles::from_scene(w.scene));
   SphereFieldChecker fast(w.kin, w.arm.spheres, w.sdf, 0.3);
   if (GetParam() == Form::FieldOnly) return fast;
   Scene scene = w.scene;

@@ -64,9 +64,11 @@ TEST(Collision, HeldObjectIsCheckedAndMayTouchTheFingers) {
   TriMesh mesh = [&] {
     TriMesh m;
     m.vertices.resize(8, 3);
-    for (int i = 0; i < 8; ++i) m.vertices.row(i) << (i & 1 ? 0.03 : -0.03), (i & 2 ? 0.03 : -0.03), (i & 4 ? 0.03 : -0.03);
+    for (int i = 0; i < 8; ++i)
+      m.vertices.row(i) << (i & 1 ? 0.03 : -0.03), (i & 2 ? 0.03 : -0.03), (i & 4 ? 0.03 : -0.03);
     m.triangles.resize(12, 3);
-    m.triangles << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5;
+    m.triangles << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3,
+        7, 5;
     return m;
   }();
   auto held = exact.with_attached(mesh, tcp, Eigen::Isometry3d::Identity(), fingers);

@@ -25,20 +25,22 @@ TEST(Lanes, ForwardKinematicsEqualsTheScalarOneOnEveryPath) {
   for (const char* base : {"dmgarm_link0", "dmgarm_link2"}) {
     Kinematics kin(arm.model, base, "dmgarm_tcp");
     kin.set_joint_value("dmgarm_finger_joint1", 0.021);  // a mimic follows it
-    batches_on_every_path(kin, 3, 50, [](int, Eigen::VectorXd&) {}, [&](const std::vector<Eigen::VectorXd>& qs, const double* const* ptr) {
-      LinkPoseLanesD batch;
-      kin.lanes().link_poses(ptr, batch);
-      std::vector<Eigen::Isometry3d> poses;
-      for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) {
-        kin.link_poses(qs[std::size_t(k)], poses);
-        for (std::size_t l = 0; l < poses.size(); ++l)
-          for (int e = 0; e < 12; ++e) {
-            const double want = e < 9 ? poses[l].linear()(e / 3, e % 3) : poses[l].translation()[e - 9];
-            ASSERT_NEAR(batch.pose[l][std::size_t(e)][std::size_t(k)], want, 1e-12)
-                << base << " " << to_string(simd_path()) << " link " << l << " element " << e;
+    batches_on_every_path(
+        kin, 3, 50, [](int, Eigen::VectorXd&) {},
+        [&](const std::vector<Eigen::VectorXd>& qs, const double* const* ptr) {
+          LinkPoseLanesD batch;
+          kin.lanes().link_poses(ptr, batch);
+          std::vector<Eigen::Isometry3d> poses;
+          for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) {
+            kin.link_poses(qs[std::size_t(k)], poses);
+            for (std::size_t l = 0; l < poses.size(); ++l)
+              for (int e = 0; e < 12; ++e) {
+                const double want = e < 9 ? poses[l].linear()(e / 3, e % 3) : poses[l].translation()[e - 9];
+                ASSERT_NEAR(batch.pose[l][std::size_t(e)][std::size_t(k)], want, 1e-12)
+                    << base << " " << to_string(simd_path()) << " link " << l << " element " << e;
+              }
           }
-      }
-    });
+        });
   }
 }
 
@@ -58,27 +60,29 @@ TEST(Lanes, FloatForwardKinematicsStaysWithinItsErrorBound) {
     auto wide_angles = [](int round, Eigen::VectorXd& q) {
       if (round % 4 == 0) q *= 40.0;  // sin and cos far from the first turn
     };
-    batches_on_every_path(kin, 5, 200, wide_angles, [&](const std::vector<Eigen::VectorXd>& qs, const double* const* ptr) {
-      LinkPoseLanesF batch;
-      kin.lanes().link_poses(ptr, batch);
-      std::vector<Eigen::Isometry3d> poses;
-      for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) {
-        kin.link_poses(qs[std::size_t(k)], poses);
-        for (std::size_t l = 0; l < poses.size(); ++l)
-          for (int axis = 0; axis < 7; ++axis) {
-            Eigen::Vector3d p = Eigen::Vector3d::Zero();
-            if (axis < 6) p[axis % 3] = axis < 3 ? reach : -reach;
-            const auto& e = batch.pose[l];
-            auto at = [&](int i) { return e[std::size_t(i)][std::size_t(k)]; };
-            Eigen::Vector3d got;
-            for (int r = 0; r < 3; ++r)
-              got[r] = double(at(3 * r) * float(p.x()) + at(3 * r + 1) * float(p.y()) + at(3 * r + 2) * float(p.z()) + at(9 + r));
-            const double err = (got - poses[l] * p).norm();
-            worst = std::max(worst, err);
-            ASSERT_LE(err, bound) << base << " " << to_string(simd_path()) << " link " << l << " point " << axis;
+    batches_on_every_path(
+        kin, 5, 200, wide_angles, [&](const std::vector<Eigen::VectorXd>& qs, const double* const* ptr) {
+          LinkPoseLanesF batch;
+          kin.lanes().link_poses(ptr, batch);
+          std::vector<Eigen::Isometry3d> poses;
+          for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) {
+            kin.link_poses(qs[std::size_t(k)], poses);
+            for (std::size_t l = 0; l < poses.size(); ++l)
+              for (int axis = 0; axis < 7; ++axis) {
+                Eigen::Vector3d p = Eigen::Vector3d::Zero();
+                if (axis < 6) p[axis % 3] = axis < 3 ? reach : -reach;
+                const auto& e = batch.pose[l];
+                auto at = [&](int i) { return e[std::size_t(i)][std::size_t(k)]; };
+                Eigen::Vector3d got;
+                for (int r = 0; r < 3; ++r)
+                  got[r] = double(at(3 * r) * float(p.x()) + at(3 * r + 1) * float(p.y()) +
+                                  at(3 * r + 2) * float(p.z()) + at(9 + r));
+                const double err = (got - poses[l] * p).norm();
+                worst = std::max(worst, err);
+                ASSERT_LE(err, bound) << base << " " << to_string(simd_path()) << " link " << l << " point " << axis;
+              }
           }
-      }
-    });
+        });
     RecordProperty(std::string("worst_over_bound_") + base, std::to_string(worst / bound));
     std::cout << base << ": worst float error " << worst << " m, bound " << bound << " m\n";
   }
@@ -122,7 +126,8 @@ TEST(Lanes, FreeLanesAreFreeForTheScalarLayerAndFclAndMostAreProven) {
           scalar_free += scalar;
           batch_free += batch;
           if (checker != &primitives) {
-            ASSERT_FALSE(batch && !scalar) << "batch said free where the scalar layer does not: " << qs[std::size_t(k)].transpose();
+            ASSERT_FALSE(batch && !scalar)
+                << "batch said free where the scalar layer does not: " << qs[std::size_t(k)].transpose();
           }
           if (checker != &held) {
             ASSERT_FALSE(batch && !exact.is_free(qs[std::size_t(k)])) << qs[std::size_t(k)].transpose();
@@ -249,13 +254,15 @@ TEST(Lanes, LanesAlongADirectionProveEveryStateWithinTheirReach) {
         const auto& ptr = batch.ptr;
         const auto& u = batch.u;
         const double reach = round % 2 ? 0.08 : 0.03;
-        const std::uint32_t alone = checker->free_lanes(ptr), along = checker->free_lanes_along(ptr, LinkPoseLanesD::kLanes, u, reach);
+        const std::uint32_t alone = checker->free_lanes(ptr),
+                            along = checker->free_lanes_along(ptr, LinkPoseLanesD::kLanes, u, reach);
         ASSERT_EQ(checker->free_lanes_along(ptr, LinkPoseLanesD::kLanes, u, 0.0), alone);
         ASSERT_EQ(along & ~alone, 0u) << "proven along but not alone";
         for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) {
           if (!(alone >> k & 1u)) continue;
           bool all_free = true;
-          for (double t = -reach; t <= reach + 1e-12 && all_free; t += 0.0025) all_free = judge(qs[std::size_t(k)] + t * u);
+          for (double t = -reach; t <= reach + 1e-12 && all_free; t += 0.0025)
+            all_free = judge(qs[std::size_t(k)] + t * u);
           near_misses += !all_free;
           if (!(along >> k & 1u)) continue;
           ++proven;
@@ -331,8 +338,9 @@ TEST(Lanes, MotionBoundsCoverEveryPointOfEachBodyAndPair) {
               }
             pairs += step == 10;
           }
-          ASSERT_LE(moved, bound + 1e-9) << "link " << b.link_a << (b.link_b >= 0 ? " with " + std::to_string(b.link_b) : "")
-                                         << ", lane " << k << ", reach " << reach << ", step " << step;
+          ASSERT_LE(moved, bound + 1e-9) << "link " << b.link_a
+                                         << (b.link_b >= 0 ? " with " + std::to_string(b.link_b) : "") << ", lane " << k
+                                         << ", reach " << reach << ", step " << step;
           if (bound > 0) worst = std::max(worst, moved / bound);
         }
       }

@@ -53,10 +53,11 @@ TEST(CollisionMbm, FastLayerNeverSaysFreeWhereFclCollidesOnPandaScenes) {
   std::mt19937_64 rng(2024);
   std::uniform_real_distribution<double> u(0, 1);
   long total = 0, exact_free = 0, fast_free = 0, full = 0, proven = 0, gap_settled = 0, to_fcl = 0;
-  for (auto scene_file : {"mbm_problems/bookshelf_small_panda/scene0001.yaml", "mbm_problems/table_pick_panda/scene0001.yaml"}) {
+  for (auto scene_file :
+       {"mbm_problems/bookshelf_small_panda/scene0001.yaml", "mbm_problems/table_pick_panda/scene0001.yaml"}) {
     Scene scene = test::read_scene(shared / scene_file);
-    auto sdf = test::analytic_sdf(scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.3), Eigen::Vector3d(1.6, 1.2, 1.7)),
-                                  0.02, 0.25);
+    auto sdf = test::analytic_sdf(
+        scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.3), Eigen::Vector3d(1.6, 1.2, 1.7)), 0.02, 0.25);
     runtime::SphereFieldChecker fast(kin, spheres, sdf, 0.25);
     fast.set_self_tables(tables);
     runtime::ExactChecker exact(kin, scene);
@@ -114,7 +115,8 @@ TEST(CollisionMbm, SelfDistanceTablesNeverExceedTheExactDistanceOnThePanda) {
   ASSERT_FALSE(tables.empty());
   bool wrist = false;
   for (const auto& t : tables)
-    wrist |= (model.links[std::size_t(t.link_a)].name == "panda_link5" && model.links[std::size_t(t.link_b)].name == "panda_link7");
+    wrist |= (model.links[std::size_t(t.link_a)].name == "panda_link5" &&
+              model.links[std::size_t(t.link_b)].name == "panda_link7");
   EXPECT_TRUE(wrist) << "the link5 / link7 pair must get a table";
   runtime::ExactChecker exact(kin, Scene{});
   std::mt19937_64 rng(5);
@@ -127,8 +129,8 @@ TEST(CollisionMbm, SelfDistanceTablesNeverExceedTheExactDistanceOnThePanda) {
       const double x1 = t.joints[1] >= 0 ? q[kin.chain_slot(t.joints[1])] : 0.0;
       const double bound = t.lower_bound(q[kin.chain_slot(t.joints[0])], x1);
       const double d = exact.link_distance(q, t.link_a, t.link_b);
-      ASSERT_LE(bound, d + 1e-9) << model.links[std::size_t(t.link_a)].name << " / " << model.links[std::size_t(t.link_b)].name
-                                 << " at q = " << q.transpose();
+      ASSERT_LE(bound, d + 1e-9) << model.links[std::size_t(t.link_a)].name << " / "
+                                 << model.links[std::size_t(t.link_b)].name << " at q = " << q.transpose();
       // Near contact every node is exact; farther out a node may hold its coarse cell's bound.
       const double node_loss = 2 * (t.slope[0] + t.slope[1]) * std::max(t.step[0], t.step[1]);
       if (d < test::self_table_defaults().exact_below - node_loss) worst_gap = std::max(worst_gap, d - bound);
@@ -176,7 +178,8 @@ TEST(CollisionMbm, SelfDistanceTableSlopesBoundHowFastTheExactDistanceChanges) {
       // Overlapping meshes count as 0 apart: the clearance the bound speaks of.
       const double before = std::max(0.0, exact.link_distance(q, t.link_a, t.link_b));
       const double after = std::max(0.0, exact.link_distance(moved, t.link_a, t.link_b));
-      ASSERT_LE(std::abs(after - before), budget + 1e-9) << name << " from q = " << q.transpose() << " to " << moved.transpose();
+      ASSERT_LE(std::abs(after - before), budget + 1e-9)
+          << name << " from q = " << q.transpose() << " to " << moved.transpose();
       if (budget > 1e-4) tightest = std::max(tightest, std::abs(after - before) / budget);
     }
     EXPECT_GT(tightest, 0.2) << name << ": every change far below the slopes' bound";
@@ -193,11 +196,13 @@ TEST(CollisionMbm, ExactGapCertificatesKeepEveryPandaStateFree) {
   DMGPLACE_REQUIRE_SHARED();
   const auto shared = test::shared_datasets();
   const PandaArm& panda = panda_arm();
-  for (auto scene_file : {"mbm_problems/bookshelf_small_panda/scene0001.yaml", "mbm_problems/table_pick_panda/scene0001.yaml"}) {
+  for (auto scene_file :
+       {"mbm_problems/bookshelf_small_panda/scene0001.yaml", "mbm_problems/table_pick_panda/scene0001.yaml"}) {
     const Scene scene = test::read_scene(shared / scene_file);
     runtime::SphereFieldChecker fast(
         *panda.kin, panda.spheres,
-        test::analytic_sdf(scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.3), Eigen::Vector3d(1.6, 1.2, 1.7)), 0.02, 0.25),
+        test::analytic_sdf(
+            scene, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.3), Eigen::Vector3d(1.6, 1.2, 1.7)), 0.02, 0.25),
         0.25);
     fast.set_self_tables(panda.tables);
     fast.set_exact_obstacles(runtime::PrimitiveObstacles::from_scene(scene));
@@ -228,7 +233,8 @@ TEST(CollisionMbm, PandaReadyPoseIsCollisionFree) {
   runtime::SphereFieldChecker empty(kin, panda.spheres, test::analytic_sdf(Scene{}, box, 0.02, 0.25), 0.25);
   empty.set_self_tables(panda.tables);
   EXPECT_TRUE(empty.check(ready).self_free) << "the self-distance tables must settle the wrist at the ready pose";
-  for (auto scene_file : {"mbm_problems/bookshelf_small_panda/scene0001.yaml", "mbm_problems/table_pick_panda/scene0001.yaml"}) {
+  for (auto scene_file :
+       {"mbm_problems/bookshelf_small_panda/scene0001.yaml", "mbm_problems/table_pick_panda/scene0001.yaml"}) {
     const Scene scene = test::read_scene(shared / scene_file);
     runtime::SphereFieldChecker fast(kin, panda.spheres, test::analytic_sdf(scene, box, 0.02, 0.25), 0.25);
     fast.set_self_tables(panda.tables);
@@ -251,14 +257,17 @@ TEST(CollisionMbm, PandaHullGapsNeverExceedTheMeshDistance) {
   for (int n = 0; n < 200; ++n) {
     Eigen::VectorXd q = Eigen::VectorXd::Zero(panda.kin->dof());
     std::uniform_real_distribution<double> u(0, 1);
-    for (int j = 0; j < q.size(); ++j) q[j] = panda.kin->lower()[j] + u(rng) * (panda.kin->upper()[j] - panda.kin->lower()[j]);
+    for (int j = 0; j < q.size(); ++j)
+      q[j] = panda.kin->lower()[j] + u(rng) * (panda.kin->upper()[j] - panda.kin->lower()[j]);
     panda.kin->link_poses(q, poses);
     for (int a = 0; a < links; ++a)
       for (int b = a + 2; b < links; ++b) {
-        if (panda.model.links[std::size_t(a)].collision.empty() || panda.model.links[std::size_t(b)].collision.empty()) continue;
+        if (panda.model.links[std::size_t(a)].collision.empty() || panda.model.links[std::size_t(b)].collision.empty())
+          continue;
         const double gap = exact.link_pair_gap(poses, a, b);
         const double truth = exact.link_distance(q, a, b);
-        ASSERT_LE(gap, truth + 1e-9) << panda.model.links[std::size_t(a)].name << " / " << panda.model.links[std::size_t(b)].name;
+        ASSERT_LE(gap, truth + 1e-9) << panda.model.links[std::size_t(a)].name << " / "
+                                     << panda.model.links[std::size_t(b)].name;
         positive += gap > 0;
         ++checked;
       }

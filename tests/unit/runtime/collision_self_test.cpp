@@ -25,7 +25,8 @@ TEST(Collision, HomePoseIsFreeAndObstaclesAtTheHandAreCaught) {
   empty.objects.push_back({"far", {box({0.1, 0.1, 0.1}, {3, 3, 3})}});
   ExactChecker exact(kin, empty);
   EXPECT_TRUE(exact.check(home).free()) << exact.check(home).contact;
-  auto sdf = test::analytic_sdf(empty, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.4), Eigen::Vector3d(1.2, 1.2, 1.6)), 0.02, 0.3);
+  auto sdf = test::analytic_sdf(
+      empty, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.4), Eigen::Vector3d(1.2, 1.2, 1.6)), 0.02, 0.3);
   SphereFieldChecker fast(kin, arm.spheres, sdf, 0.3);
   // Home folds link 7 close to link 5: the spheres may not tell, the two layers must.
   EXPECT_TRUE(TwoLayerChecker(fast, exact).is_free(home));
@@ -34,7 +35,8 @@ TEST(Collision, HomePoseIsFreeAndObstaclesAtTheHandAreCaught) {
   const Eigen::Vector3d tcp = kin.tip_pose(home).translation();
   blocked.objects.push_back({"block", {box({0.05, 0.05, 0.05}, tcp)}});
   ExactChecker exact2(kin, blocked);
-  auto sdf2 = test::analytic_sdf(blocked, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.4), Eigen::Vector3d(1.2, 1.2, 1.6)), 0.02, 0.3);
+  auto sdf2 = test::analytic_sdf(
+      blocked, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.4), Eigen::Vector3d(1.2, 1.2, 1.6)), 0.02, 0.3);
   SphereFieldChecker fast2(kin, arm.spheres, sdf2, 0.3);
   EXPECT_FALSE(exact2.is_free(home));
   EXPECT_FALSE(fast2.is_free(home));
@@ -47,7 +49,8 @@ TEST(Collision, SelfCollisionRespectsAllowedPairs) {
   Scene empty;
   empty.objects.push_back({"far", {box({0.1, 0.1, 0.1}, {3, 3, 3})}});
   ExactChecker exact(kin, empty);
-  auto sdf = test::analytic_sdf(empty, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.4), Eigen::Vector3d(1.2, 1.2, 1.6)), 0.02, 0.3);
+  auto sdf = test::analytic_sdf(
+      empty, Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.2, -0.4), Eigen::Vector3d(1.2, 1.2, 1.6)), 0.02, 0.3);
   SphereFieldChecker fast(kin, arm.spheres, sdf, 0.3);
   std::mt19937_64 rng(9);
   int self_hits = 0;
@@ -72,7 +75,8 @@ TEST(Collision, FlaggedSelfPairsAreThoseWhoseSpheresOverlap) {
   kin.set_joint_value("dmgarm_finger_joint1", 0.02);
   Scene empty;
   empty.objects.push_back({"far", {box({0.1, 0.1, 0.1}, {3, 3, 3})}});
-  auto sdf = test::analytic_sdf(empty, Eigen::AlignedBox3d(Eigen::Vector3d(-1.6, -1.6, -1.0), Eigen::Vector3d(1.6, 1.6, 2.0)), 0.04, 0.3);
+  auto sdf = test::analytic_sdf(
+      empty, Eigen::AlignedBox3d(Eigen::Vector3d(-1.6, -1.6, -1.0), Eigen::Vector3d(1.6, 1.6, 2.0)), 0.04, 0.3);
   const double padding = 0.005;
   const SphereFieldChecker fast(kin, arm.spheres, sdf, 0.3, padding);
   const auto moving = kin.moving_links();
@@ -94,7 +98,8 @@ TEST(Collision, FlaggedSelfPairsAreThoseWhoseSpheresOverlap) {
       std::set<std::pair<int, int>> expect;
       for (const auto& s : arm.spheres)
         for (const auto& t : arm.spheres) {
-          if (s.link >= t.link || (!moving[std::size_t(s.link)] && !moving[std::size_t(t.link)]) || allowed(s.link, t.link))
+          if (s.link >= t.link || (!moving[std::size_t(s.link)] && !moving[std::size_t(t.link)]) ||
+              allowed(s.link, t.link))
             continue;
           const double r = s.radius + t.radius + padding;
           if ((poses[std::size_t(s.link)] * s.center - poses[std::size_t(t.link)] * t.center).squaredNorm() < r * r)

@@ -30,9 +30,12 @@ Solid random_solid(std::mt19937_64& rng, int kind) {
   std::uniform_real_distribution<double> s(0.02, 0.3);
   const double a = s(rng), b = s(rng), c = s(rng);
   switch (kind) {
-    case 0: return {runtime::ConvexSolid::box(Eigen::Vector3d(a, b, c) / 2), std::make_shared<fcl::Boxd>(a, b, c)};
-    case 1: return {runtime::ConvexSolid::cylinder(a, b / 2), std::make_shared<fcl::Cylinderd>(a, b)};
-    default: return {runtime::ConvexSolid::sphere(a), std::make_shared<fcl::Sphered>(a)};
+    case 0:
+      return {runtime::ConvexSolid::box(Eigen::Vector3d(a, b, c) / 2), std::make_shared<fcl::Boxd>(a, b, c)};
+    case 1:
+      return {runtime::ConvexSolid::cylinder(a, b / 2), std::make_shared<fcl::Cylinderd>(a, b)};
+    default:
+      return {runtime::ConvexSolid::sphere(a), std::make_shared<fcl::Sphered>(a)};
   }
 }
 // A box's closed surface with a grid of k x k squares on every face (inner face and edge vertices
@@ -46,7 +49,9 @@ GridBox grid_box(int k, const Eigen::Vector3d& half) {
   std::map<std::array<int, 3>, int> index;
   auto vertex = [&](std::array<int, 3> g) {
     auto [it, fresh] = index.emplace(g, int(out.points.size()));
-    if (fresh) out.points.emplace_back(half.x() * (2.0 * g[0] / k - 1), half.y() * (2.0 * g[1] / k - 1), half.z() * (2.0 * g[2] / k - 1));
+    if (fresh)
+      out.points.emplace_back(half.x() * (2.0 * g[0] / k - 1), half.y() * (2.0 * g[1] / k - 1),
+                              half.z() * (2.0 * g[2] / k - 1));
     return it->second;
   };
   for (int axis = 0; axis < 3; ++axis)
@@ -91,7 +96,8 @@ TEST(ConvexGap, NeverAboveFclsDistanceAndCloseToItWhenApart) {
     fcl::distance(&oa, &ob, dreq, dres);
     ASSERT_LE(gap, dres.min_distance + 1e-6) << "case " << n;
     if (dres.min_distance > 1e-3) {
-      EXPECT_GT(gap, dres.min_distance - 1e-4) << "case " << n << " kinds " << n % 3 << (n / 3) % 3 << ": a loose bound";
+      EXPECT_GT(gap, dres.min_distance - 1e-4)
+          << "case " << n << " kinds " << n % 3 << (n / 3) % 3 << ": a loose bound";
       ++apart;
     }
   }
@@ -114,8 +120,8 @@ TEST(ConvexGap, AThresholdQueryAgreesWithTheFullGapOnItsSide) {
     ASSERT_LE(quick, full + 1e-5) << "case " << n << ": the early answer is not a lower bound";
     // Within GJK's tolerance of the threshold the two may stop on either side of it.
     if (std::abs(full - enough) <= 2e-5) continue;
-    ASSERT_EQ(quick > enough, full > enough) << "case " << n << ": full " << full << ", quick " << quick
-                                             << ", threshold " << enough;
+    ASSERT_EQ(quick > enough, full > enough)
+        << "case " << n << ": full " << full << ", quick " << quick << ", threshold " << enough;
     // Below a positive threshold the answer is refined as the full one is (certificates use it as
     // their clearance); a sign query (threshold <= 0) may stop with any bound on its side.
     if (full < enough && enough > 0) {
@@ -133,13 +139,15 @@ TEST(ConvexGap, HullOfABoxsCornersMeasuresAsTheBox) {
   std::mt19937_64 rng(11);
   const Eigen::Vector3d half(0.1, 0.05, 0.2);
   std::vector<Eigen::Vector3d> corners;
-  for (int i = 0; i < 8; ++i) corners.emplace_back(i & 1 ? half.x() : -half.x(), i & 2 ? half.y() : -half.y(), i & 4 ? half.z() : -half.z());
+  for (int i = 0; i < 8; ++i)
+    corners.emplace_back(i & 1 ? half.x() : -half.x(), i & 2 ? half.y() : -half.y(), i & 4 ? half.z() : -half.z());
   corners.push_back(Eigen::Vector3d::Zero());  // an inner point changes nothing
   const auto hull = runtime::ConvexSolid::hull(corners), box = runtime::ConvexSolid::box(half);
   const auto other = runtime::ConvexSolid::cylinder(0.05, 0.1);
   for (int n = 0; n < 2000; ++n) {
     const Eigen::Isometry3d ta = random_pose(rng, 0.5), tb = random_pose(rng, 0.5);
-    EXPECT_NEAR(runtime::convex_gap(hull, ta, other, tb, 1e-8), runtime::convex_gap(box, ta, other, tb, 1e-8), 1e-5) << n;
+    EXPECT_NEAR(runtime::convex_gap(hull, ta, other, tb, 1e-8), runtime::convex_gap(box, ta, other, tb, 1e-8), 1e-5)
+        << n;
     const Eigen::Vector3d d = random_pose(rng, 1).translation();
     EXPECT_NEAR(hull.support(d).dot(d), box.support(d).dot(d), 1e-12);
   }
@@ -198,7 +206,8 @@ TEST(ConvexGap, AHintedStartGivesTheFreshAnswers) {
     for (int step = 0; step < 30; ++step) {
       // A small move (5 mm, 0.05 rad), as between states along a motion.
       ta.translation() += 0.005 * Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
-      ta.linear() = (Eigen::AngleAxisd(0.05, Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized()) * ta.linear()).eval();
+      ta.linear() =
+          (Eigen::AngleAxisd(0.05, Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized()) * ta.linear()).eval();
       if (step % 7 == 6) {  // garbage: any direction, any length, any vertices
         hint.v = std::pow(10.0, scale(rng)) * Eigen::Vector3d(g(rng), g(rng), g(rng));
         hint.from_a = vertex(rng);
@@ -215,8 +224,8 @@ TEST(ConvexGap, AHintedStartGivesTheFreshAnswers) {
           ASSERT_NEAR(hinted, full, 2e-5) << "case " << n << " step " << step << ": a loose bound";
         }
       } else if (std::abs(full - enough) > 2e-5) {
-        ASSERT_EQ(hinted > enough, full > enough) << "case " << n << " step " << step << ": full " << full << ", hinted "
-                                                  << hinted << ", threshold " << enough;
+        ASSERT_EQ(hinted > enough, full > enough) << "case " << n << " step " << step << ": full " << full
+                                                  << ", hinted " << hinted << ", threshold " << enough;
         if (full < enough && full > 1e-5) {
           ASSERT_NEAR(hinted, full, 2e-5) << "case " << n << " step " << step;
         }
@@ -240,7 +249,8 @@ TEST(ConvexGap, TheSeparationProvesTheGapAlongIt) {
     const Solid a = random_solid(rng, n % 3), b = random_solid(rng, (n / 3) % 3);
     const Eigen::Isometry3d ta = random_pose(rng, 0.4), tb = random_pose(rng, 0.4);
     Eigen::Vector3d along;
-    const double gap = runtime::convex_gap(a.convex, ta, b.convex, tb, 1e-7, std::numeric_limits<double>::infinity(), nullptr, &along);
+    const double gap =
+        runtime::convex_gap(a.convex, ta, b.convex, tb, 1e-7, std::numeric_limits<double>::infinity(), nullptr, &along);
     if (!(gap > 0)) continue;
     ++apart;
     ASSERT_NEAR(along.norm(), 1.0, 1e-9) << "case " << n;

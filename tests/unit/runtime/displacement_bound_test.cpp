@@ -58,13 +58,14 @@ struct Arm {
     for (int j : joints_between(frame, link)) {
       const Joint& jt = model.joints[std::size_t(j)];
       const Eigen::Isometry3d& T = poses[std::size_t(jt.child)];
-      if (jt.type == JointType::Prismatic) m.add_prismatic(T.linear() * jt.axis.normalized(), u[kin.chain_slot(j)], 1e6);
+      if (jt.type == JointType::Prismatic)
+        m.add_prismatic(T.linear() * jt.axis.normalized(), u[kin.chain_slot(j)], 1e6);
       else m.add_revolute(T.linear() * jt.axis.normalized(), T.translation(), u[kin.chain_slot(j)], 1e6);
     }
     return m;
   }
-  DisplacementBound bound(const std::vector<Eigen::Isometry3d>& poses, int frame, int link, const Eigen::Vector3d& center,
-                          double radius, const Eigen::VectorXd& u) const {
+  DisplacementBound bound(const std::vector<Eigen::Isometry3d>& poses, int frame, int link,
+                          const Eigen::Vector3d& center, double radius, const Eigen::VectorXd& u) const {
     return motion(poses, frame, link, center, radius, u).bound();
   }
 };
@@ -98,7 +99,8 @@ TEST(DisplacementBound, BoundsEveryPointOfTheBallAlongTheMotion) {
   int checked = 0;
   for (int trial = 0; trial < 400; ++trial) {
     Eigen::VectorXd q(arm.kin.dof());
-    for (int i = 0; i < arm.kin.dof(); ++i) q[i] = arm.kin.lower()[i] + unit(rng) * (arm.kin.upper()[i] - arm.kin.lower()[i]);
+    for (int i = 0; i < arm.kin.dof(); ++i)
+      q[i] = arm.kin.lower()[i] + unit(rng) * (arm.kin.upper()[i] - arm.kin.lower()[i]);
     Eigen::VectorXd u = random_unit(arm.kin.dof(), rng);
     const int link = links[std::size_t(rng() % links.size())];
     const auto above = arm.ancestors(link);
@@ -126,7 +128,8 @@ TEST(DisplacementBound, BoundsEveryPointOfTheBallAlongTheMotion) {
     for (const auto& p : points) start.push_back(in_frame(arm, q, frame, link, p));
     auto moved = [&](double t) {
       double d = 0;
-      for (std::size_t k = 0; k < points.size(); ++k) d = std::max(d, (in_frame(arm, q + t * u, frame, link, points[k]) - start[k]).norm());
+      for (std::size_t k = 0; k < points.size(); ++k)
+        d = std::max(d, (in_frame(arm, q + t * u, frame, link, points[k]) - start[k]).norm());
       return d;
     };
     for (double t = 1e-3; t <= 1.0; t *= 1.25) {
@@ -137,7 +140,8 @@ TEST(DisplacementBound, BoundsEveryPointOfTheBallAlongTheMotion) {
     for (const double clearance : {0.002, 0.01, 0.05}) {
       const double T = b.time_to_move(clearance);
       ASSERT_GT(T, 0.0);
-      for (double t = T / 16; t <= std::min(T, 2.0); t += T / 16) ASSERT_LT(moved(t), clearance) << "t = " << t << " of " << T;
+      for (double t = T / 16; t <= std::min(T, 2.0); t += T / 16)
+        ASSERT_LT(moved(t), clearance) << "t = " << t << " of " << T;
       ++checked;
     }
   }
@@ -163,7 +167,8 @@ TEST(DisplacementBound, BoundsEveryPointOfTheBallAlongADirection) {
   double worst = 0;
   for (int trial = 0; trial < 600; ++trial) {
     Eigen::VectorXd q(arm.kin.dof());
-    for (int i = 0; i < arm.kin.dof(); ++i) q[i] = arm.kin.lower()[i] + unit(rng) * (arm.kin.upper()[i] - arm.kin.lower()[i]);
+    for (int i = 0; i < arm.kin.dof(); ++i)
+      q[i] = arm.kin.lower()[i] + unit(rng) * (arm.kin.upper()[i] - arm.kin.lower()[i]);
     const Eigen::VectorXd u = random_unit(arm.kin.dof(), rng);
     const int link = links[std::size_t(rng() % links.size())];
     const Eigen::Vector3d center = 0.1 * random_unit(3, rng) * unit(rng);
@@ -175,7 +180,9 @@ TEST(DisplacementBound, BoundsEveryPointOfTheBallAlongADirection) {
     const BallVelocity v = m.velocity();
     // Perpendicular to the center's velocity, tilted a little at random.
     Eigen::Vector3d n = random_unit(3, rng);
-    if (v.linear.norm() > 1e-9 && trial % 4 != 0) n = (n - n.dot(v.linear.normalized()) * v.linear.normalized() + 0.05 * unit(rng) * random_unit(3, rng)).normalized();
+    if (v.linear.norm() > 1e-9 && trial % 4 != 0)
+      n = (n - n.dot(v.linear.normalized()) * v.linear.normalized() + 0.05 * unit(rng) * random_unit(3, rng))
+              .normalized();
     const DisplacementBound along = b.along(v.along(n));
     std::vector<Eigen::Vector3d> points{center};
     for (int k = 0; k < 24 && radius > 0; ++k) points.push_back(center + radius * random_unit(3, rng));
@@ -184,7 +191,8 @@ TEST(DisplacementBound, BoundsEveryPointOfTheBallAlongADirection) {
     for (double t = 1e-3; t <= 1.0; t *= 1.25)
       for (const double sense : {1.0, -1.0}) {
         double d = 0;
-        for (std::size_t k = 0; k < points.size(); ++k) d = std::max(d, n.dot(in_frame(arm, q + sense * t * u, base, link, points[k]) - start[k]));
+        for (std::size_t k = 0; k < points.size(); ++k)
+          d = std::max(d, n.dot(in_frame(arm, q + sense * t * u, base, link, points[k]) - start[k]));
         ASSERT_LE(d, along.displacement(t) + 1e-12) << "t = " << t << " link " << link << " trial " << trial;
         if (d > 1e-6) worst = std::max(worst, d / along.displacement(t));
       }
@@ -202,7 +210,8 @@ TEST(DisplacementBound, SumOfTwoBallsIsBoundedByTheirSum) {
   const auto above = arm.ancestors(tip);
   for (int trial = 0; trial < 200; ++trial) {
     Eigen::VectorXd q(arm.kin.dof());
-    for (int i = 0; i < arm.kin.dof(); ++i) q[i] = arm.kin.lower()[i] + unit(rng) * (arm.kin.upper()[i] - arm.kin.lower()[i]);
+    for (int i = 0; i < arm.kin.dof(); ++i)
+      q[i] = arm.kin.lower()[i] + unit(rng) * (arm.kin.upper()[i] - arm.kin.lower()[i]);
     const Eigen::VectorXd u = random_unit(arm.kin.dof(), rng);
     const int a = tip, b = above[std::size_t(rng() % (above.size() - 1))];
     std::vector<Eigen::Isometry3d> poses;
@@ -216,7 +225,8 @@ TEST(DisplacementBound, SumOfTwoBallsIsBoundedByTheirSum) {
       ASSERT_LE(d, sum.displacement(t) + 1e-12) << "t = " << t;
     }
     EXPECT_LE(sum.time_to_move(0.01), std::min(arm.bound(poses, base, a, ca, 0.02, u).time_to_move(0.01),
-                                               arm.bound(poses, base, b, cb, 0.02, u).time_to_move(0.01)) + 1e-12);
+                                               arm.bound(poses, base, b, cb, 0.02, u).time_to_move(0.01)) +
+                                          1e-12);
   }
 }
 
@@ -232,10 +242,12 @@ TEST(DisplacementBound, TimeToMoveGivenEnoughIsTheFullAnswerOrPastEnough) {
   int early = 0, full = 0;
   for (int trial = 0; trial < 2000; ++trial) {
     Eigen::VectorXd q(arm.kin.dof());
-    for (int i = 0; i < arm.kin.dof(); ++i) q[i] = arm.kin.lower()[i] + unit(rng) * (arm.kin.upper()[i] - arm.kin.lower()[i]);
+    for (int i = 0; i < arm.kin.dof(); ++i)
+      q[i] = arm.kin.lower()[i] + unit(rng) * (arm.kin.upper()[i] - arm.kin.lower()[i]);
     std::vector<Eigen::Isometry3d> poses;
     arm.kin.link_poses(q, poses);
-    const DisplacementBound b = arm.bound(poses, base, tip, 0.05 * random_unit(3, rng), 0.05 * unit(rng), random_unit(arm.kin.dof(), rng));
+    const DisplacementBound b =
+        arm.bound(poses, base, tip, 0.05 * random_unit(3, rng), 0.05 * unit(rng), random_unit(arm.kin.dof(), rng));
     const double clearance = 0.001 + 0.2 * unit(rng), all = b.time_to_move(clearance);
     const double enough = all * (0.2 + 1.6 * unit(rng));
     const double t = b.time_to_move(clearance, enough);

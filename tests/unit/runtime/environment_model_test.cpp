@@ -29,7 +29,8 @@ TEST(EnvironmentModel, LoadsBakedFieldsAsGridsWithGradients) {
   EXPECT_NEAR(grad.z(), 1.0, 1e-3);
   EXPECT_NEAR(grad.head<2>().norm(), 0.0, 1e-3);
   // Inside the board: negative, matching the exact box distance.
-  EXPECT_NEAR(m.sdf->sample(Eigen::Vector3d(0, 0, 0.385)), test::scene_signed_distance(env.scene, {0, 0, 0.385}), 0.005);
+  EXPECT_NEAR(m.sdf->sample(Eigen::Vector3d(0, 0, 0.385)), test::scene_signed_distance(env.scene, {0, 0, 0.385}),
+              0.005);
   // Nothing above the table: clearance is the band everywhere over it.
   EXPECT_NEAR(m.clearance->sample(Eigen::Vector3d(0, 0, 0.45)), m.clearance_band, 1e-6);
   ASSERT_FALSE(m.regions.empty());

@@ -46,7 +46,8 @@ TEST(ExactChecker, LinksFreeAtGivenPosesAgreesWithFcl) {
     for (int a = 0; a < links; ++a) {
       if (w.arm.model.links[std::size_t(a)].collision.empty()) continue;
       const bool fcl = exact.links_environment_free(poses, &a, 1, false, nullptr);
-      ASSERT_EQ(exact.links_free({{a, poses[std::size_t(a)]}}), fcl) << w.arm.model.links[std::size_t(a)].name << ", sample " << n;
+      ASSERT_EQ(exact.links_free({{a, poses[std::size_t(a)]}}), fcl)
+          << w.arm.model.links[std::size_t(a)].name << ", sample " << n;
       ++(fcl ? free : colliding);
       all_free = all_free && fcl;
       all.emplace_back(a, poses[std::size_t(a)]);

@@ -49,8 +49,9 @@ inline int walk_gap_certificates(const runtime::TwoLayerChecker& both, const run
       for (double s = step; s <= std::min(t, 1.0); s += step) {
         const Eigen::VectorXd x = q + sign * s * dir;
         if (!kin.within_limits(x)) break;
-        EXPECT_TRUE(exact.is_free(x)) << "certified " << t << " from q = " << q.transpose() << " along " << (sign * dir).transpose()
-                                      << " but FCL finds a collision at " << s << ": " << exact.check(x).contact;
+        EXPECT_TRUE(exact.is_free(x)) << "certified " << t << " from q = " << q.transpose() << " along "
+                                      << (sign * dir).transpose() << " but FCL finds a collision at " << s << ": "
+                                      << exact.check(x).contact;
         if (!exact.is_free(x)) return walked;
       }
   }

@@ -31,7 +31,8 @@ TEST(ShortestPaths, DijkstraMatchesBellmanFordOnRandomGraphs) {
     const int m = int(rng() % (4 * n + 1));
     std::vector<std::tuple<int, int, double>> edges;
     for (int e = 0; e < m; ++e)
-      edges.emplace_back(int(rng() % n), int(rng() % n), (rng() % 4 == 0) ? 0.0 : std::uniform_real_distribution<double>(0, 5)(rng));
+      edges.emplace_back(int(rng() % n), int(rng() % n),
+                         (rng() % 4 == 0) ? 0.0 : std::uniform_real_distribution<double>(0, 5)(rng));
     const int source = int(rng() % n);
     const auto g = WeightedGraph::from_edges(n, edges);
     const auto r = dijkstra(g, source);
@@ -83,7 +84,8 @@ TEST(ReachableGrasps, AGraspAcrossABoxTurnsAllTheWayRound) {
   for (int a = 0; a < k; ++a) {
     const int s = g.find(node, a);
     ASSERT_GE(s, 0) << "angle " << a;
-    const int turns = std::min((a - g.state(r.initial_state).angle + k) % k, (g.state(r.initial_state).angle - a + k) % k);
+    const int turns =
+        std::min((a - g.state(r.initial_state).angle + k) % k, (g.state(r.initial_state).angle - a + k) % k);
     EXPECT_NEAR(r.paths.cost[s], turns * g.angle_step() * 0.1, 1e-9);
     const auto acts = r.actions_to(g, s);
     if (turns == 0) continue;
@@ -110,7 +112,8 @@ TEST(ReachableGrasps, TranslationsCarryContactPathsAndCosts) {
         ASSERT_GE(a.finger1_path.size(), 2u);
         EXPECT_NEAR(a.push_direction.norm(), 1.0, 1e-9);
         double len = 0;
-        for (std::size_t i = 1; i < a.finger1_path.size(); ++i) len += (a.finger1_path[i] - a.finger1_path[i - 1]).norm();
+        for (std::size_t i = 1; i < a.finger1_path.size(); ++i)
+          len += (a.finger1_path[i] - a.finger1_path[i - 1]).norm();
         EXPECT_NEAR(len, a.distance, 1e-12);
         EXPECT_EQ(a.finger1_path.back(), g.contact1(a.to_state));
         EXPECT_EQ(a.finger2_path.back(), g.contact2(a.to_state));

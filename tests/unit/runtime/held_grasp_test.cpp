@@ -15,9 +15,11 @@ TriMesh box(const Eigen::Vector3d& size) {
   TriMesh m;
   m.vertices.resize(8, 3);
   for (int i = 0; i < 8; ++i)
-    m.vertices.row(i) = Eigen::Vector3d((i & 1 ? 0.5 : -0.5) * size.x(), (i & 2 ? 0.5 : -0.5) * size.y(), (i & 4 ? 0.5 : -0.5) * size.z());
+    m.vertices.row(i) = Eigen::Vector3d((i & 1 ? 0.5 : -0.5) * size.x(), (i & 2 ? 0.5 : -0.5) * size.y(),
+                                        (i & 4 ? 0.5 : -0.5) * size.z());
   m.triangles.resize(12, 3);
-  m.triangles << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5;
+  m.triangles << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3,
+      7, 5;
   return m;
 }
 }  // namespace

@@ -25,11 +25,22 @@ RobotModel planar_arm() {
   m.name = "planar";
   for (auto n : {"base", "l1", "l2", "tool"}) m.links.push_back({n, {}});
   Joint j1;
-  j1.name = "j1"; j1.type = JointType::Revolute; j1.parent = 0; j1.child = 1; j1.lower = -3; j1.upper = 3;
+  j1.name = "j1";
+  j1.type = JointType::Revolute;
+  j1.parent = 0;
+  j1.child = 1;
+  j1.lower = -3;
+  j1.upper = 3;
   Joint j2 = j1;
-  j2.name = "j2"; j2.parent = 1; j2.child = 2; j2.origin.translation() = Eigen::Vector3d(0.5, 0, 0);
+  j2.name = "j2";
+  j2.parent = 1;
+  j2.child = 2;
+  j2.origin.translation() = Eigen::Vector3d(0.5, 0, 0);
   Joint j3;
-  j3.name = "tool"; j3.type = JointType::Fixed; j3.parent = 2; j3.child = 3;
+  j3.name = "tool";
+  j3.type = JointType::Fixed;
+  j3.parent = 2;
+  j3.child = 3;
   j3.origin.translation() = Eigen::Vector3d(0.4, 0, 0);
   m.joints = {j1, j2, j3};
   return m;
@@ -121,7 +132,8 @@ TEST(Kinematics, MixedChainTipPoseMatchesLinkPosesAndJacobianMatchesFiniteDiffer
     j.child = parent + 1;
     j.lower = -2;
     j.upper = 2;
-    j.origin.linear() = Eigen::AngleAxisd(2 * u(rng), Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+    j.origin.linear() =
+        Eigen::AngleAxisd(2 * u(rng), Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
     j.origin.translation() = 0.3 * Eigen::Vector3d(u(rng), u(rng), u(rng));
     j.axis = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
     return j;
@@ -200,22 +212,27 @@ TEST(Kinematics, QuarterTurnJointsEqualTheirPlainProduct) {
         for (int j = 0, slot = 0; j < nj; ++j) {
           const Joint& jt = m.joints[std::size_t(j)];
           Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
-          if (jt.type == JointType::Revolute) motion.linear() = Eigen::AngleAxisd(q[slot++], jt.axis).toRotationMatrix();
+          if (jt.type == JointType::Revolute)
+            motion.linear() = Eigen::AngleAxisd(q[slot++], jt.axis).toRotationMatrix();
           if (jt.type == JointType::Prismatic) motion.translation() = q[slot++] * jt.axis;
           want = want * jt.origin * motion;
           const auto l = std::size_t(j + 1);
           ASSERT_LT((poses[l].matrix() - want.matrix()).cwiseAbs().maxCoeff(), 1e-8) << "link " << l;
           for (int e = 0; e < 12; ++e) {
             const double w = e < 9 ? want.linear()(e / 3, e % 3) : want.translation()[e - 9];
-            ASSERT_NEAR(batch.pose[l][std::size_t(e)][std::size_t(lane)], w, 1e-8) << to_string(path) << " link " << l << " element " << e;
+            ASSERT_NEAR(batch.pose[l][std::size_t(e)][std::size_t(lane)], w, 1e-8)
+                << to_string(path) << " link " << l << " element " << e;
           }
           for (int axis = 0; axis < 3; ++axis) {
             const auto& f = floats.pose[l];
             auto at = [&](int e) { return f[std::size_t(e)][std::size_t(lane)]; };
-            const float p[3] = {axis == 0 ? float(reach) : 0.f, axis == 1 ? float(reach) : 0.f, axis == 2 ? float(reach) : 0.f};
+            const float p[3] = {axis == 0 ? float(reach) : 0.f, axis == 1 ? float(reach) : 0.f,
+                                axis == 2 ? float(reach) : 0.f};
             Eigen::Vector3d got;
-            for (int r = 0; r < 3; ++r) got[r] = double(at(3 * r) * p[0] + at(3 * r + 1) * p[1] + at(3 * r + 2) * p[2] + at(9 + r));
-            ASSERT_LE((got - want * (reach * Eigen::Vector3d::Unit(axis))).norm(), bound) << to_string(path) << " link " << l;
+            for (int r = 0; r < 3; ++r)
+              got[r] = double(at(3 * r) * p[0] + at(3 * r + 1) * p[1] + at(3 * r + 2) * p[2] + at(9 + r));
+            ASSERT_LE((got - want * (reach * Eigen::Vector3d::Unit(axis))).norm(), bound)
+                << to_string(path) << " link " << l;
           }
         }
         EXPECT_LT((k.tip_pose(q).matrix() - want.matrix()).cwiseAbs().maxCoeff(), 1e-8);
@@ -237,9 +254,12 @@ static void expect_frames_place_every_link(const Kinematics& k, std::uint64_t se
     for (std::size_t j = 0; j < m.joints.size(); ++j)
       if (m.joints[j].child == int(l)) parent_joint = int(j);
     const Joint* pj = parent_joint >= 0 ? &m.joints[std::size_t(parent_joint)] : nullptr;
-    const bool moved = pj && pj->type != JointType::Fixed && (k.chain_slot(parent_joint) >= 0 || (pj->mimic >= 0 && k.chain_slot(pj->mimic) >= 0));
-    const bool root_base = std::none_of(m.joints.begin(), m.joints.end(), [&](const Joint& j) { return j.child == k.base_link(); });
-    if (root_base) EXPECT_EQ(k.lanes().frame(int(l)) == int(l), parent_joint < 0 || moved) << "link " << m.links[l].name;
+    const bool moved = pj && pj->type != JointType::Fixed &&
+                       (k.chain_slot(parent_joint) >= 0 || (pj->mimic >= 0 && k.chain_slot(pj->mimic) >= 0));
+    const bool root_base =
+        std::none_of(m.joints.begin(), m.joints.end(), [&](const Joint& j) { return j.child == k.base_link(); });
+    if (root_base)
+      EXPECT_EQ(k.lanes().frame(int(l)) == int(l), parent_joint < 0 || moved) << "link " << m.links[l].name;
     else EXPECT_EQ(k.lanes().frame(int(l)), int(l)) << "the base is not the root: every link its own frame";
   }
   std::vector<Eigen::Isometry3d> poses;
@@ -257,7 +277,8 @@ static void expect_frames_place_every_link(const Kinematics& k, std::uint64_t se
           const Eigen::Vector3f in_frame = (k.lanes().frame_offset(int(l)) * p).cast<float>();
           Eigen::Vector3d got;
           for (int r = 0; r < 3; ++r)
-            got[r] = double(at(3 * r) * in_frame.x() + at(3 * r + 1) * in_frame.y() + at(3 * r + 2) * in_frame.z() + at(9 + r));
+            got[r] = double(at(3 * r) * in_frame.x() + at(3 * r + 1) * in_frame.y() + at(3 * r + 2) * in_frame.z() +
+                            at(9 + r));
           ASSERT_LE((got - poses[l] * p).norm(), k.lanes().float_pose_error(in_frame.cast<double>().norm()))
               << to_string(simd_path()) << " link " << m.links[l].name << " point " << axis;
         }
@@ -271,7 +292,8 @@ TEST(Kinematics, BatchFramesPlaceEveryLinkWithinTheFloatBound) {
   // joint outside the chain (set), a mimic of a chain joint, and a finger hanging off a fixed hand.
   RobotModel m;
   m.name = "frames";
-  for (auto n : {"base", "l1", "adapter", "l2", "bent", "l3", "mimic", "hand", "finger", "wrist"}) m.links.push_back({n, {}});
+  for (auto n : {"base", "l1", "adapter", "l2", "bent", "l3", "mimic", "hand", "finger", "wrist"})
+    m.links.push_back({n, {}});
   auto joint = [&](const char* name, JointType type, int parent, int child, const Eigen::Vector3d& axis) {
     Joint j;
     j.name = name, j.type = type, j.parent = parent, j.child = child, j.axis = axis.normalized();
@@ -360,7 +382,8 @@ TEST(Kinematics, FloatBatchHandlesWoundAndNanJointsInSomeLanes) {
               continue;
             }
             const double w = e < 9 ? poses[l].linear()(e / 3, e % 3) : poses[l].translation()[e - 9];
-            EXPECT_NEAR(got, w, bound) << to_string(path) << " wild lane " << wild_lane << " lane " << lane << " element " << e;
+            EXPECT_NEAR(got, w, bound) << to_string(path) << " wild lane " << wild_lane << " lane " << lane
+                                       << " element " << e;
           }
         }
       }
@@ -483,7 +506,8 @@ TEST(FastSincos, ManyAtOnceEqualsOneAtATimeOnBothPaths) {
   for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
     force_simd_path(path);
     for (int n = 0; n <= 40; ++n) {
-      std::vector<double> x(static_cast<std::size_t>(n)), s(static_cast<std::size_t>(n), 9.0), c(static_cast<std::size_t>(n), 9.0);
+      std::vector<double> x(static_cast<std::size_t>(n)), s(static_cast<std::size_t>(n), 9.0),
+          c(static_cast<std::size_t>(n), 9.0);
       for (auto& v : x) v = u(rng);
       if (n > 3 && n % 3 == 0) {  // one lane past the core's range, one NaN
         x[std::size_t(n / 2)] = n % 2 ? 1e9 : -std::numeric_limits<double>::infinity();
@@ -495,7 +519,8 @@ TEST(FastSincos, ManyAtOnceEqualsOneAtATimeOnBothPaths) {
         double ws, wc;
         fast_sincos(x[std::size_t(k)], ws, wc);
         if (std::isnan(ws)) {
-          EXPECT_TRUE(std::isnan(s[std::size_t(k)]) && std::isnan(c[std::size_t(k)])) << to_string(path) << " n " << n << " lane " << k;
+          EXPECT_TRUE(std::isnan(s[std::size_t(k)]) && std::isnan(c[std::size_t(k)]))
+              << to_string(path) << " n " << n << " lane " << k;
           continue;
         }
         EXPECT_EQ(s[std::size_t(k)], ws) << to_string(path) << " n " << n << " lane " << k;

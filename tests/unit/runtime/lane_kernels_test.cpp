@@ -39,7 +39,8 @@ TEST(LaneKernels, TransformIsTheRigidMotionToFloatRounding) {
     for (int k = 0; k < N; ++k) {
       T[std::size_t(k)] = Eigen::Translation3d(Eigen::Vector3d::Random()) * Eigen::Quaterniond::UnitRandom();
       for (int r = 0; r < 3; ++r) {
-        for (int c = 0; c < 3; ++c) pose[std::size_t(3 * r + c)][std::size_t(k)] = float(T[std::size_t(k)].linear()(r, c));
+        for (int c = 0; c < 3; ++c)
+          pose[std::size_t(3 * r + c)][std::size_t(k)] = float(T[std::size_t(k)].linear()(r, c));
         pose[std::size_t(9 + r)][std::size_t(k)] = float(T[std::size_t(k)].translation()[r]);
       }
     }
@@ -76,7 +77,8 @@ TEST(LaneKernels, WithinIsEveryCoordinateInsideTheLimit) {
     if (round % 10 == 0) p.y[round % N] = std::numeric_limits<float>::quiet_NaN();
     const std::uint32_t mask = bits(kernels::within(p, 1.5f));
     for (int k = 0; k < N; ++k) {
-      const bool inside = std::abs(p.x[k]) <= 1.5f && std::abs(p.y[k]) <= 1.5f && std::abs(p.z[k]) <= 1.5f;  // false for NaN
+      const bool inside =
+          std::abs(p.x[k]) <= 1.5f && std::abs(p.y[k]) <= 1.5f && std::abs(p.z[k]) <= 1.5f;  // false for NaN
       EXPECT_EQ(bool(mask >> k & 1u), inside);
     }
   }
@@ -98,7 +100,8 @@ TEST(LaneKernels, ClearOfFieldAgreesWithTheScalarNodeBounds) {
   for (int round = 0; round < 3000; ++round) {
     const LaneXyz p = random_points(rng, 0.9);
     const float need = float(need_of(rng)) + margin;
-    const std::uint32_t mask = kernels::clear_of_field(p, need, margin, (1u << N) - 1, lo, hi, round % 2 ? &coarse : nullptr, fine, false);
+    const std::uint32_t mask =
+        kernels::clear_of_field(p, need, margin, (1u << N) - 1, lo, hi, round % 2 ? &coarse : nullptr, fine, false);
     for (int k = 0; k < N; ++k) {
       const Eigen::Vector3d q = lane(p, k);
       const double bound = std::max(coarse.lower_bound(q), fine.lower_bound(q));
@@ -150,7 +153,8 @@ TEST(LaneKernels, CylinderGapIsTheExactDistanceToTheCylinder) {
     const float radius = float(size(rng)), half_length = float(size(rng));
     const Eigen::AlignedBox2d section(Eigen::Vector2d(-radius, -half_length), Eigen::Vector2d(radius, half_length));
     const LaneXyz p = random_points(rng, 0.5);
-    const kernels::LaneGap g = kernels::cylinder_gap(lanes::load(p.x), lanes::load(p.y), lanes::load(p.z), radius, half_length);
+    const kernels::LaneGap g =
+        kernels::cylinder_gap(lanes::load(p.x), lanes::load(p.y), lanes::load(p.z), radius, half_length);
     for (int k = 0; k < N; ++k) {
       const Eigen::Vector3d q = lane(p, k);
       const Eigen::Vector2d rz(std::hypot(q.x(), q.y()), q.z());
@@ -188,7 +192,8 @@ TEST(LaneKernels, TableApartAgreesWithTheScalarLookup) {
     const double* q[N];
     for (int k = 0; k < N; ++k) {
       for (double& v : qs[std::size_t(k)]) v = -3 + 6 * unit(rng);  // beyond the grid too
-      if (round % 17 == 0 && k == 3) qs[std::size_t(k)][std::size_t(slot[0])] = std::numeric_limits<double>::quiet_NaN();
+      if (round % 17 == 0 && k == 3)
+        qs[std::size_t(k)][std::size_t(slot[0])] = std::numeric_limits<double>::quiet_NaN();
       q[k] = qs[std::size_t(k)].data();
     }
     const double padding = 0.1 * unit(rng);
@@ -199,7 +204,8 @@ TEST(LaneKernels, TableApartAgreesWithTheScalarLookup) {
       // The scalar lookup on the float distances: the same node and loss; values within rounding.
       const double bound = t.lower_bound(x0, x1);
       if (std::abs(bound - padding) < 1e-6) continue;
-      EXPECT_EQ(bool(mask >> k & 1u), bound > padding) << "round " << round << " lane " << k << ": " << bound << " vs " << padding;
+      EXPECT_EQ(bool(mask >> k & 1u), bound > padding)
+          << "round " << round << " lane " << k << ": " << bound << " vs " << padding;
       (bound > padding ? apart : near)++;
     }
   }

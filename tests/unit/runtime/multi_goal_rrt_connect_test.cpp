@@ -19,11 +19,13 @@ using dmgplace::runtime::FoundPath;
 using dmgplace::runtime::MultiGoalRRTConnect;
 
 namespace {
-struct Box { double x0, y0, x1, y1; };
+struct Box {
+  double x0, y0, x1, y1;
+};
 // A wall with a gap at the top, and a closed enclosure around (8, 2).
 const std::vector<Box> kBoxes = {
-    {4.8, 0, 5.2, 8},                                                   // wall, gap y in (8, 10)
-    {7, 1, 9, 1.2}, {7, 2.8, 9, 3}, {7, 1, 7.2, 3}, {8.8, 1, 9, 3},  // enclosure
+    {4.8, 0, 5.2, 8},                                                  // wall, gap y in (8, 10)
+    {7, 1, 9, 1.2},   {7, 2.8, 9, 3}, {7, 1, 7.2, 3}, {8.8, 1, 9, 3},  // enclosure
 };
 
 bool free_point(double x, double y, double margin = 0, const std::vector<Box>& boxes = kBoxes) {
@@ -86,12 +88,12 @@ void expect_valid_path(const FoundPath& f, double gx, double gy, const std::vect
 
 TEST(MultiGoalRRTConnect, FindsReachableGoalsNeverWalledOffOrRemovedOnes) {
   Problem p = make(7);
-  ASSERT_TRUE(p.planner->add_goal(1, {8, 8}));    // behind the wall, through the gap
-  ASSERT_TRUE(p.planner->add_goal(2, {8, 2}));    // walled off: never reachable
-  ASSERT_TRUE(p.planner->add_goal(3, {2, 8}));    // same side as the start
+  ASSERT_TRUE(p.planner->add_goal(1, {8, 8}));  // behind the wall, through the gap
+  ASSERT_TRUE(p.planner->add_goal(2, {8, 2}));  // walled off: never reachable
+  ASSERT_TRUE(p.planner->add_goal(3, {2, 8}));  // same side as the start
   ASSERT_TRUE(p.planner->add_goal(4, {9.5, 9.5}));
-  p.planner->remove_goal(4);                      // removed before it could connect
-  EXPECT_FALSE(p.planner->add_goal(5, {5, 4}));   // inside the wall: refused
+  p.planner->remove_goal(4);                     // removed before it could connect
+  EXPECT_FALSE(p.planner->add_goal(5, {5, 4}));  // inside the wall: refused
   std::vector<FoundPath> found;
   std::thread solver([&] { p.planner->solve(ob::timedPlannerTerminationCondition(1.5)); });
   std::this_thread::sleep_for(std::chrono::milliseconds(100));

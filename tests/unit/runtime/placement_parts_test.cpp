@@ -61,7 +61,8 @@ formats::PlacementRegion region_with_hole() {
 }  // namespace
 
 TEST(ObjectSpheres, CoverContainsTheSurfaceAndTheInside) {
-  for (const TriMesh& m : {test::box_mesh(Eigen::Vector3d(0.1, 0.05, 0.03)), test::bottle_mesh(), test::eraser_mesh()}) {
+  for (const TriMesh& m :
+       {test::box_mesh(Eigen::Vector3d(0.1, 0.05, 0.03)), test::bottle_mesh(), test::eraser_mesh()}) {
     const SphereSet s = cover_object(m, 8);
     ASSERT_FALSE(s.centers.empty());
     std::mt19937_64 rng(5);
@@ -83,10 +84,13 @@ TEST(ObjectSpheres, CoverContainsTheSurfaceAndTheInside) {
 TEST(ObjectSpheres, CoverEqualsTestingEveryTriangle) {
   TriMesh tilted = test::bottle_mesh();
   const Eigen::Matrix3d r = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
-  for (Eigen::Index v = 0; v < tilted.vertices.rows(); ++v) tilted.vertices.row(v) = (r * tilted.vertices.row(v).transpose()).transpose();
-  for (const TriMesh& m : {test::box_mesh(Eigen::Vector3d(0.1, 0.05, 0.03)), test::bottle_mesh(), test::eraser_mesh(), tilted})
+  for (Eigen::Index v = 0; v < tilted.vertices.rows(); ++v)
+    tilted.vertices.row(v) = (r * tilted.vertices.row(v).transpose()).transpose();
+  for (const TriMesh& m :
+       {test::box_mesh(Eigen::Vector3d(0.1, 0.05, 0.03)), test::bottle_mesh(), test::eraser_mesh(), tilted})
     for (int cells : {1, 3, 8, 13}) {
-      const Eigen::Vector3d lo = m.vertices.colwise().minCoeff().transpose(), hi = m.vertices.colwise().maxCoeff().transpose();
+      const Eigen::Vector3d lo = m.vertices.colwise().minCoeff().transpose(),
+                            hi = m.vertices.colwise().maxCoeff().transpose();
       const double cell = std::max((hi - lo).maxCoeff() / cells, 1e-4), radius = std::sqrt(3.0) / 2.0 * cell;
       const Eigen::Array3i n = ((hi - lo) / cell).array().ceil().cast<int>().max(1);
       const Eigen::Vector3d start = 0.5 * (lo + hi) - 0.5 * cell * n.cast<double>().matrix();
@@ -97,8 +101,11 @@ TEST(ObjectSpheres, CoverEqualsTestingEveryTriangle) {
             const Eigen::Vector3d c = start + cell * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5);
             bool near = false;
             for (Eigen::Index t = 0; t < m.triangles.rows() && !near; ++t)
-              near = (formats::closest_point_on_triangle(c, m.vertices.row(m.triangles(t, 0)).transpose(), m.vertices.row(m.triangles(t, 1)).transpose(),
-                                                m.vertices.row(m.triangles(t, 2)).transpose()) - c).squaredNorm() <= radius * radius;
+              near = (formats::closest_point_on_triangle(c, m.vertices.row(m.triangles(t, 0)).transpose(),
+                                                         m.vertices.row(m.triangles(t, 1)).transpose(),
+                                                         m.vertices.row(m.triangles(t, 2)).transpose()) -
+                      c)
+                         .squaredNorm() <= radius * radius;
             if (near || inside_mesh(m, c)) expected.push_back(c);
           }
       const SphereSet s = cover_object(m, cells);
@@ -122,7 +129,8 @@ TEST(SearchSpace, PosesRestOnTheRegionAndCropToTheVolume) {
     const Eigen::Isometry3d x = space.pose(f, 0, Eigen::Vector2d(1.1, -0.1), 0.7);
     for (const auto& v : space.face(f).polygon) EXPECT_NEAR((x * v).z(), 0.5, 1e-9);
     EXPECT_TRUE((x * obj.mass.com).head<2>().isApprox(Eigen::Vector2d(1.1, -0.1), 1e-12));
-    for (int k = 0; k < obj.mesh.vertices.rows(); ++k) EXPECT_GE((x * obj.mesh.vertices.row(k).transpose()).z(), 0.5 - 1e-9);
+    for (int k = 0; k < obj.mesh.vertices.rows(); ++k)
+      EXPECT_GE((x * obj.mesh.vertices.row(k).transpose()).z(), 0.5 - 1e-9);
     EXPECT_TRUE(space.stable(f, 0, x));
     // Over the hole it is not supported.
     EXPECT_FALSE(space.stable(f, 0, space.pose(f, 0, Eigen::Vector2d(1.2, -0.05), 0)));

@@ -40,18 +40,21 @@ TEST(PrimitiveObstacles, SeparationsListEveryNearPrimitiveWithASeparatingDirecti
     for (std::size_t k = 0; k < distance.size(); ++k) {
       if (!(distance[k] < within)) continue;
       ASSERT_GT(distance[k], 0.0) << "p = " << p.transpose() << " is inside primitive " << k << " but nothing said so";
-      const auto hit = std::find_if(out.begin(), out.end(), [&](const auto& s) { return std::abs(s.distance - distance[k]) < 1e-9; });
+      const auto hit = std::find_if(out.begin(), out.end(),
+                                    [&](const auto& s) { return std::abs(s.distance - distance[k]) < 1e-9; });
       ASSERT_NE(hit, out.end()) << "primitive " << k << " at " << distance[k] << " is not listed";
       ++listed;
       // Points of the solid: random in its bounding box, kept where the shape's distance says inside.
       const Shape& s = scene.objects[k].shapes[0];
       for (int m = 0; m < 200; ++m) {
-        const Eigen::Vector3d y = s.origin * Eigen::Vector3d(u(rng) * s.size.x(), u(rng) * s.size.x(), u(rng) * std::max(s.size.x(), s.size.y()));
+        const Eigen::Vector3d y = s.origin * Eigen::Vector3d(u(rng) * s.size.x(), u(rng) * s.size.x(),
+                                                             u(rng) * std::max(s.size.x(), s.size.y()));
         if (shape_signed_distance(s, y) > 0) continue;
         ASSERT_GE(hit->normal.dot(p - y), hit->distance - 1e-9) << "primitive " << k << ", p = " << p.transpose();
       }
     }
-    EXPECT_LE(out.size(), std::size_t(std::count_if(distance.begin(), distance.end(), [&](double d) { return d < within; })));
+    EXPECT_LE(out.size(),
+              std::size_t(std::count_if(distance.begin(), distance.end(), [&](double d) { return d < within; })));
   }
   EXPECT_GT(listed, 300);
   EXPECT_GT(inside, 10);
@@ -102,7 +105,7 @@ TEST(PrimitiveObstacles, FloatLaneDistancesAreWithinTheirErrorBoundOnBothPaths) 
   std::uniform_real_distribution<double> u(-1, 1);
   constexpr int W = lanes::WF;
   int inside = 0, checked = 0;
-  double worst = 0;  // largest error seen, as a share of the bound
+  double worst = 0;                   // largest error seen, as a share of the bound
   const ScopedSimdPath restore_simd;  // forced paths end with the test
   for (int count = 1; count <= 13; count += 3)
     for (const double shift : {0.0, 4.0, -4.0}) {
@@ -124,8 +127,9 @@ TEST(PrimitiveObstacles, FloatLaneDistancesAreWithinTheirErrorBoundOnBothPaths) 
         for (int k = 0; k < W; ++k) {
           // Near the shapes mostly (the scene spans about [-1.3, 1.3] around its shift), the
           // limit's corner in one lane.
-          const Eigen::Vector3d p = k == 0 && i % 50 == 0 ? Eigen::Vector3d(limit, -limit, limit)
-                                                           : Eigen::Vector3d(shift + 1.5 * u(rng), 1.5 * u(rng), 1.5 * u(rng));
+          const Eigen::Vector3d p = k == 0 && i % 50 == 0
+                                        ? Eigen::Vector3d(limit, -limit, limit)
+                                        : Eigen::Vector3d(shift + 1.5 * u(rng), 1.5 * u(rng), 1.5 * u(rng));
           x[k] = float(p.x());
           y[k] = float(p.y());
           z[k] = float(p.z());
@@ -175,7 +179,8 @@ TEST(PrimitiveObstacles, ClearAndReachingLanesAgreeWithExactDistances) {
       std::uint64_t reach = 0;
       const std::uint32_t got = prims->clear_reaching_lanes(x, y, z, need, alive, reach);
       ASSERT_EQ(got & ~alive, 0u) << "a lane not asked about came back clear";
-      ASSERT_EQ(prims->clear_lanes(x, y, z, need, alive, reach), got) << "the reached primitives alone decide otherwise";
+      ASSERT_EQ(prims->clear_lanes(x, y, z, need, alive, reach), got)
+          << "the reached primitives alone decide otherwise";
       ASSERT_EQ(prims->clear_lanes(x, y, z, need, alive), got);
       if (!prims->all_have_bits()) {
         ASSERT_EQ(reach, ~std::uint64_t(0));
@@ -232,7 +237,8 @@ TEST(PrimitiveObstacles, DistanceAgreesWithFclOnBoxesCylindersAndSpheres) {
     if (d < 0.004 || d > 0.05) continue;  // small enough that no obstacle fits inside the larger ball
     ++near;
     EXPECT_TRUE(exact.mesh_free(CollisionMesh(uv_sphere(0.97 * d)), at)) << p.transpose() << " distance " << d;
-    EXPECT_FALSE(exact.mesh_free(CollisionMesh(uv_sphere(1.03 * d / cos_face)), at)) << p.transpose() << " distance " << d;
+    EXPECT_FALSE(exact.mesh_free(CollisionMesh(uv_sphere(1.03 * d / cos_face)), at))
+        << p.transpose() << " distance " << d;
   }
   EXPECT_GE(near, 100);
   EXPECT_GE(inside, 20);

@@ -27,7 +27,8 @@ Eigen::Isometry3d random_pose(std::mt19937_64& rng, double reach) {
 TEST(PushGeometry, TheMotionTakesTheObjectFromItsPoseAtOneGraspToItsPoseAtTheOther) {
   std::mt19937_64 rng(5);
   for (int trial = 0; trial < 200; ++trial) {
-    const Eigen::Isometry3d tcp = random_pose(rng, 0.6), before = random_pose(rng, 0.05), after = random_pose(rng, 0.05);
+    const Eigen::Isometry3d tcp = random_pose(rng, 0.6), before = random_pose(rng, 0.05),
+                            after = random_pose(rng, 0.05);
     const ObjectMotion m = object_motion(tcp, before, after);
     // The gripper holds still: the object's pose at each grasp puts the TCP where it is.
     EXPECT_TRUE((m.before * before).isApprox(tcp, 1e-12));

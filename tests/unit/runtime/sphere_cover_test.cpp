@@ -25,12 +25,14 @@ TEST(SphereCover, InnerBallsLieInsideTheLinkGeometry) {
       for (const double depth : {0.999, 0.7, 0.3}) {
         const double z = 1 - 2 * (k + 0.5) / 64, ph = k * M_PI * (3 - std::sqrt(5.0));
         const Eigen::Vector3d x =
-            s.center + depth * r * Eigen::Vector3d(std::sqrt(1 - z * z) * std::cos(ph), std::sqrt(1 - z * z) * std::sin(ph), z);
+            s.center +
+            depth * r * Eigen::Vector3d(std::sqrt(1 - z * z) * std::cos(ph), std::sqrt(1 - z * z) * std::sin(ph), z);
         bool inside = false;
         for (const auto& sh : shapes)
           inside |= sh.type == ShapeType::Mesh ? winding_number(sh.mesh, sh.origin.inverse() * x) > 0.5
                                                : shape_signed_distance(sh, x) <= 0;
-        ASSERT_TRUE(inside) << arm.model.links[std::size_t(s.link)].name << " ball " << r << " at " << s.center.transpose();
+        ASSERT_TRUE(inside) << arm.model.links[std::size_t(s.link)].name << " ball " << r << " at "
+                            << s.center.transpose();
       }
   }
   EXPECT_GT(with_ball, int(arm.spheres.size()) / 2) << "most sphere centers lie inside their link";

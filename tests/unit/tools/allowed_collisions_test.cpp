@@ -35,7 +35,8 @@ RobotModel model_without_srdf(const Robot& r) {
 }
 
 // The SRDF's pairs with the given reasons (read back through apply_srdf on a copy).
-std::set<std::pair<int, int>> srdf_pairs(const RobotModel& m, const fs::path& srdf, const std::set<std::string>& reasons) {
+std::set<std::pair<int, int>> srdf_pairs(const RobotModel& m, const fs::path& srdf,
+                                         const std::set<std::string>& reasons) {
   // apply_srdf keeps no reasons: filter the file's lines by reason, write them out, read back.
   std::string kept = "<robot name=\"" + m.name + "\">\n";
   std::istringstream in(test::read_text(srdf));
@@ -66,7 +67,8 @@ void check_robot(const Robot& r, const Eigen::VectorXd& ready) {
   std::string kept_checked;
   for (const auto& [a, b] : srdf_pairs(m, r.srdf, {"Adjacent", "Never"})) {
     if (disabled.count({a, b})) continue;
-    const auto it = std::find_if(decided.checked.begin(), decided.checked.end(), [&](const auto& c) { return c.a == a && c.b == b; });
+    const auto it = std::find_if(decided.checked.begin(), decided.checked.end(),
+                                 [&](const auto& c) { return c.a == a && c.b == b; });
     ASSERT_NE(it, decided.checked.end()) << m.links[std::size_t(a)].name << "/" << m.links[std::size_t(b)].name;
     EXPECT_GT(it->collisions, 0);
     kept_checked += " " + m.links[std::size_t(a)].name + "/" + m.links[std::size_t(b)].name + " (collided in " +
@@ -78,14 +80,16 @@ void check_robot(const Robot& r, const Eigen::VectorXd& ready) {
   for (const auto& [a, b] : srdf_pairs(m, r.srdf, {"Adjacent"}))
     for (const auto& p : decided.disabled)
       if (p.a == a && p.b == b) {
-        EXPECT_EQ(p.reason, tools::DisableReason::Adjacent) << m.links[std::size_t(a)].name << "/" << m.links[std::size_t(b)].name;
+        EXPECT_EQ(p.reason, tools::DisableReason::Adjacent)
+            << m.links[std::size_t(a)].name << "/" << m.links[std::size_t(b)].name;
       }
   // With the decided pairs the ready pose is free of self-collision (without them it is not).
   RobotModel with = m;
   for (const auto& p : decided.disabled) with.allowed_pairs.emplace_back(p.a, p.b);
   const runtime::Kinematics kin_with(with, with.arm_base, with.arm_tip), kin_without(m, m.arm_base, m.arm_tip);
   EXPECT_TRUE(runtime::ExactChecker(kin_with, Scene{}).is_free(ready));
-  EXPECT_FALSE(runtime::ExactChecker(kin_without, Scene{}).is_free(ready)) << "adjacent links touch: nothing to decide?";
+  EXPECT_FALSE(runtime::ExactChecker(kin_without, Scene{}).is_free(ready))
+      << "adjacent links touch: nothing to decide?";
   // Deterministic, and the SRDF written for review reads back as the same pairs.
   const tools::AllowedCollisions again = tools::compute_allowed_collisions(m);
   ASSERT_EQ(again.disabled.size(), decided.disabled.size());
@@ -111,7 +115,10 @@ TEST(AllowedCollisions, PandaWithoutItsSrdfGetsItsPairsAndAFreeReadyPose) {
   const fs::path p = test::shared_datasets() / "panda";
   Eigen::VectorXd ready(7);
   ready << 0, -0.785, 0, -2.356, 0, 1.571, 0.785;
-  check_robot({p / "moveit_resources_panda_description/urdf/panda.urdf", p / "panda_moveit_config/config/panda.srdf", {p},
-               "panda_link0", "panda_hand"},
+  check_robot({p / "moveit_resources_panda_description/urdf/panda.urdf",
+               p / "panda_moveit_config/config/panda.srdf",
+               {p},
+               "panda_link0",
+               "panda_hand"},
               ready);
 }

@@ -16,8 +16,8 @@ namespace {
 ViewResult result(double release) {
   formats::RobotArtifact robot;
   ViewResult r;
-  r.joint_names = {"dmgarm_joint1", "dmgarm_joint2", "dmgarm_joint3", "dmgarm_joint4", "dmgarm_joint5", "dmgarm_joint6",
-                   "dmgarm_joint7"};
+  r.joint_names = {"dmgarm_joint1", "dmgarm_joint2", "dmgarm_joint3", "dmgarm_joint4",
+                   "dmgarm_joint5", "dmgarm_joint6", "dmgarm_joint7"};
   r.start = Eigen::VectorXd(7);
   r.start << 0, -0.785, 0, -2.356, 0, 1.571, 0.785;
   r.solved = true;
@@ -119,7 +119,8 @@ TEST(ArmMotion, FramesFollowTheTimedTrajectoriesInRealTime) {
       const runtime::Trajectory& tr = retreating ? r.retreat_timing : r.path_timing;
       kin.link_poses(reference_at(tr, retreating ? t - r.path_timing.duration() : t), poses);
       const int hand = m.links[tip];
-      EXPECT_LT(pose_error(pose_at(m.link_poses, std::size_t(k) * m.links.size() + tip), poses[std::size_t(hand)]), 1e-4)
+      EXPECT_LT(pose_error(pose_at(m.link_poses, std::size_t(k) * m.links.size() + tip), poses[std::size_t(hand)]),
+                1e-4)
           << "frame " << k << " at " << t << " s";
     }
     // Waypoint frames in order, the path's last at the release.
@@ -172,14 +173,18 @@ TEST(ArmMotion, PushesPlayFirstAndCarryTheObjectWhileInContact) {
   while (robot.model.links[std::size_t(m.links[tool])].name != "pusher_link7") ++tool;
   std::vector<Eigen::Isometry3d> poses;
   const double begin = 1, end = 2;
-  const runtime::ObjectMotion motion = runtime::object_motion(tcp, p.object_before.inverse() * tcp, p.object_after.inverse() * tcp);
+  const runtime::ObjectMotion motion =
+      runtime::object_motion(tcp, p.object_before.inverse() * tcp, p.object_after.inverse() * tcp);
   for (int k = 0; k < path_first; ++k) {
     const double t = m.frame_times[std::size_t(k)];
     pusher.link_poses(reference_at(p.timing, t), poses);
-    EXPECT_LT(pose_error(pose_at(m.link_poses, std::size_t(k) * m.links.size() + tool),
-                         poses[std::size_t(m.links[tool])]), 1e-4) << "frame " << k;
+    EXPECT_LT(
+        pose_error(pose_at(m.link_poses, std::size_t(k) * m.links.size() + tool), poses[std::size_t(m.links[tool])]),
+        1e-4)
+        << "frame " << k;
     const double s = std::clamp((t - begin) / (end - begin), 0.0, 1.0);
-    EXPECT_LT(pose_error(pose_at(m.object_poses, std::size_t(k)), motion.at(s) * p.object_before), 1e-4) << "frame " << k;
+    EXPECT_LT(pose_error(pose_at(m.object_poses, std::size_t(k)), motion.at(s) * p.object_before), 1e-4)
+        << "frame " << k;
   }
   EXPECT_LT(pose_error(pose_at(m.object_poses, std::size_t(path_first - 1)), p.object_after), 1e-4);
 }

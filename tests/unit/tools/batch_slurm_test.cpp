@@ -19,10 +19,12 @@ using ::testing::HasSubstr;
 TEST(BatchSlurm, WritesTwoArrayJobsAndSubmitsTheQueriesAfterTheBakes) {
   test::TempDir dir;
   const fs::path fake = dir / "sbatch";
-  test::write_text(fake, "#!/bin/sh\necho \"$@\" >> \"$(dirname \"$0\")/calls.txt\"\n"
-                         "n=$(wc -l < \"$(dirname \"$0\")/calls.txt\")\necho \"100$n;cluster\"\n");
+  test::write_text(fake,
+                   "#!/bin/sh\necho \"$@\" >> \"$(dirname \"$0\")/calls.txt\"\n"
+                   "n=$(wc -l < \"$(dirname \"$0\")/calls.txt\")\necho \"100$n;cluster\"\n");
   fs::permissions(fake, fs::perms::owner_all);
-  SlurmOptions o{"/opt/dmgplace/bin/dmgplace", dir / "it's a manifest.yaml", dir / "out", 3, "batch", "01:30:00", fake.string()};
+  SlurmOptions o{
+      "/opt/dmgplace/bin/dmgplace", dir / "it's a manifest.yaml", dir / "out", 3, "batch", "01:30:00", fake.string()};
   const auto s = submit_slurm(o);
   EXPECT_EQ(s.bakes_job, "1001");
   EXPECT_EQ(s.queries_job, "1002");

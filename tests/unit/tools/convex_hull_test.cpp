@@ -15,7 +15,8 @@ TriMesh cloud(std::mt19937_64& rng, int n, double flat_z = -1) {
   std::normal_distribution<double> g(0, 1);
   TriMesh m;
   m.vertices.resize(n, 3);
-  for (int i = 0; i < n; ++i) m.vertices.row(i) = Eigen::RowVector3d(0.05 * g(rng), 0.03 * g(rng), flat_z >= 0 ? flat_z : 0.1 * g(rng));
+  for (int i = 0; i < n; ++i)
+    m.vertices.row(i) = Eigen::RowVector3d(0.05 * g(rng), 0.03 * g(rng), flat_z >= 0 ? flat_z : 0.1 * g(rng));
   m.triangles.resize(1, 3);
   m.triangles << 0, 1, 2;
   return m;

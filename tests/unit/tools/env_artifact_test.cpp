@@ -113,7 +113,8 @@ TEST(EnvArtifact, ClearanceKeepsRisingAcrossTheWholeVolume) {
     std::array<int, 3> i{};
     for (int k = 0; k < 3; ++k) i[std::size_t(k)] = int(std::lround((p[k] - f.origin[k]) / f.resolution));
     const Eigen::Vector3d node = f.origin + f.resolution * Eigen::Vector3d(i[0], i[1], i[2]);
-    const double v = f.values[std::size_t(i[0]) + std::size_t(f.dims[0]) * (std::size_t(i[1]) + std::size_t(f.dims[1]) * std::size_t(i[2]))];
+    const double v = f.values[std::size_t(i[0]) + std::size_t(f.dims[0]) *
+                                                      (std::size_t(i[1]) + std::size_t(f.dims[1]) * std::size_t(i[2]))];
     EXPECT_NEAR(v, node.x() + 1.49, 2e-3) << "at x = " << x;
     EXPECT_GT(v, previous) << "at x = " << x;
     previous = v;

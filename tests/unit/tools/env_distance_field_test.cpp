@@ -39,7 +39,8 @@ double brute_force(const EnvGeometry& g, const Eigen::Vector3d& p) {
       best = std::min(best, squared_distance_to_triangle(p, m.vertices.row(m.triangles(t, 0)).transpose(),
                                                          m.vertices.row(m.triangles(t, 1)).transpose(),
                                                          m.vertices.row(m.triangles(t, 2)).transpose()));
-  for (Eigen::Index i = 0; i < g.points.rows(); ++i) best = std::min(best, (g.points.row(i).transpose() - p).squaredNorm());
+  for (Eigen::Index i = 0; i < g.points.rows(); ++i)
+    best = std::min(best, (g.points.row(i).transpose() - p).squaredNorm());
   return std::sqrt(best);
 }
 
@@ -63,7 +64,8 @@ TEST(EnvDistanceField, GridSamplesEqualBruteForceDistanceWithSign) {
     const Eigen::Vector3d p = spec.point(i, j, k);
     const double truth = std::min(kBand, brute_force(geo, p));
     const double inside = test::scene_signed_distance(scene, p) < 0 ? -1 : 1;
-    const float v = f.values[std::size_t(i) + std::size_t(spec.dims[0]) * (std::size_t(j) + std::size_t(spec.dims[1]) * std::size_t(k))];
+    const float v = f.values[std::size_t(i) +
+                             std::size_t(spec.dims[0]) * (std::size_t(j) + std::size_t(spec.dims[1]) * std::size_t(k))];
     // The tessellation circumscribes curved primitives, so skip the sliver between them for the sign.
     if (std::abs(test::scene_signed_distance(scene, p)) < 0.003) continue;
     EXPECT_NEAR(v, inside * truth, 1e-5) << "at " << p.transpose();
@@ -138,7 +140,8 @@ TEST(EnvDistanceField, ScanPointsGiveUnsignedDistanceToTheNearestPoint) {
     const int i = int(rng() % unsigned(spec.dims[0])), j = int(rng() % unsigned(spec.dims[1])),
               k = int(rng() % unsigned(spec.dims[2]));
     const Eigen::Vector3d p = spec.point(i, j, k);
-    const float v = f.values[std::size_t(i) + std::size_t(spec.dims[0]) * (std::size_t(j) + std::size_t(spec.dims[1]) * std::size_t(k))];
+    const float v = f.values[std::size_t(i) +
+                             std::size_t(spec.dims[0]) * (std::size_t(j) + std::size_t(spec.dims[1]) * std::size_t(k))];
     EXPECT_NEAR(v, std::min(kBand, brute_force(geo, p)), 1e-5);
   }
 }

@@ -37,7 +37,8 @@ std::map<long, double> area_by_height(const std::vector<PlacementRegion>& rs) {
 bool cell_in(const PlacementRegion& r, const Eigen::Vector2d& xy) {
   const Eigen::Vector2d u = (xy - r.origin) / r.resolution;
   const int i = int(std::floor(u.x())), j = int(std::floor(u.y()));
-  return i >= 0 && j >= 0 && i < r.width && j < r.depth && r.mask[std::size_t(i) + std::size_t(r.width) * std::size_t(j)];
+  return i >= 0 && j >= 0 && i < r.width && j < r.depth &&
+         r.mask[std::size_t(i) + std::size_t(r.width) * std::size_t(j)];
 }
 
 }  // namespace
@@ -72,8 +73,7 @@ TEST(EnvRegions, AShelfGivesOneRegionPerBoard) {
   Scene scene;
   scene.objects.push_back({"side_l", {box({0.3, 0.02, 1.0}, {0, -0.26, 0.5})}});
   scene.objects.push_back({"side_r", {box({0.3, 0.02, 1.0}, {0, 0.26, 0.5})}});
-  for (double z : {0.1, 0.4, 0.7})
-    scene.objects.push_back({"board", {box({0.3, 0.5, 0.02}, {0, 0, z - 0.01})}});
+  for (double z : {0.1, 0.4, 0.7}) scene.objects.push_back({"board", {box({0.3, 0.5, 0.02}, {0, 0, z - 0.01})}});
   scene.objects.push_back({"top", {box({0.3, 0.54, 0.02}, {0, 0, 1.01})}});
   const Eigen::AlignedBox3d v(Eigen::Vector3d(-0.15, -0.25, 0.05), Eigen::Vector3d(0.15, 0.25, 1.0));
   const auto rs = geometry_regions(scene, v, RegionOptions{});
@@ -122,7 +122,8 @@ TEST(EnvRegions, AScanOfAPlaneGivesOneRegionAtItsHeightMinusClutter) {
     for (double y = 0.0; y <= 0.25; y += 0.003)
       if ((Eigen::Vector2d(x, y) - can).norm() > 0.03) pts.emplace_back(x, y, 0.3 + noise(rng));
   for (double a = 0; a < 2 * M_PI; a += 0.05)
-    for (double z = 0.302; z <= 0.38; z += 0.004) pts.emplace_back(can.x() + 0.03 * std::cos(a), can.y() + 0.03 * std::sin(a), z);
+    for (double z = 0.302; z <= 0.38; z += 0.004)
+      pts.emplace_back(can.x() + 0.03 * std::cos(a), can.y() + 0.03 * std::sin(a), z);
   for (double x = -0.03; x <= 0.03; x += 0.004)
     for (double y = -0.03; y <= 0.03; y += 0.004)
       if (std::hypot(x, y) < 0.03) pts.emplace_back(can.x() + x, can.y() + y, 0.38);
@@ -163,7 +164,8 @@ TEST(EnvRegions, BuiltInCabinetHasARegionPerShelfAndTableTopMinusClutter) {
 
   const auto table = bake("table", {Eigen::Vector3d(0.25, -0.60, 0.41), Eigen::Vector3d(1.00, 0.60, 0.80)});
   Scene clutter = table.scene;
-  std::erase_if(clutter.objects, [](const SceneObject& o) { return o.name == "floor" || o.name.rfind("table", 0) == 0; });
+  std::erase_if(clutter.objects,
+                [](const SceneObject& o) { return o.name == "floor" || o.name.rfind("table", 0) == 0; });
   double top_area = 0;
   int inside_clutter = 0;
   for (const auto& r : table.regions) {

@@ -75,8 +75,9 @@ TEST(EnvSharedData, StereoTableScanGivesTheTableTopMinusTheMug) {
   SceneLoadOptions load;
   Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
   frame.translation() = Eigen::Vector3d(0, 0, 2.674);
-  frame.linear() = (Eigen::AngleAxisd(-0.0571, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(2.581, Eigen::Vector3d::UnitX()))
-                       .toRotationMatrix();
+  frame.linear() =
+      (Eigen::AngleAxisd(-0.0571, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(2.581, Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();
   load.frame = frame;
   const Eigen::AlignedBox3d v(Eigen::Vector3d(-0.4, -1.15, 0.6), Eigen::Vector3d(0.9, -0.6, 1.2));
   const auto env = bake(test::shared_datasets() / "scans/pcl/table_scene_mug_stereo_textured.pcd", v, load);
@@ -96,7 +97,8 @@ TEST(EnvSharedData, StereoTableScanGivesTheTableTopMinusTheMug) {
       if (p.z() < r.height + 0.03 || p.z() > r.height + 0.3) continue;
       const Eigen::Vector2d u = (p.head<2>() - r.origin) / r.resolution;
       const int i = int(std::floor(u.x())), j = int(std::floor(u.y()));
-      if (i >= 0 && j >= 0 && i < r.width && j < r.depth && r.mask[std::size_t(i) + std::size_t(r.width) * std::size_t(j)])
+      if (i >= 0 && j >= 0 && i < r.width && j < r.depth &&
+          r.mask[std::size_t(i) + std::size_t(r.width) * std::size_t(j)])
         ++covered;
     }
   }

@@ -50,7 +50,8 @@ TEST(ExperimentNames, ProblemNamesThatWouldRunACommandAreRejected) {
   test::write_text(dir / "q.yaml", "robot: r.h5\n");
   const fs::path spec = dir / "s.yaml";
   // The second one has no space: the old check ('/', '\\', ' ') let it through.
-  for (const std::string name : {"x'$(touch PWNED)'", "x$(touch${IFS}PWNED)", "a`touch PWNED`", "a/b", "..", ".", "é", "a;b"}) {
+  for (const std::string name :
+       {"x'$(touch PWNED)'", "x$(touch${IFS}PWNED)", "a`touch PWNED`", "a/b", "..", ".", "é", "a;b"}) {
     SCOPED_TRACE(name);
     test::write_text(spec, "problems:\n  - {name: a, query: q.yaml}\n  - {name: \"" + name + "\", query: q.yaml}\n");
     const std::string e = test::error_of([&] { read_experiment_spec(spec); });

@@ -61,7 +61,8 @@ TEST(FuzzRegression, PlyHeaderWithoutEndHeaderIsRejectedNotHung) {
   write_text(dir / "no_extension", minimal);
   write_text(dir / "in_comment.PLY", minimal + "comment end_header\n");
   // Second fuzz run: end_header glued to a control character (assimp missed it and looped again).
-  write_text(dir / "glued.ply", minimal + "element face 1\nproperty list uchar int vertex_indices\nend_header\b0 0 0\n");
+  write_text(dir / "glued.ply",
+             minimal + "element face 1\nproperty list uchar int vertex_indices\nend_header\b0 0 0\n");
   write_text(dir / "control.ply", "ply\nformat ascii 1.0\nelement vertex 4\x13property float x\nend_header\n");
   for (const char* name : {"fuzzed.ply", "minimal.ply", "no_extension", "in_comment.PLY"})
     EXPECT_THAT(error_of([&] { read_mesh(dir / name); }), HasSubstr("PLY header has no end_header")) << name;
@@ -103,16 +104,15 @@ TEST(FuzzRegression, UrdfJointCyclesAreRejected) {
   TempDir dir;
   const std::string links = "<link name=\"base\"/><link name=\"arm\"/><link name=\"tip\"/>";
   const auto joint = [](const char* name, const char* parent, const char* child) {
-    return std::string("<joint name=\"") + name + "\" type=\"fixed\"><parent link=\"" + parent +
-           "\"/><child link=\"" + child + "\"/></joint>";
+    return std::string("<joint name=\"") + name + "\" type=\"fixed\"><parent link=\"" + parent + "\"/><child link=\"" +
+           child + "\"/></joint>";
   };
   write_text(dir / "self.urdf",
              "<robot name=\"r\">" + links + joint("j1", "arm", "arm") + joint("j2", "arm", "tip") + "</robot>");
   write_text(dir / "loop.urdf",
              "<robot name=\"r\">" + links + joint("j1", "arm", "tip") + joint("j2", "tip", "arm") + "</robot>");
-  write_text(dir / "two_parents.urdf",
-             "<robot name=\"r\">" + links + joint("j1", "base", "arm") + joint("j2", "base", "tip") +
-                 joint("j3", "tip", "arm") + "</robot>");
+  write_text(dir / "two_parents.urdf", "<robot name=\"r\">" + links + joint("j1", "base", "arm") +
+                                           joint("j2", "base", "tip") + joint("j3", "tip", "arm") + "</robot>");
   EXPECT_THAT(error_of([&] { read_urdf(dir / "self.urdf"); }), HasSubstr("link 'arm': is its own ancestor"));
   EXPECT_THAT(error_of([&] { read_urdf(dir / "loop.urdf"); }), HasSubstr("joint cycle"));
   EXPECT_THAT(error_of([&] { read_urdf_scene(dir / "loop.urdf"); }), HasSubstr("joint cycle"));

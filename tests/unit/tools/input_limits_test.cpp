@@ -20,7 +20,8 @@ using ::testing::HasSubstr;
 std::string box_scene(const std::string& dimensions, int copies = 1) {
   std::string s = "world:\n  collision_objects:\n";
   for (int i = 0; i < copies; ++i)
-    s += "    - id: box" + std::to_string(i) + "\n      primitives:\n        - type: box\n          dimensions: " + dimensions +
+    s += "    - id: box" + std::to_string(i) +
+         "\n      primitives:\n        - type: box\n          dimensions: " + dimensions +
          "\n      primitive_poses:\n        - position: [0, 0, 0]\n          orientation: [0, 0, 0, 1]\n";
   return s;
 }
@@ -38,7 +39,8 @@ TEST(InputLimits, SceneObjectCountIsBounded) {
   test::TempDir dir;
   test::write_text(dir / "many.yaml", box_scene("[0.1, 0.1, 0.1]", 10001));
   EXPECT_THAT(test::error_of([&] { load_scene(dir / "many.yaml"); }),
-              AllOf(HasSubstr((dir / "many.yaml").string()), HasSubstr("10001 objects"), HasSubstr("more than this build handles")));
+              AllOf(HasSubstr((dir / "many.yaml").string()), HasSubstr("10001 objects"),
+                    HasSubstr("more than this build handles")));
 }
 
 // A 900 m link at the default 5 mm spacing would need ~10^16 samples: refused before sampling.
@@ -46,7 +48,8 @@ TEST(InputLimits, SphereCoverCountsItsSamplesBeforeMakingThem) {
   Shape box;
   box.type = ShapeType::Box;
   box.size = Eigen::Vector3d(900, 1, 1);
-  EXPECT_THAT(test::error_of([&] { cover_with_spheres({box}); }), AllOf(HasSubstr("samples"), HasSubstr("--sphere-spacing")));
+  EXPECT_THAT(test::error_of([&] { cover_with_spheres({box}); }),
+              AllOf(HasSubstr("samples"), HasSubstr("--sphere-spacing")));
   // A small box still gets its cover.
   box.size = Eigen::Vector3d(0.1, 0.1, 0.1);
   EXPECT_FALSE(cover_with_spheres({box}).empty());

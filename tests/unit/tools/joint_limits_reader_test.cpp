@@ -15,9 +15,18 @@ RobotModel two_joints() {
   RobotModel m;
   for (auto n : {"base", "a", "b"}) m.links.push_back({n, {}});
   Joint j;
-  j.name = "shoulder"; j.type = JointType::Revolute; j.parent = 0; j.child = 1; j.lower = -2; j.upper = 2; j.velocity = 3;
+  j.name = "shoulder";
+  j.type = JointType::Revolute;
+  j.parent = 0;
+  j.child = 1;
+  j.lower = -2;
+  j.upper = 2;
+  j.velocity = 3;
   Joint k = j;
-  k.name = "elbow"; k.parent = 1; k.child = 2; k.velocity = 0;
+  k.name = "elbow";
+  k.parent = 1;
+  k.child = 2;
+  k.velocity = 0;
   m.joints = {j, k};
   return m;
 }

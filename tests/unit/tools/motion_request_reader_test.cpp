@@ -39,8 +39,9 @@ TEST(MotionRequest, NonFiniteJointValuesAreRejected) {
   for (const char* bad : {".nan", ".NaN", ".inf", "-.inf"}) {
     SCOPED_TRACE(bad);
     write_text(path, request(bad, "1.0"));
-    EXPECT_THAT(error_of([&] { read_motion_request(path); }),
-                AllOf(HasSubstr(path.string()), HasSubstr("start_state.joint_state.b"), HasSubstr("not a finite number")));
+    EXPECT_THAT(
+        error_of([&] { read_motion_request(path); }),
+        AllOf(HasSubstr(path.string()), HasSubstr("start_state.joint_state.b"), HasSubstr("not a finite number")));
     write_text(path, request("0.0", bad));
     EXPECT_THAT(error_of([&] { read_motion_request(path); }),
                 AllOf(HasSubstr(path.string()), HasSubstr("goal joint a"), HasSubstr("not a finite number")));

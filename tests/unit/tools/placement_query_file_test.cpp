@@ -68,37 +68,41 @@ TEST(PlacementQueryFile, BrokenQueriesNameTheFileAndTheProblem) {
       {"zero quaternion", kArtifacts + kStart + "initial_grasp: {pose: [0, 0, 0, 0, 0, 0, 0]}\n", "initial_grasp.pose",
        "zero quaternion"},
       {"unknown variant", kArtifacts + kStart + kGrasp + "variant: best\n", "variant", "unknown variant 'best'"},
-      {"negative time limit", kArtifacts + kStart + kGrasp + "time_limit: -1\n", "time_limit", "outside its range [0, "},
+      {"negative time limit", kArtifacts + kStart + kGrasp + "time_limit: -1\n", "time_limit",
+       "outside its range [0, "},
       {"NaN time limit", kArtifacts + kStart + kGrasp + "time_limit: .nan\n", "time_limit", "not a finite number"},
       // Issue 19: limits that overflowed or hung, keys that were ignored.
       {"time limit past a nanosecond count", kArtifacts + kStart + kGrasp + "time_limit: 1e12\n", "time_limit",
        "outside its range"},
-      {"IK restarts without end", kArtifacts + kStart + kGrasp + "options: {ik_restarts: 2000000000}\n", "options.ik_restarts",
-       "outside its range [0, 1000]"},
+      {"IK restarts without end", kArtifacts + kStart + kGrasp + "options: {ik_restarts: 2000000000}\n",
+       "options.ik_restarts", "outside its range [0, 1000]"},
       {"a hundred thousand threads", kArtifacts + kStart + kGrasp + "options: {threads: 100000}\n", "options.threads",
        "outside its range [0, 256]"},
-      {"fractional count", kArtifacts + kStart + kGrasp + "options: {goal_iterations: 2.5}\n", "options.goal_iterations",
-       "expected an integer"},
+      {"fractional count", kArtifacts + kStart + kGrasp + "options: {goal_iterations: 2.5}\n",
+       "options.goal_iterations", "expected an integer"},
       {"unknown top-level key", kArtifacts + kStart + kGrasp + "tme_limit: 3\n", "tme_limit (line 6)", "unknown key"},
-      {"typo in a term", kArtifacts + kStart + kGrasp + "objective: [{term: clearance, wieght: 2}]\n", "objective[0].wieght",
-       "unknown key"},
+      {"typo in a term", kArtifacts + kStart + kGrasp + "objective: [{term: clearance, wieght: 2}]\n",
+       "objective[0].wieght", "unknown key"},
       {"duplicate key", kArtifacts + kStart + kGrasp + "seed: 1\nseed: 2\n", "line 7", "duplicate key 'seed'"},
-      {"duplicate nested key", kArtifacts + kStart + "initial_grasp: {pose: [0, 0, 0, 0, 0, 0, 1], opening: 0.05, opening: 0.06}\n",
-       "line 5", "duplicate key 'opening'"},
+      {"duplicate nested key",
+       kArtifacts + kStart + "initial_grasp: {pose: [0, 0, 0, 0, 0, 0, 1], opening: 0.05, opening: 0.06}\n", "line 5",
+       "duplicate key 'opening'"},
       {"negative opening", kArtifacts + kStart + "initial_grasp: {pose: [0, 0, 0.06, 0, 0, 0, 1], opening: -0.02}\n",
        "initial_grasp.opening", "outside its range"},
       {"unknown grasp key", kArtifacts + kStart + "initial_grasp: {pose: [0, 0, 0.06, 0, 0, 0, 1], width: 0.02}\n",
        "initial_grasp.width", "unknown key"},
-      {"vector of another term", kArtifacts + kStart + kGrasp + "objective: [{term: clearance, direction: [1, 0, 0]}]\n",
+      {"vector of another term",
+       kArtifacts + kStart + kGrasp + "objective: [{term: clearance, direction: [1, 0, 0]}]\n",
        "objective[0].direction", "does not belong to term 'clearance'"},
       {"zero depth direction", kArtifacts + kStart + kGrasp + "objective: [{term: depth, direction: [0, 0, 0]}]\n",
        "objective[0].direction", "non-zero"},
-      {"volume in another galaxy", kArtifacts + kStart + kGrasp + "volume: [0, 0, 0, 1e300, 1, 1]\n", "volume", "beyond"},
+      {"volume in another galaxy", kArtifacts + kStart + kGrasp + "volume: [0, 0, 0, 1e300, 1, 1]\n", "volume",
+       "beyond"},
       {"inverted volume", kArtifacts + kStart + kGrasp + "volume: [1, 1, 1, 0, 0, 0]\n", "volume", "min exceeds max"},
       {"NaN option", kArtifacts + kStart + kGrasp + "options: {ucb_c: .nan}\n", "options.ucb_c", "not a finite number"},
       {"unknown option", kArtifacts + kStart + kGrasp + "options: {speed: 2}\n", "options.speed", "unknown option"},
-      {"NaN weight", kArtifacts + kStart + kGrasp + "objective: [{term: clearance, weight: .nan}]\n", "objective[0].weight",
-       "not a finite number"},
+      {"NaN weight", kArtifacts + kStart + kGrasp + "objective: [{term: clearance, weight: .nan}]\n",
+       "objective[0].weight", "not a finite number"},
       {"text for a number", kArtifacts + kStart + kGrasp + "seed: many\n", "line 6", "malformed query"},
       {"not a map", "- 1\n- 2\n", "", "expected a map"},
   };
@@ -127,8 +131,9 @@ TEST(PlacementQueryFile, StartsThatDoNotFitTheArmAreRejected) {
   EXPECT_THAT(error_of([&] { resolve_start(read_placement_query(path), kin); }),
               AllOf(HasSubstr(path.string()), HasSubstr("outside the arm's joint limits")));
   // Issue 21: a named joint outside the chain, or no joint at all, is not silently ignored.
-  const std::string arm = "dmgarm_joint1: 0, dmgarm_joint2: -0.785, dmgarm_joint3: 0, dmgarm_joint4: -2.356, "
-                          "dmgarm_joint5: 0, dmgarm_joint6: 1.571, dmgarm_joint7: 0.785";
+  const std::string arm =
+      "dmgarm_joint1: 0, dmgarm_joint2: -0.785, dmgarm_joint3: 0, dmgarm_joint4: -2.356, "
+      "dmgarm_joint5: 0, dmgarm_joint6: 1.571, dmgarm_joint7: 0.785";
   write_text(path, kArtifacts + "start: {" + arm + "}\n" + kGrasp);
   EXPECT_EQ(resolve_start(read_placement_query(path), kin).size(), 7);
   // A joint outside the chain goes to the world (world_joint_values); a world without it is refused.
@@ -139,7 +144,8 @@ TEST(PlacementQueryFile, StartsThatDoNotFitTheArmAreRejected) {
   model.arm_tip = "dmgarm_tcp";
   EXPECT_EQ(world_joint_values(q, model), (std::map<std::string, double>{{"dmgarm_finger_joint1", 0.02}}));
   EXPECT_THAT(error_of([&] { resolve_start(q, kin); }),
-              AllOf(HasSubstr(path.string()), HasSubstr("start.dmgarm_finger_joint1"), HasSubstr("world was built without it")));
+              AllOf(HasSubstr(path.string()), HasSubstr("start.dmgarm_finger_joint1"),
+                    HasSubstr("world was built without it")));
   runtime::Kinematics set = kin;
   set.set_joint_value("dmgarm_finger_joint1", 0.02);
   EXPECT_EQ(resolve_start(q, set).size(), 7);
@@ -158,7 +164,8 @@ TEST(PlacementQueryFile, ArtifactPathsStayInTheArtifactFolder) {
   const std::string rest = "object: bottle.h5\nenvironment: cabinet.h5\n" + kStart + kGrasp;
   write_text(path, "robot: ../../../../../../etc/passwd\n" + rest);
   EXPECT_THAT(error_of([&] { read_placement_query(path); }),
-              AllOf(HasSubstr(path.string()), HasSubstr("robot"), HasSubstr("outside the artifact folder"), HasSubstr("--allow-outside")));
+              AllOf(HasSubstr(path.string()), HasSubstr("robot"), HasSubstr("outside the artifact folder"),
+                    HasSubstr("--allow-outside")));
   write_text(path, "robot: /etc/passwd\n" + rest);
   EXPECT_THAT(error_of([&] { read_placement_query(path); }), HasSubstr("outside the artifact folder"));
   std::filesystem::create_symlink("/etc", dir / "artifacts" / "link");
@@ -194,7 +201,8 @@ TEST(PlacementQueryFile, EveryOptionHasItsRangeEnforced) {
     const double above = spec.hi + (integer ? 1 : std::max(1e-3, spec.hi * 0.01));
     write_text(path, kArtifacts + kStart + kGrasp + "options: {" + spec.name + ": " + num(above) + "}\n");
     EXPECT_THAT(error_of([&] { read_placement_query(path); }),
-                AllOf(HasSubstr(path.string()), HasSubstr(std::string("options.") + spec.name), HasSubstr("outside its range")));
+                AllOf(HasSubstr(path.string()), HasSubstr(std::string("options.") + spec.name),
+                      HasSubstr("outside its range")));
     // The range's ends are accepted.
     for (double v : {spec.lo, spec.hi}) {
       write_text(path, kArtifacts + kStart + kGrasp + "options: {" + spec.name + ": " + num(v) + "}\n");

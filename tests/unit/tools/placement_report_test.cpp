@@ -36,7 +36,8 @@ std::vector<std::string> names_in(const fs::path& dir) {
 
 TEST(PlacementReport, FailedWriteOnAFullTmpfsRemovesItsTemporaryFile) {
   test::SmallDisk disk("64k");
-  if (!disk.mounted()) GTEST_SKIP() << disk.why_not() << "; PlacementReport.FailedWriteOverTheFileSizeLimit* covers the same";
+  if (!disk.mounted())
+    GTEST_SKIP() << disk.why_not() << "; PlacementReport.FailedWriteOverTheFileSizeLimit* covers the same";
   const auto kin = dmgarm();
   const fs::path out = disk / "out";
   write_placement_result(out, PlacementQueryFile{}, no_solution("first"), kin);
@@ -53,7 +54,8 @@ TEST(PlacementReport, FailedWriteOverTheFileSizeLimitRemovesItsTemporaryFile) {
   const auto kin = dmgarm();
   const fs::path out = dir / "out";
   // Every file is larger than 64 bytes: the first, trace.csv, already fails.
-  const auto r = test::with_file_size_limit(64, [&] { write_placement_result(out, PlacementQueryFile{}, no_solution("x"), kin); });
+  const auto r =
+      test::with_file_size_limit(64, [&] { write_placement_result(out, PlacementQueryFile{}, no_solution("x"), kin); });
   EXPECT_EQ(r.code, 0) << r.message;
   EXPECT_THAT(r.message, AllOf(HasSubstr((out / "trace.csv").string()), HasSubstr("write failed (disk full")));
   EXPECT_TRUE(fs::is_empty(out)) << "left: " << ::testing::PrintToString(names_in(out));

@@ -190,7 +190,8 @@ TEST(ProceduralMeshes, CylinderVolumeIsThePolygonPrism) {
     }
   }
   // Fine tessellation approaches the circular cylinder.
-  EXPECT_NEAR(signed_volume(make_cylinder_mesh(r, h, 200)), std::numbers::pi * r * r * h, 1e-3 * std::numbers::pi * r * r * h);
+  EXPECT_NEAR(signed_volume(make_cylinder_mesh(r, h, 200)), std::numbers::pi * r * r * h,
+              1e-3 * std::numbers::pi * r * r * h);
 }
 
 TEST(ProceduralMeshes, BottleIsAClosedSolidOfRevolution) {

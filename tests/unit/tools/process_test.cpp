@@ -19,9 +19,20 @@ using namespace dmgplace::tools;
 
 namespace {
 // Texts a shell would expand, split or run.
-const std::vector<std::string> kTricky = {"two words", "'single'", "\"double\"", "$(touch PWNED)", "`touch PWNED`",
-                                          "x'$(touch PWNED)'", "a;touch PWNED", "*", "$HOME", "back\\slash", "new\nline",
-                                          "", "-n", "> PWNED"};
+const std::vector<std::string> kTricky = {"two words",
+                                          "'single'",
+                                          "\"double\"",
+                                          "$(touch PWNED)",
+                                          "`touch PWNED`",
+                                          "x'$(touch PWNED)'",
+                                          "a;touch PWNED",
+                                          "*",
+                                          "$HOME",
+                                          "back\\slash",
+                                          "new\nline",
+                                          "",
+                                          "-n",
+                                          "> PWNED"};
 }  // namespace
 
 TEST(RunProcess, ArgumentsArePassedVerbatim) {
@@ -108,9 +119,11 @@ TEST(RunProcess, WorkingFolderEnvironmentAndInput) {
   EXPECT_EQ(run_process({"printenv", "DMGPLACE_TEST_VAR"}, env).output, "last wins\n");
   EXPECT_EQ(run_process({"printenv", "HOME"}, env).output, "/nowhere\n");
   ASSERT_NE(std::getenv("PATH"), nullptr);
-  EXPECT_EQ(run_process({"printenv", "PATH"}, env).output, std::string(std::getenv("PATH")) + "\n") << "the rest is inherited";
+  EXPECT_EQ(run_process({"printenv", "PATH"}, env).output, std::string(std::getenv("PATH")) + "\n")
+      << "the rest is inherited";
   env.env = {{"A=B", "x"}};
-  EXPECT_NE(test::error_of([&] { run_process({"true"}, env); }).find("'A=B' is not a variable name"), std::string::npos);
+  EXPECT_NE(test::error_of([&] { run_process({"true"}, env); }).find("'A=B' is not a variable name"),
+            std::string::npos);
 
   ProcessOptions in;
   in.input = std::string("binary\0data\n", 12);
@@ -172,7 +185,8 @@ TEST(FileNames, OnlyTheWhitelistIsAccepted) {
   for (const char* bad : {"", ".", "..", "a/b", "/abs", "a\\b", "a b", "x'$(touch PWNED)'", "$(id)", "a;b", "tab\t",
                           "new\nline", "caf\xc3\xa9", "q\"", "*", "~"})
     EXPECT_FALSE(is_safe_file_name(bad)) << bad;
-  const std::string e = test::error_of([] { check_file_name_component("x'$(touch PWNED)'", "spec.yaml", "problems[3].name"); });
+  const std::string e =
+      test::error_of([] { check_file_name_component("x'$(touch PWNED)'", "spec.yaml", "problems[3].name"); });
   EXPECT_NE(e.find("spec.yaml: problems[3].name: 'x'$(touch PWNED)'"), std::string::npos) << e;
   EXPECT_NE(e.find("letters, digits, '.', '_' and '-'"), std::string::npos) << e;
   EXPECT_NO_THROW(check_file_name_component("side", "spec.yaml", "problems[0].name"));

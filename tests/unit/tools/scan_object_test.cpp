@@ -41,12 +41,14 @@ std::vector<std::filesystem::path> scan_files(const test::TempDir& dir, const Tr
   Eigen::AlignedBox3d box;
   for (Eigen::Index i = 0; i < object.vertices.rows(); ++i) box.extend(object.vertices.row(i).transpose());
   TriMesh scene = object;
-  if (table) scene = merged(object, moved(make_box_mesh({0.6, 0.6, 0.02}), Eigen::Vector3d(0, 0, box.min().z() - 0.01)));
+  if (table)
+    scene = merged(object, moved(make_box_mesh({0.6, 0.6, 0.02}), Eigen::Vector3d(0, 0, box.min().z() - 0.01)));
   std::vector<std::filesystem::path> files;
   for (std::size_t v = 0; v < elevations.size(); ++v) {
     const double az = 2 * std::numbers::pi * double(v) / double(elevations.size()) + 0.3;
-    const Eigen::Vector3d eye = box.center() + 0.5 * Eigen::Vector3d(std::cos(az) * std::cos(elevations[v]),
-                                                                       std::sin(az) * std::cos(elevations[v]), std::sin(elevations[v]));
+    const Eigen::Vector3d eye =
+        box.center() + 0.5 * Eigen::Vector3d(std::cos(az) * std::cos(elevations[v]),
+                                             std::sin(az) * std::cos(elevations[v]), std::sin(elevations[v]));
     SyntheticScanOptions so;
     so.seed = 7 + v;
     so.angular_step = 0.0015;
@@ -84,11 +86,15 @@ bool faces_covered(const formats::PlacementFaces& a, const formats::PlacementFac
 void expect_like_truth(const TriMesh& truth_mesh, const ScanObject& scan, bool dmg_from_points = false) {
   const Baked truth = bake(truth_mesh);
   Baked got = bake(scan.mesh);
-  if (dmg_from_points) got.dmg = build_dmg_from_points(scan.mesh, scan.points, scan.normals, default_gripper(), {}, "scan");
-  std::printf("[ measured ] volume %.3f of the truth, %zu / %zu stable faces, %zu / %zu DMG nodes, %.0f%% of the surface seen\n",
-              got.mass.volume / truth.mass.volume, got.faces.faces.size(), truth.faces.faces.size(), got.dmg.nodes.size(),
-              truth.dmg.nodes.size(), 100 * scan.reconstruction.seen_fraction);
-  EXPECT_NEAR(got.mass.volume / truth.mass.volume, 1.0, 0.10) << "volume " << got.mass.volume << " vs " << truth.mass.volume;
+  if (dmg_from_points)
+    got.dmg = build_dmg_from_points(scan.mesh, scan.points, scan.normals, default_gripper(), {}, "scan");
+  std::printf(
+      "[ measured ] volume %.3f of the truth, %zu / %zu stable faces, %zu / %zu DMG nodes, %.0f%% of the surface "
+      "seen\n",
+      got.mass.volume / truth.mass.volume, got.faces.faces.size(), truth.faces.faces.size(), got.dmg.nodes.size(),
+      truth.dmg.nodes.size(), 100 * scan.reconstruction.seen_fraction);
+  EXPECT_NEAR(got.mass.volume / truth.mass.volume, 1.0, 0.10)
+      << "volume " << got.mass.volume << " vs " << truth.mass.volume;
   EXPECT_FALSE(truth.faces.faces.empty());
   EXPECT_TRUE(faces_covered(truth.faces, got.faces, 10)) << "a true stable face is missing";
   EXPECT_TRUE(faces_covered(got.faces, truth.faces, 10)) << "a stable face that the object does not have";
@@ -119,7 +125,8 @@ TEST(ScanObject, ABoxOnATableScannedFromThreeSidesBakesLikeItsMesh) {
   // Normals face out of the box: away from its center.
   const Eigen::Vector3d center(0.01, -0.02, 0.045);
   std::size_t outward = 0;
-  for (std::size_t i = 0; i < scan.segmented.points.size(); ++i) outward += scan.segmented.normals[i].dot(scan.segmented.points[i] - center) > 0;
+  for (std::size_t i = 0; i < scan.segmented.points.size(); ++i)
+    outward += scan.segmented.normals[i].dot(scan.segmented.points[i] - center) > 0;
   EXPECT_GT(double(outward), 0.98 * double(scan.segmented.points.size()));
   // The object frame is the scan frame moved to the surface's box center: truth moved the same way.
   expect_like_truth(moved(box_truth(), -scan.origin_in_scan), scan);

@@ -312,7 +312,8 @@ TEST(SceneLoader, DispatchesOnExtension) {
     ASSERT_EQ(plain.objects.size(), moved.objects.size()) << file;
     for (std::size_t i = 0; i < plain.objects.size(); ++i)
       for (std::size_t k = 0; k < plain.objects[i].shapes.size(); ++k)
-        EXPECT_TRUE((opt.frame * plain.objects[i].shapes[k].origin).isApprox(moved.objects[i].shapes[k].origin)) << file;
+        EXPECT_TRUE((opt.frame * plain.objects[i].shapes[k].origin).isApprox(moved.objects[i].shapes[k].origin))
+            << file;
   }
   opt.frame = Eigen::Isometry3d::Identity();
   // package:// in a YAML scene goes through the same package paths as URDFs.

@@ -44,5 +44,6 @@ TEST(SphereCover, OneSphereComesNearTheSmallestEnclosingBall) {
   const double smallest = std::sqrt(2.0 / 3.0);
   EXPECT_LE(spheres[0].radius - one.sample_spacing, 1.01 * smallest);
   EXPECT_LT((spheres[0].center - Eigen::Vector3d::Constant(1.0 / 3.0)).norm(), 0.05);
-  for (const auto& p : tools::sample_solid({tet}, 0.01)) ASSERT_LE((p - spheres[0].center).norm(), spheres[0].radius + 1e-9) << p.transpose();
+  for (const auto& p : tools::sample_solid({tet}, 0.01))
+    ASSERT_LE((p - spheres[0].center).norm(), spheres[0].radius + 1e-9) << p.transpose();
 }

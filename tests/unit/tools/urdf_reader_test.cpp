@@ -291,7 +291,6 @@ TEST(ArmChain, ChecksLinksAndDescent) {
   EXPECT_EQ(m.arm_base, "shoulder");  // a rejected chain leaves the old one
 }
 
-
 // Issue 19: urdfdom drops a <collision> it cannot parse and goes on; we refuse the file instead,
 // naming the link, the collision element and the problem. `robot()` with one element replaced.
 TEST(UrdfReader, EveryCollisionElementIsReadOrRejected) {
@@ -313,8 +312,10 @@ TEST(UrdfReader, EveryCollisionElementIsReadOrRejected) {
       {R"(<box size="0.4 0.3 0.1"/>)", R"(<box size="0.4 nan 0.1"/>)", "box size", "not a finite number"},
       {R"(<box size="0.4 0.3 0.1"/>)", R"(<box size="1e9 0.3 0.1"/>)", "box size", "at most 1000 m"},
       {R"(<box size="0.4 0.3 0.1"/>)", R"(<box size="0.4 -0.3 0.1"/>)", "box size", "positive"},
-      {R"(<cylinder radius="0.05" length="0.6"/>)", R"(<cylinder radius="0.05"/>)", "cylinder length", "expected 1 numbers"},
-      {R"(<sphere radius="0.02"/>)", R"(<capsule radius="0.02" length="1"/>)", "link 'sensor' collision 0", "unknown geometry"},
+      {R"(<cylinder radius="0.05" length="0.6"/>)", R"(<cylinder radius="0.05"/>)", "cylinder length",
+       "expected 1 numbers"},
+      {R"(<sphere radius="0.02"/>)", R"(<capsule radius="0.02" length="1"/>)", "link 'sensor' collision 0",
+       "unknown geometry"},
       {R"(<link name="finger_a"/>)", R"(<link name="finger_a"><inertial><mass value="-1"/></inertial></link>)",
        "link 'finger_a' inertial mass", "positive"},
       {R"(<link name="finger_a"/>)", R"(<link name="finger_a"><inertial><mass value="nan"/></inertial></link>)",

@@ -51,7 +51,8 @@ class ResultJson {
     const auto& v = at(pointer);
     if (!v.is_array()) throw Error(file_, field(pointer), "is not an array");
     if (size >= 0 && v.size() != std::size_t(size))
-      throw Error(file_, field(pointer), "has " + std::to_string(v.size()) + " elements, expected " + std::to_string(size));
+      throw Error(file_, field(pointer),
+                  "has " + std::to_string(v.size()) + " elements, expected " + std::to_string(size));
     return v;
   }
   const std::string& file() const { return file_; }
@@ -86,11 +87,13 @@ std::vector<std::string> counter_keys(const ResultJson& r, const std::string& po
 }
 
 // The counters at `pointer`, one column each, named as in result.json (in any order there).
-void add_counters(DatasetTable& t, const std::vector<std::string>& names, const ResultJson& r, const std::string& pointer) {
+void add_counters(DatasetTable& t, const std::vector<std::string>& names, const ResultJson& r,
+                  const std::string& pointer) {
   auto keys = counter_keys(r, pointer), expected = names;
   std::sort(keys.begin(), keys.end()), std::sort(expected.begin(), expected.end());
   if (keys != expected)
-    throw Error(r.file(), pointer.substr(1), "names other counters than the first run's (runs of mixed dmgplace versions?)");
+    throw Error(r.file(), pointer.substr(1),
+                "names other counters than the first run's (runs of mixed dmgplace versions?)");
   for (const auto& n : names) t.add(n, r.integer(pointer + "/" + n));
 }
 
@@ -146,7 +149,8 @@ void add_run_columns(DatasetTable& runs, const ResultJson& r, std::size_t dof) {
 }
 
 // One row per waypoint of the array at `pointer`: run, step, then q0 ... (one per joint).
-void add_waypoints(DatasetTable& t, std::int64_t run, const ResultJson& r, const std::string& pointer, std::size_t dof) {
+void add_waypoints(DatasetTable& t, std::int64_t run, const ResultJson& r, const std::string& pointer,
+                   std::size_t dof) {
   const auto& waypoints = r.array(pointer);
   for (std::size_t k = 0; k < waypoints.size(); ++k) {
     const std::string w = at_index(pointer, k);
@@ -176,7 +180,8 @@ void add_actions(DatasetTables& t, std::int64_t run, const ResultJson& r) {
   for (std::size_t k = 0; k < actions.size(); ++k) {
     const std::string a = at_index("/best/in_hand", k);
     const std::string type = r.text(a + "/type");
-    if (type != "push" && type != "rotate") throw Error(r.file(), a.substr(1) + "/type", "is '" + type + "', expected push or rotate");
+    if (type != "push" && type != "rotate")
+      throw Error(r.file(), a.substr(1) + "/type", "is '" + type + "', expected push or rotate");
     const bool push = type == "push";
     const ResultJson* pushed = push ? &r : nullptr;
     const ResultJson* rotated = push ? nullptr : &r;
@@ -235,7 +240,8 @@ DatasetBuilder::DatasetBuilder() {
 
 void DatasetBuilder::add_offsets_row() {
   for (const auto& [name, table] : t_.all())
-    if (table != &t_.joints && table != &t_.offsets && table != &t_.runs) t_.offsets.add(name, std::int64_t(table->rows()));
+    if (table != &t_.joints && table != &t_.offsets && table != &t_.runs)
+      t_.offsets.add(name, std::int64_t(table->rows()));
   t_.offsets.end_row();
 }
 

@@ -32,7 +32,7 @@ class DatasetBuilder {
   std::size_t robot_dof(const std::string& robot, const nlohmann::ordered_json& result, const std::string& file);
   DatasetTables t_;
   bool counters_known_ = false;
-  std::vector<std::string> counter_names_;  // the first run's, in its order
+  std::vector<std::string> counter_names_;                                     // the first run's, in its order
   std::vector<std::pair<std::string, std::vector<std::string>>> joint_names_;  // per robot, first seen first
 };
 

@@ -71,7 +71,8 @@ std::vector<fs::path> glob(const fs::path& dir, const std::string& pattern) {
        it != fs::recursive_directory_iterator(); it.increment(ec)) {
     if (ec) break;
     if (!it->is_regular_file(ec)) continue;
-    const std::string rel = fs::path(pattern).is_absolute() ? it->path().string() : it->path().lexically_relative(dir).string();
+    const std::string rel =
+        fs::path(pattern).is_absolute() ? it->path().string() : it->path().lexically_relative(dir).string();
     if (::fnmatch(pattern.c_str(), rel.c_str(), FNM_PATHNAME) == 0) out.push_back(it->path());
   }
   std::sort(out.begin(), out.end());
@@ -107,71 +108,81 @@ BatchManifest read_batch_manifest(const fs::path& path) {
         read(name, node, where, kind);
       }
     };
-    each("robots", "robot", [&](const std::string& name, const YAML::Node& n, const std::string& where, const char* kind) {
-      require_known_keys(n, {"urdf", "srdf", "arm", "package_path", "flags"}, r.file, where);
-      BatchBake b{kind, name, {}, {}};
-      const fs::path urdf = r.existing(n["urdf"], where + ".urdf");
-      b.args = {urdf.string()};
-      b.inputs = {urdf};
-      if (n["srdf"]) {
-        const fs::path srdf = r.existing(n["srdf"], where + ".srdf");
-        b.args.insert(b.args.end(), {"--srdf", srdf.string()});
-        b.inputs.push_back(srdf);
-      }
-      if (!n["arm"]) r.fail(where, "needs arm: BASE_LINK:TIP_LINK");
-      b.args.insert(b.args.end(), {"--arm", n["arm"].as<std::string>()});
-      if (n["package_path"]) b.args.insert(b.args.end(), {"--package-path", r.existing(n["package_path"], where + ".package_path", true).string()});
-      for (auto& f : r.flags(n["flags"], where + ".flags")) b.args.push_back(f);
-      m.bakes.push_back(b);
-      defined[kind].insert(name);
-    });
-    each("objects", "object", [&](const std::string& name, const YAML::Node& n, const std::string& where, const char* kind) {
-      require_known_keys(n, {"mesh", "glob", "flags"}, r.file, where);
-      const auto flags = r.flags(n["flags"], where + ".flags");
-      std::vector<std::pair<std::string, fs::path>> meshes;
-      if (n["mesh"]) meshes.emplace_back(name, r.existing(n["mesh"], where + ".mesh"));
-      else if (n["glob"]) {
-        for (const auto& p : glob(r.dir, n["glob"].as<std::string>())) {
-          std::string sub = p.parent_path().filename().string();
-          std::replace_if(sub.begin(), sub.end(), [](char c) { return !(std::isalnum((unsigned char)c) || c == '.' || c == '_' || c == '-'); }, '_');
-          meshes.emplace_back(name + "." + sub, p);
-        }
-        if (meshes.empty()) r.fail(where + ".glob", "matches no file");
-      } else {
-        r.fail(where, "needs mesh: FILE or glob: PATTERN");
-      }
-      for (const auto& [object, mesh] : meshes) {
-        BatchBake b{kind, object, {mesh.string()}, {mesh}};
-        b.args.insert(b.args.end(), flags.begin(), flags.end());
-        if (!defined[kind].insert(object).second) r.fail(where, "object '" + object + "' defined twice");
-        m.bakes.push_back(b);
-      }
-      defined["object-group"].insert(name);
-    });
-    each("environments", "environment", [&](const std::string& name, const YAML::Node& n, const std::string& where,
-                                             const char* kind) {
-      require_known_keys(n, {"scene", "volume", "package_path", "flags"}, r.file, where);
-      const fs::path scene = r.existing(n["scene"], where + ".scene");
-      const auto v = r.numbers(n["volume"], 6, where + ".volume");
-      std::string volume;
-      for (double x : v) volume += (volume.empty() ? "" : ",") + runtime::number_text(x);
-      BatchBake b{kind, name, {scene.string(), "--volume", volume}, {scene}};
-      if (n["package_path"]) b.args.insert(b.args.end(), {"--package-path", r.existing(n["package_path"], where + ".package_path", true).string()});
-      for (auto& f : r.flags(n["flags"], where + ".flags")) b.args.push_back(f);
-      m.bakes.push_back(b);
-      defined[kind].insert(name);
-    });
+    each("robots", "robot",
+         [&](const std::string& name, const YAML::Node& n, const std::string& where, const char* kind) {
+           require_known_keys(n, {"urdf", "srdf", "arm", "package_path", "flags"}, r.file, where);
+           BatchBake b{kind, name, {}, {}};
+           const fs::path urdf = r.existing(n["urdf"], where + ".urdf");
+           b.args = {urdf.string()};
+           b.inputs = {urdf};
+           if (n["srdf"]) {
+             const fs::path srdf = r.existing(n["srdf"], where + ".srdf");
+             b.args.insert(b.args.end(), {"--srdf", srdf.string()});
+             b.inputs.push_back(srdf);
+           }
+           if (!n["arm"]) r.fail(where, "needs arm: BASE_LINK:TIP_LINK");
+           b.args.insert(b.args.end(), {"--arm", n["arm"].as<std::string>()});
+           if (n["package_path"])
+             b.args.insert(b.args.end(),
+                           {"--package-path", r.existing(n["package_path"], where + ".package_path", true).string()});
+           for (auto& f : r.flags(n["flags"], where + ".flags")) b.args.push_back(f);
+           m.bakes.push_back(b);
+           defined[kind].insert(name);
+         });
+    each("objects", "object",
+         [&](const std::string& name, const YAML::Node& n, const std::string& where, const char* kind) {
+           require_known_keys(n, {"mesh", "glob", "flags"}, r.file, where);
+           const auto flags = r.flags(n["flags"], where + ".flags");
+           std::vector<std::pair<std::string, fs::path>> meshes;
+           if (n["mesh"]) meshes.emplace_back(name, r.existing(n["mesh"], where + ".mesh"));
+           else if (n["glob"]) {
+             for (const auto& p : glob(r.dir, n["glob"].as<std::string>())) {
+               std::string sub = p.parent_path().filename().string();
+               std::replace_if(
+                   sub.begin(), sub.end(),
+                   [](char c) { return !(std::isalnum((unsigned char)c) || c == '.' || c == '_' || c == '-'); }, '_');
+               meshes.emplace_back(name + "." + sub, p);
+             }
+             if (meshes.empty()) r.fail(where + ".glob", "matches no file");
+           } else {
+             r.fail(where, "needs mesh: FILE or glob: PATTERN");
+           }
+           for (const auto& [object, mesh] : meshes) {
+             BatchBake b{kind, object, {mesh.string()}, {mesh}};
+             b.args.insert(b.args.end(), flags.begin(), flags.end());
+             if (!defined[kind].insert(object).second) r.fail(where, "object '" + object + "' defined twice");
+             m.bakes.push_back(b);
+           }
+           defined["object-group"].insert(name);
+         });
+    each("environments", "environment",
+         [&](const std::string& name, const YAML::Node& n, const std::string& where, const char* kind) {
+           require_known_keys(n, {"scene", "volume", "package_path", "flags"}, r.file, where);
+           const fs::path scene = r.existing(n["scene"], where + ".scene");
+           const auto v = r.numbers(n["volume"], 6, where + ".volume");
+           std::string volume;
+           for (double x : v) volume += (volume.empty() ? "" : ",") + runtime::number_text(x);
+           BatchBake b{kind, name, {scene.string(), "--volume", volume}, {scene}};
+           if (n["package_path"])
+             b.args.insert(b.args.end(),
+                           {"--package-path", r.existing(n["package_path"], where + ".package_path", true).string()});
+           for (auto& f : r.flags(n["flags"], where + ".flags")) b.args.push_back(f);
+           m.bakes.push_back(b);
+           defined[kind].insert(name);
+         });
     const YAML::Node qs = root["queries"];
     if (qs && !qs.IsSequence()) r.fail("queries", "expected a list of query templates");
     std::set<std::string> template_names;
     for (std::size_t i = 0; qs && i < qs.size(); ++i) {
       const YAML::Node q = qs[i];
       const std::string where = "queries[" + std::to_string(i) + "]";
-      require_known_keys(q, {"name", "robot", "objects", "environments", "initial_grasps", "start", "variants", "seeds",
-                             "time_limit", "iterations", "query", "runs"},
+      require_known_keys(q,
+                         {"name", "robot", "objects", "environments", "initial_grasps", "start", "variants", "seeds",
+                          "time_limit", "iterations", "query", "runs"},
                          r.file, where);
       if (q["runs"] && (q["objects"] || q["environments"] || q["variants"] || q["seeds"]))
-        r.fail(where, "either runs: (an explicit list) or objects/environments/variants/seeds (their product), not both");
+        r.fail(where,
+               "either runs: (an explicit list) or objects/environments/variants/seeds (their product), not both");
       BatchQueryTemplate t;
       t.name = q["name"] ? q["name"].as<std::string>() : "q" + std::to_string(i);
       check_file_name_component(t.name, r.file, where + ".name");
@@ -187,12 +198,15 @@ BatchManifest read_batch_manifest(const fs::path& path) {
           r.fail(where + ".objects", "no object '" + o + "' in objects");
         }
       }
-      for (const auto& e : q["runs"] ? std::vector<std::string>{} : r.names(q["environments"], where + ".environments")) {
-        if (!defined["environment"].count(e)) r.fail(where + ".environments", "no environment '" + e + "' in environments");
+      for (const auto& e :
+           q["runs"] ? std::vector<std::string>{} : r.names(q["environments"], where + ".environments")) {
+        if (!defined["environment"].count(e))
+          r.fail(where + ".environments", "no environment '" + e + "' in environments");
         t.environments.push_back(e);
       }
       const YAML::Node g = q["initial_grasps"];
-      if (!g || !g.IsMap() || g.size() == 0) r.fail(where + ".initial_grasps", "expected a map name: [x, y, z, qx, qy, qz, qw]");
+      if (!g || !g.IsMap() || g.size() == 0)
+        r.fail(where + ".initial_grasps", "expected a map name: [x, y, z, qx, qy, qz, qw]");
       for (const auto& kv : g) {
         const std::string gname = kv.first.as<std::string>();
         check_file_name_component(gname, r.file, where + ".initial_grasps");
@@ -203,7 +217,8 @@ BatchManifest read_batch_manifest(const fs::path& path) {
       if (q["variants"]) {
         t.variants = r.names(q["variants"], where + ".variants");
         for (const auto& v : t.variants)
-          if (!runtime::parse_variant(v)) r.fail(where + ".variants", "unknown variant '" + v + "' (full, random-grasp, no-regrasp)");
+          if (!runtime::parse_variant(v))
+            r.fail(where + ".variants", "unknown variant '" + v + "' (full, random-grasp, no-regrasp)");
       }
       if (q["seeds"]) t.seeds = q["seeds"].as<int>();
       if (t.seeds < 1 || t.seeds > 100000) r.fail(where + ".seeds", "must be in [1, 100000]");
@@ -249,7 +264,8 @@ BatchManifest read_batch_manifest(const fs::path& path) {
       m.queries.push_back(std::move(t));
     }
   } catch (const YAML::Exception& e) {
-    throw Error(r.file, e.mark.is_null() ? "" : "line " + std::to_string(e.mark.line + 1), "malformed manifest: " + e.msg);
+    throw Error(r.file, e.mark.is_null() ? "" : "line " + std::to_string(e.mark.line + 1),
+                "malformed manifest: " + e.msg);
   }
   if (m.bakes.empty()) r.fail("", "nothing to bake (robots, objects, environments are all empty)");
   return m;

@@ -71,7 +71,8 @@ BatchPlan plan_batch(const BatchManifest& m, const fs::path& out) {
     for (const auto& run : q.runs) {
       const std::string &object = run.object, &env = run.environment, &grasp = run.grasp, &variant = run.variant;
       const int seed = run.seed;
-      const auto& pose = std::find_if(q.grasps.begin(), q.grasps.end(), [&](const auto& g) { return g.first == grasp; })->second;
+      const auto& pose =
+          std::find_if(q.grasps.begin(), q.grasps.end(), [&](const auto& g) { return g.first == grasp; })->second;
       const BatchTask* r = bake_of.at("robot " + q.robot);
       const BatchTask* o = bake_of.at("object " + object);
       const BatchTask* e = bake_of.at("environment " + env);
@@ -81,7 +82,8 @@ BatchPlan plan_batch(const BatchManifest& m, const fs::path& out) {
         << "robot: " << rel(r) << "\nobject: " << rel(o) << "\nenvironment: " << rel(e) << "\n"
         << "start: " << numbers_yaml(q.start.data(), q.start.size()) << "\n"
         << "initial_grasp: {pose: " << numbers_yaml(pose.data(), 7) << "}\n"
-        << "time_limit: " << runtime::number_text(q.time_limit) << "\nseed: " << seed << "\nvariant: " << variant << "\n";
+        << "time_limit: " << runtime::number_text(q.time_limit) << "\nseed: " << seed << "\nvariant: " << variant
+        << "\n";
       if (!q.extra_yaml.empty()) y << q.extra_yaml << "\n";
       BatchTask t;
       t.kind = "query";
@@ -96,10 +98,13 @@ BatchPlan plan_batch(const BatchManifest& m, const fs::path& out) {
                        {"query", t.query_yaml},
                        {"iterations", q.iterations}});
       t.name = "query " + q.name + "/" + object + "@" + env + "/" + grasp + "/" + variant + "/" + std::to_string(seed);
-      t.output = out / "runs" / (q.name + "." + object + "." + env + "." + grasp + "." + variant + "." +
-                                 std::to_string(seed) + "-" + t.id.substr(0, 12));
-      t.args = {"place", (t.output / "query.yaml").string(), "--artifacts", (out / "artifacts").string(),
-                "--out", t.output.string(), "--threads", "0"};
+      t.output = out / "runs" /
+                 (q.name + "." + object + "." + env + "." + grasp + "." + variant + "." + std::to_string(seed) + "-" +
+                  t.id.substr(0, 12));
+      t.args = {"place",       (t.output / "query.yaml").string(),
+                "--artifacts", (out / "artifacts").string(),
+                "--out",       t.output.string(),
+                "--threads",   "0"};
       if (q.iterations > 0) t.args.insert(t.args.end(), {"--iterations", std::to_string(q.iterations)});
       queries.push_back(std::move(t));
     }

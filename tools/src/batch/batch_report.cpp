@@ -42,9 +42,14 @@ void print_status(const BatchStatus& s, bool json, std::ostream& os) {
   if (json) {
     nlohmann::ordered_json tasks = nlohmann::ordered_json::array();
     for (const auto& e : s.tasks)
-      tasks.push_back({{"id", e.id}, {"name", e.name}, {"kind", e.kind}, {"state", e.state}, {"seconds", e.seconds}, {"error", e.error}});
-    os << nlohmann::ordered_json{{"done", s.done}, {"failed", s.failed}, {"running", s.running}, {"pending", s.pending},
-                                 {"eta_seconds", s.eta_seconds}, {"tasks", tasks}}
+      tasks.push_back({{"id", e.id},
+                       {"name", e.name},
+                       {"kind", e.kind},
+                       {"state", e.state},
+                       {"seconds", e.seconds},
+                       {"error", e.error}});
+    os << nlohmann::ordered_json{{"done", s.done},       {"failed", s.failed},           {"running", s.running},
+                                 {"pending", s.pending}, {"eta_seconds", s.eta_seconds}, {"tasks", tasks}}
               .dump(1)
        << "\n";
     return;
@@ -80,7 +85,8 @@ void write_dataset(const fs::path& file, const BatchPlan& plan, const DatasetTab
 }  // namespace
 
 std::size_t collect_batch(const fs::path& out, const CollectOptions& o) {
-  if (o.dataset.empty() && o.csv.empty()) throw Error("batch-collect", "", "nothing to write: give --out DATASET.h5, --csv FILE.csv or both");
+  if (o.dataset.empty() && o.csv.empty())
+    throw Error("batch-collect", "", "nothing to write: give --out DATASET.h5, --csv FILE.csv or both");
   std::error_code ec;
   if (!o.dataset.empty() && !o.csv.empty() && fs::weakly_canonical(o.dataset, ec) == fs::weakly_canonical(o.csv, ec))
     throw Error(o.csv.string(), "", "--csv names the same file as --out");
@@ -93,7 +99,9 @@ std::size_t collect_batch(const fs::path& out, const CollectOptions& o) {
     builder.add_run(t, read_result(file), file.string());
     ++runs;
   }
-  if (runs == 0) throw Error((out / "batch.json").string(), "", "no finished query run to collect yet (`dmgplace batch-status` shows progress)");
+  if (runs == 0)
+    throw Error((out / "batch.json").string(), "",
+                "no finished query run to collect yet (`dmgplace batch-status` shows progress)");
   const DatasetTables tables = builder.finish();
   if (!o.dataset.empty()) write_dataset(o.dataset, plan, tables);
   if (!o.csv.empty()) formats::write_file_atomically(o.csv, csv_text(tables.runs));

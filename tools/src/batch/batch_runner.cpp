@@ -53,7 +53,8 @@ class Runner {
     progress_ << plan_.name << ": " << totals_.planned << " tasks in this shard (" << totals_.done_before
               << " already done), " << o_.jobs << " at a time\n";
     if (o_.dry_run) {
-      for (std::size_t i : todo) out_ << "would run: " << plan_.tasks[i].name << "  (" << plan_.tasks[i].id.substr(0, 12) << ")\n";
+      for (std::size_t i : todo)
+        out_ << "would run: " << plan_.tasks[i].name << "  (" << plan_.tasks[i].id.substr(0, 12) << ")\n";
       return totals_;
     }
     t0_ = Clock::now();
@@ -130,7 +131,8 @@ class Runner {
       rec.exit_code = r.signal ? 128 + r.signal : r.exit_code;
       // place exits 3 when it finds no placement: a result, not a failure.
       rec.ok = r.exit_code == 0 || (t.kind == "query" && r.exit_code == 3);
-      if (!rec.ok) rec.error = r.signal ? "killed by signal " + std::to_string(r.signal) : error_line(r.error_output, r.exit_code);
+      if (!rec.ok)
+        rec.error = r.signal ? "killed by signal " + std::to_string(r.signal) : error_line(r.error_output, r.exit_code);
       rec.stderr_tail = tail(r.error_output, 2000);
       if (rec.ok && t.kind != "query" && !fs::exists(t.output)) rec.ok = false, rec.error = "no output written";
       if (rec.ok && t.kind != "query" && o_.deep) validate_deeply(t, rec);
@@ -164,7 +166,12 @@ class Runner {
     const double elapsed = std::chrono::duration<double>(Clock::now() - t0_).count();
     const double eta = finished ? elapsed / finished * left_ : 0;
     if (o_.json)
-      out_ << nlohmann::json{{"id", t.id}, {"name", t.name}, {"ok", rec.ok}, {"seconds", rec.seconds}, {"error", rec.error}}.dump()
+      out_ << nlohmann::json{{"id", t.id},
+                             {"name", t.name},
+                             {"ok", rec.ok},
+                             {"seconds", rec.seconds},
+                             {"error", rec.error}}
+                  .dump()
            << std::endl;
     if (tty_) {
       progress_ << "\r[" << finished << "/" << totals_.planned - totals_.done_before << "] " << totals_.failed
@@ -195,7 +202,8 @@ class Runner {
 BatchTotals run_batch(const BatchPlan& plan, const BatchOptions& o, std::ostream& out, std::ostream& progress) {
   if (o.jobs < 1 || o.shard_count < 1 || o.shard_index < 1 || o.shard_index > o.shard_count)
     throw Error("batch", "options", "jobs >= 1 and a shard I/N with 1 <= I <= N");
-  if (o.phase != "all" && o.phase != "bakes" && o.phase != "queries") throw Error("batch", "--phase", "all, bakes or queries");
+  if (o.phase != "all" && o.phase != "bakes" && o.phase != "queries")
+    throw Error("batch", "--phase", "all, bakes or queries");
   write_plan(plan);
   remove_stale_claims(plan.out);
   return Runner(plan, o, out, progress).run();

@@ -28,8 +28,9 @@ std::string script(const SlurmOptions& o, const std::string& phase) {
     << "#SBATCH --output=" << (o.out / "slurm" / (phase + "-%a.log")).string() << "\n";
   if (!o.partition.empty()) s << "#SBATCH --partition=" << o.partition << "\n";
   if (!o.time.empty()) s << "#SBATCH --time=" << o.time << "\n";
-  s << "exec " << sh_quote(o.cli.string()) << " batch " << sh_quote(o.manifest.string()) << " --out " << sh_quote(o.out.string())
-    << " --phase " << phase << " --shard \"${SLURM_ARRAY_TASK_ID}/" << o.array_size << "\"" << (o.deep ? "" : " --no-deep") << "\n";
+  s << "exec " << sh_quote(o.cli.string()) << " batch " << sh_quote(o.manifest.string()) << " --out "
+    << sh_quote(o.out.string()) << " --phase " << phase << " --shard \"${SLURM_ARRAY_TASK_ID}/" << o.array_size << "\""
+    << (o.deep ? "" : " --no-deep") << "\n";
   return s.str();
 }
 
@@ -40,9 +41,11 @@ std::string submit(const SlurmOptions& o, const fs::path& file, const std::vecto
   ProcessOptions po;
   po.stderr_to = StderrTo::capture;
   const auto r = run_process(argv, po);
-  if (r.exit_code != 0) throw Error(file.string(), "sbatch", "refused (exit " + std::to_string(r.exit_code) + "): " + r.error_output);
+  if (r.exit_code != 0)
+    throw Error(file.string(), "sbatch", "refused (exit " + std::to_string(r.exit_code) + "): " + r.error_output);
   const std::string id = r.output.substr(0, r.output.find_first_of(";\n"));
-  if (!std::regex_match(id, std::regex("[0-9]+"))) throw Error(file.string(), "sbatch", "no job id in its answer: " + r.output);
+  if (!std::regex_match(id, std::regex("[0-9]+")))
+    throw Error(file.string(), "sbatch", "no job id in its answer: " + r.output);
   return id;
 }
 

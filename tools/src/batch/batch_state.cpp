@@ -39,9 +39,18 @@ std::string read_file(const fs::path& p) {
 void write_plan(const BatchPlan& plan) {
   ordered_json tasks = ordered_json::array();
   for (const auto& t : plan.tasks)
-    tasks.push_back({{"id", t.id}, {"kind", t.kind}, {"name", t.name}, {"output", t.output.string()}, {"deps", t.deps},
-                     {"robot", t.robot}, {"object", t.object}, {"environment", t.environment}, {"grasp", t.grasp},
-                     {"variant", t.variant}, {"seed", t.seed}, {"g0", t.g0}});
+    tasks.push_back({{"id", t.id},
+                     {"kind", t.kind},
+                     {"name", t.name},
+                     {"output", t.output.string()},
+                     {"deps", t.deps},
+                     {"robot", t.robot},
+                     {"object", t.object},
+                     {"environment", t.environment},
+                     {"grasp", t.grasp},
+                     {"variant", t.variant},
+                     {"seed", t.seed},
+                     {"g0", t.g0}});
   fs::create_directories(state_dir(plan.out));
   formats::write_file_atomically(plan.out / "batch.json",
                                  ordered_json{{"name", plan.name}, {"tasks", tasks}}.dump(1) + "\n");
@@ -50,7 +59,8 @@ void write_plan(const BatchPlan& plan) {
 BatchPlan read_plan(const fs::path& out) {
   const fs::path file = out / "batch.json";
   std::error_code ec;
-  if (!fs::is_regular_file(file, ec)) throw Error(file.string(), "", "no batch here (run `dmgplace batch MANIFEST --out DIR` first)");
+  if (!fs::is_regular_file(file, ec))
+    throw Error(file.string(), "", "no batch here (run `dmgplace batch MANIFEST --out DIR` first)");
   const auto j = nlohmann::json::parse(read_file(file), nullptr, false);
   if (j.is_discarded() || !j.contains("tasks")) throw Error(file.string(), "", "not a batch plan (corrupt?)");
   BatchPlan plan;
@@ -74,9 +84,15 @@ BatchPlan read_plan(const fs::path& out) {
 
 void write_record(const fs::path& out, const TaskRecord& r) {
   fs::create_directories(state_dir(out));
-  const ordered_json j{{"id", r.id},       {"name", r.name},       {"kind", r.kind},
-                       {"ok", r.ok},       {"exit_code", r.exit_code}, {"seconds", r.seconds},
-                       {"error", r.error}, {"stderr_tail", r.stderr_tail}, {"finished_utc", formats::utc_now_iso8601()}};
+  const ordered_json j{{"id", r.id},
+                       {"name", r.name},
+                       {"kind", r.kind},
+                       {"ok", r.ok},
+                       {"exit_code", r.exit_code},
+                       {"seconds", r.seconds},
+                       {"error", r.error},
+                       {"stderr_tail", r.stderr_tail},
+                       {"finished_utc", formats::utc_now_iso8601()}};
   formats::write_file_atomically(state_dir(out) / (r.id + ".json"), j.dump(1) + "\n");
 }
 

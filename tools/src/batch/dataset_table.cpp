@@ -51,13 +51,16 @@ void DatasetTable::push(std::string_view column, T value) {
     while (next_ < columns_.size() && columns_[next_].first != column) ++next_;
   }
   if (next_ == columns_.size()) {
-    if constexpr (std::is_same_v<T, double>) columns_.emplace_back(std::string(column), std::vector<double>(rows_, kNaN));
-    else if (rows_ > 0) throw std::logic_error("dataset column " + std::string(column) + " appears after the first row");
+    if constexpr (std::is_same_v<T, double>)
+      columns_.emplace_back(std::string(column), std::vector<double>(rows_, kNaN));
+    else if (rows_ > 0)
+      throw std::logic_error("dataset column " + std::string(column) + " appears after the first row");
     else columns_.emplace_back(std::string(column), std::vector<T>());
   }
   auto* values = std::get_if<std::vector<T>>(&columns_[next_].second);
   if (!values) throw std::logic_error("dataset column " + std::string(column) + " given values of two types");
-  if (values->size() != rows_) throw std::logic_error("dataset column " + std::string(column) + " given twice in a row");
+  if (values->size() != rows_)
+    throw std::logic_error("dataset column " + std::string(column) + " given twice in a row");
   values->push_back(std::move(value));
   ++next_;
 }

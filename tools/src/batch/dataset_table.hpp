@@ -16,8 +16,8 @@ namespace dmgplace::tools {
 
 class DatasetTable {
  public:
-  using Column = std::variant<std::vector<std::string>, std::vector<std::int64_t>, std::vector<double>,
-                              std::vector<std::uint8_t>>;
+  using Column =
+      std::variant<std::vector<std::string>, std::vector<std::int64_t>, std::vector<double>, std::vector<std::uint8_t>>;
 
   // One value of the open row. A float column that is new after the first row, or not given in a
   // row, holds NaN there (joints beyond a robot's count); every other column needs every row.

@@ -80,7 +80,9 @@ void check_indices(const TriMesh& mesh, const std::filesystem::path& path) {
   }
 }
 
-void write_file(const std::filesystem::path& path, const std::string& bytes) { formats::write_file_atomically(path, bytes); }
+void write_file(const std::filesystem::path& path, const std::string& bytes) {
+  formats::write_file_atomically(path, bytes);
+}
 
 // STL is little-endian whatever the host is.
 void put_u32(std::string& s, std::uint32_t v) {

@@ -14,7 +14,8 @@ namespace dmgplace::tools {
 namespace {
 
 void require_positive(double v, const char* flag) {
-  if (!(v > 0) || !std::isfinite(v)) throw Error(flag, "", "must be a positive finite number, got " + std::to_string(v));
+  if (!(v > 0) || !std::isfinite(v))
+    throw Error(flag, "", "must be a positive finite number, got " + std::to_string(v));
 }
 
 }  // namespace
@@ -48,7 +49,8 @@ void bake_environment(formats::EnvironmentArtifact& env, const EnvBakeOptions& o
   // Clamped no lower than V's diagonal by default, so the clearance objective keeps rising
   // wherever a placement really is farther from everything (a band would flatten it there).
   const double clearance_band = o.clearance_band > 0 ? o.clearance_band : v.diagonal().norm();
-  env.clearance = clearance_field(scene, grid_covering(v, o.clearance_resolution), clearance_band, o.threads, o.progress);
+  env.clearance =
+      clearance_field(scene, grid_covering(v, o.clearance_resolution), clearance_band, o.threads, o.progress);
 
   RegionOptions ro = o.regions;
   ro.resolution = o.resolution;

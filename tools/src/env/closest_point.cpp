@@ -9,8 +9,8 @@
 
 namespace dmgplace::tools {
 
-Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                                          const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                          const Eigen::Vector3d& c) {
   return formats::closest_point_on_triangle(p, a, b, c);
 }
 
@@ -19,8 +19,8 @@ double squared_distance_to_triangle(const Eigen::Vector3d& p, const Eigen::Vecto
   return (closest_point_on_triangle(p, a, b, c) - p).squaredNorm();
 }
 
-double squared_distance_to_triangle_above(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                                          const Eigen::Vector3d& b, const Eigen::Vector3d& c, double z_min) {
+double squared_distance_to_triangle_above(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                          const Eigen::Vector3d& c, double z_min) {
   const double lo = std::min({a.z(), b.z(), c.z()}), hi = std::max({a.z(), b.z(), c.z()});
   if (hi <= z_min) return std::numeric_limits<double>::infinity();
   if (lo > z_min) return squared_distance_to_triangle(p, a, b, c);

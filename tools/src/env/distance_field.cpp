@@ -24,8 +24,9 @@ std::vector<Block> blocks_of(const GridSpec& g) {
   for (int k = 0; k < g.dims[2]; k += kBlock)
     for (int j = 0; j < g.dims[1]; j += kBlock)
       for (int i = 0; i < g.dims[0]; i += kBlock)
-        out.push_back({{i, j, k}, {std::min(i + kBlock, g.dims[0]), std::min(j + kBlock, g.dims[1]),
-                                   std::min(k + kBlock, g.dims[2])}});
+        out.push_back(
+            {{i, j, k},
+             {std::min(i + kBlock, g.dims[0]), std::min(j + kBlock, g.dims[1]), std::min(k + kBlock, g.dims[2])}});
   return out;
 }
 
@@ -61,7 +62,8 @@ void for_blocks(const GridSpec& g, int threads, const ProgressFn& progress, cons
 }  // namespace
 
 GridSpec grid_covering(const Eigen::AlignedBox3d& box, double resolution, std::size_t max_samples) {
-  if (!(resolution > 0) || !std::isfinite(resolution)) throw Error("--resolution", "", "must be a positive finite length");
+  if (!(resolution > 0) || !std::isfinite(resolution))
+    throw Error("--resolution", "", "must be a positive finite length");
   if (box.isEmpty() || !box.min().allFinite() || !box.max().allFinite())
     throw Error("--volume", "", "grid box is empty or not finite");
   GridSpec g;
@@ -72,8 +74,9 @@ GridSpec grid_covering(const Eigen::AlignedBox3d& box, double resolution, std::s
     const double n = std::ceil(box.sizes()[a] / resolution - 1e-9) + 1;
     total *= n;
     if (n > double(1 << 20) || total > double(max_samples))
-      throw Error("--resolution", "", "a grid of " + std::to_string(resolution) + " m over this volume needs more than " +
-                                          std::to_string(max_samples) + " samples");
+      throw Error("--resolution", "",
+                  "a grid of " + std::to_string(resolution) + " m over this volume needs more than " +
+                      std::to_string(max_samples) + " samples");
     g.dims[std::size_t(a)] = std::max(2, int(n));
   }
   return g;
@@ -104,53 +107,57 @@ std::vector<std::uint8_t> inside_mask(const EmbreeScene& scene, const GridSpec& 
   return inside;
 }
 
-formats::FieldGrid distance_field(const EmbreeScene& scene, const GridSpec& g, double band, int threads, const ProgressFn& progress) {
+formats::FieldGrid distance_field(const EmbreeScene& scene, const GridSpec& g, double band, int threads,
+                                  const ProgressFn& progress) {
   require_band(band, "--band");
   const auto inside = inside_mask(scene, g);
   formats::FieldGrid f = empty_field(g, band);
   const std::size_t nx = std::size_t(g.dims[0]), nxy = nx * std::size_t(g.dims[1]);
-  for_blocks(g, threads, progress, "distance field", [&](const Block& b, const Eigen::Vector3d& c, double half_diag, double) {
-    // Every sample of the block is within half_diag of c: if c is that much beyond the band,
-    // so is the whole block.
-    const double dc = scene.distance(c, band + half_diag);
-    for (int k = b.lo[2]; k < b.hi[2]; ++k)
-      for (int j = b.lo[1]; j < b.hi[1]; ++j)
-        for (int i = b.lo[0]; i < b.hi[0]; ++i) {
-          const std::size_t idx = std::size_t(i) + nx * std::size_t(j) + nxy * std::size_t(k);
-          double d = band;
-          if (std::isfinite(dc)) {
-            const Eigen::Vector3d p = g.point(i, j, k);
-            // The nearest obstacle point of c bounds this sample's distance from above.
-            const double radius = std::min(band, dc + (p - c).norm() + 1e-9);
-            d = std::min(band, scene.distance(p, radius));
-          }
-          f.values[idx] = float(inside[idx] ? -d : d);
-        }
-  });
+  for_blocks(g, threads, progress, "distance field",
+             [&](const Block& b, const Eigen::Vector3d& c, double half_diag, double) {
+               // Every sample of the block is within half_diag of c: if c is that much beyond the band,
+               // so is the whole block.
+               const double dc = scene.distance(c, band + half_diag);
+               for (int k = b.lo[2]; k < b.hi[2]; ++k)
+                 for (int j = b.lo[1]; j < b.hi[1]; ++j)
+                   for (int i = b.lo[0]; i < b.hi[0]; ++i) {
+                     const std::size_t idx = std::size_t(i) + nx * std::size_t(j) + nxy * std::size_t(k);
+                     double d = band;
+                     if (std::isfinite(dc)) {
+                       const Eigen::Vector3d p = g.point(i, j, k);
+                       // The nearest obstacle point of c bounds this sample's distance from above.
+                       const double radius = std::min(band, dc + (p - c).norm() + 1e-9);
+                       d = std::min(band, scene.distance(p, radius));
+                     }
+                     f.values[idx] = float(inside[idx] ? -d : d);
+                   }
+             });
   return f;
 }
 
-formats::FieldGrid clearance_field(const EmbreeScene& scene, const GridSpec& g, double band, int threads, const ProgressFn& progress) {
+formats::FieldGrid clearance_field(const EmbreeScene& scene, const GridSpec& g, double band, int threads,
+                                   const ProgressFn& progress) {
   require_band(band, "--clearance-band");
   const auto inside = inside_mask(scene, g);
   formats::FieldGrid f = empty_field(g, band);
   const std::size_t nx = std::size_t(g.dims[0]), nxy = nx * std::size_t(g.dims[1]);
-  for_blocks(g, threads, progress, "clearance field", [&](const Block& b, const Eigen::Vector3d& c, double half_diag, double z_low) {
-    // Geometry above a sample is a subset of the geometry above the block's lowest samples.
-    const double dc = scene.distance_above(c, band + half_diag, z_low);
-    for (int k = b.lo[2]; k < b.hi[2]; ++k)
-      for (int j = b.lo[1]; j < b.hi[1]; ++j)
-        for (int i = b.lo[0]; i < b.hi[0]; ++i) {
-          const std::size_t idx = std::size_t(i) + nx * std::size_t(j) + nxy * std::size_t(k);
-          if (inside[idx]) {
-            f.values[idx] = 0;
-            continue;
-          }
-          if (!std::isfinite(dc)) continue;  // stays at the band
-          const Eigen::Vector3d p = g.point(i, j, k);
-          f.values[idx] = float(std::min(band, scene.distance_above(p, band, p.z())));
-        }
-  });
+  for_blocks(g, threads, progress, "clearance field",
+             [&](const Block& b, const Eigen::Vector3d& c, double half_diag, double z_low) {
+               // Geometry above a sample is a subset of the geometry above the block's lowest samples.
+               const double dc = scene.distance_above(c, band + half_diag, z_low);
+               for (int k = b.lo[2]; k < b.hi[2]; ++k)
+                 for (int j = b.lo[1]; j < b.hi[1]; ++j)
+                   for (int i = b.lo[0]; i < b.hi[0]; ++i) {
+                     const std::size_t idx = std::size_t(i) + nx * std::size_t(j) + nxy * std::size_t(k);
+                     if (inside[idx]) {
+                       f.values[idx] = 0;
+                       continue;
+                     }
+                     if (!std::isfinite(dc)) continue;  // stays at the band
+                     const Eigen::Vector3d p = g.point(i, j, k);
+                     f.values[idx] = float(std::min(band, scene.distance_above(p, band, p.z())));
+                   }
+             });
   return f;
 }
 

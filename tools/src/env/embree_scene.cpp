@@ -202,9 +202,8 @@ std::vector<ColumnHit> EmbreeScene::column(double x, double y, double z0, double
     const double z = a.z() - (n.x() * (x - a.x()) + n.y() * (y - a.y())) / n.z();
     hits.push_back({std::clamp(z, z0, z1), int(geom), n.z() / len});
   }
-  std::sort(hits.begin(), hits.end(), [](const ColumnHit& u, const ColumnHit& v) {
-    return u.z < v.z || (u.z == v.z && u.mesh < v.mesh);
-  });
+  std::sort(hits.begin(), hits.end(),
+            [](const ColumnHit& u, const ColumnHit& v) { return u.z < v.z || (u.z == v.z && u.mesh < v.mesh); });
   // A line through an edge shared by two faces of a mesh hits both: count such a crossing once
   // (same mesh, same direction, same height). Opposite directions (a grazed fold) both stay.
   std::vector<ColumnHit> out;

@@ -8,8 +8,8 @@
 namespace dmgplace::tools {
 namespace {
 
-constexpr double kSameHeight = 1e-6;  // crossings this close are one surface (a can on a table)
-constexpr double kVolumeSlack = 1e-3; // a surface at V's bottom face still counts
+constexpr double kSameHeight = 1e-6;                    // crossings this close are one surface (a can on a table)
+constexpr double kVolumeSlack = 1e-3;                   // a surface at V's bottom face still counts
 constexpr double kJitterX = 1.3e-6, kJitterY = 0.7e-6;  // keep rays off grid-aligned edges
 
 }  // namespace

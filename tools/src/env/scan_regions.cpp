@@ -56,7 +56,8 @@ std::vector<char> plane_cells(const Cloud& inliers, const CellGrid& g) {
         for (int dj = -1; dj <= 1; ++dj)
           for (int di = -1; di <= 1; ++di) {
             const int a = i + di, b = j + dj;
-            const bool v = a >= 0 && a < g.nx && b >= 0 && b < g.ny && src[std::size_t(a) + std::size_t(g.nx) * std::size_t(b)];
+            const bool v =
+                a >= 0 && a < g.nx && b >= 0 && b < g.ny && src[std::size_t(a) + std::size_t(g.nx) * std::size_t(b)];
             any |= v;
             all &= v;
           }
@@ -102,7 +103,8 @@ std::vector<SurfaceSample> scan_surface_samples(const RowMatrixX3d& points, cons
   const double cos_tilt = std::cos(o.max_tilt_deg * M_PI / 180.0);
   auto horizontal = std::make_shared<Cloud>();
   for (std::size_t k = 0; k < cloud->size(); ++k)
-    if (std::isfinite(normals[k].normal_z) && std::abs(normals[k].normal_z) >= cos_tilt) horizontal->push_back((*cloud)[k]);
+    if (std::isfinite(normals[k].normal_z) && std::abs(normals[k].normal_z) >= cos_tilt)
+      horizontal->push_back((*cloud)[k]);
 
   const std::size_t min_points =
       std::max<std::size_t>(30, std::size_t(o.min_area / (0.25 * o.resolution * o.resolution) / 4));

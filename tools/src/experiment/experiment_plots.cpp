@@ -27,10 +27,11 @@ void write_file(const std::filesystem::path& p, const std::string& text) { forma
 void svg_to_png(const std::filesystem::path& rsvg, const std::filesystem::path& svg, const std::filesystem::path& png) {
   ProcessOptions o;
   o.stderr_to = StderrTo::merge;  // its messages go into our error
-  const ProcessResult r =
-      run_process({rsvg.string(), "-o", std::filesystem::absolute(png).string(), std::filesystem::absolute(svg).string()}, o);
+  const ProcessResult r = run_process(
+      {rsvg.string(), "-o", std::filesystem::absolute(png).string(), std::filesystem::absolute(svg).string()}, o);
   if (r.exit_code == 0) return;
-  const std::string how = r.signal ? "killed by signal " + std::to_string(r.signal) : "exit code " + std::to_string(r.exit_code);
+  const std::string how =
+      r.signal ? "killed by signal " + std::to_string(r.signal) : "exit code " + std::to_string(r.exit_code);
   throw Error(png.string(), "", "rsvg-convert failed (" + how + ")" + (r.output.empty() ? "" : ": " + r.output));
 }
 }  // namespace
@@ -86,9 +87,10 @@ std::vector<std::filesystem::path> plot_experiment(const std::filesystem::path& 
   for (const auto& c : curves) {
     by_problem[c.problem].push_back(&c);
     for (std::size_t i = 0; i < c.t.size(); ++i)
-      csv << c.problem << ',' << c.variant << ',' << c.t[i] << ',' << (std::isnan(c.mean[i]) ? "" : std::to_string(c.mean[i])) << ','
-          << (std::isnan(c.stderr_[i]) ? "" : std::to_string(c.stderr_[i])) << ',' << c.with_solution[i] << ',' << c.runs << ','
-          << c.solved_fraction[i] << '\n';
+      csv << c.problem << ',' << c.variant << ',' << c.t[i] << ','
+          << (std::isnan(c.mean[i]) ? "" : std::to_string(c.mean[i])) << ','
+          << (std::isnan(c.stderr_[i]) ? "" : std::to_string(c.stderr_[i])) << ',' << c.with_solution[i] << ','
+          << c.runs << ',' << c.solved_fraction[i] << '\n';
   }
   write_file(plots / "curves.csv", csv.str());
   written.push_back(plots / "curves.csv");
@@ -96,7 +98,8 @@ std::vector<std::filesystem::path> plot_experiment(const std::filesystem::path& 
   for (const auto& [problem, cs] : by_problem) {
     std::vector<ChartSeries> objective, solved;
     for (const Curve* c : cs) {
-      ChartSeries o{c->variant + " (" + std::to_string(c->runs) + " runs)", color_of(c->variant), c->t, c->mean, {}, {}};
+      ChartSeries o{
+          c->variant + " (" + std::to_string(c->runs) + " runs)", color_of(c->variant), c->t, c->mean, {}, {}};
       for (std::size_t i = 0; i < c->t.size(); ++i) {
         o.lo.push_back(c->mean[i] - c->stderr_[i]);
         o.hi.push_back(c->mean[i] + c->stderr_[i]);
@@ -104,7 +107,8 @@ std::vector<std::filesystem::path> plot_experiment(const std::filesystem::path& 
       objective.push_back(std::move(o));
       solved.push_back({c->variant, color_of(c->variant), c->t, c->solved_fraction, {}, {}});
     }
-    ChartOptions oo{problem + ": objective of the best solution found", "time (s)", "mean objective (+- standard error)"};
+    ChartOptions oo{problem + ": objective of the best solution found", "time (s)",
+                    "mean objective (+- standard error)"};
     ChartOptions so{problem + ": runs with a solution", "time (s)", "fraction of runs"};
     so.y_from_zero = true;
     so.y_max = 1.0;

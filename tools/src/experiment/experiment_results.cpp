@@ -19,11 +19,13 @@ double RunRecord::best_at(double t) const {
   return best;
 }
 
-std::filesystem::path run_folder(const std::filesystem::path& dir, const std::string& problem, const std::string& variant, int seed) {
+std::filesystem::path run_folder(const std::filesystem::path& dir, const std::string& problem,
+                                 const std::string& variant, int seed) {
   return dir / "runs" / problem / variant / ("seed_" + std::to_string(seed));
 }
 
-RunRecord read_run(const std::filesystem::path& path, const std::string& problem, const std::string& variant, int seed) {
+RunRecord read_run(const std::filesystem::path& path, const std::string& problem, const std::string& variant,
+                   int seed) {
   RunRecord r;
   r.problem = problem;
   r.variant = variant;
@@ -35,7 +37,8 @@ RunRecord read_run(const std::filesystem::path& path, const std::string& problem
     r.solved = j.at("solved").get<bool>();
     r.seconds = j.at("seconds").get<double>();
     r.time_limit = j.at("query").at("time_limit").get<double>();
-    for (const auto& s : j.at("improvements")) r.improvements.emplace_back(s.at("time").get<double>(), s.at("objective").get<double>());
+    for (const auto& s : j.at("improvements"))
+      r.improvements.emplace_back(s.at("time").get<double>(), s.at("objective").get<double>());
     if (r.solved) r.in_hand_actions = int(j.at("best").at("in_hand").size());
     r.samples = j.at("counters").at("samples").get<long>();
     r.goals = j.at("counters").at("goals").get<long>();
@@ -49,7 +52,8 @@ RunRecord read_run(const std::filesystem::path& path, const std::string& problem
 std::vector<RunRecord> read_runs(const std::filesystem::path& dir) {
   std::vector<RunRecord> out;
   const auto runs = dir / "runs";
-  if (!std::filesystem::is_directory(runs)) throw Error(dir.string(), "runs/", "no runs in this folder (run `dmgplace experiment` first)");
+  if (!std::filesystem::is_directory(runs))
+    throw Error(dir.string(), "runs/", "no runs in this folder (run `dmgplace experiment` first)");
   for (const auto& p : std::filesystem::directory_iterator(runs)) {
     if (!p.is_directory()) continue;
     for (const auto& v : std::filesystem::directory_iterator(p.path())) {
@@ -58,7 +62,8 @@ std::vector<RunRecord> read_runs(const std::filesystem::path& dir) {
         const auto name = s.path().filename().string();
         const auto result = s.path() / "result.json";
         if (name.rfind("seed_", 0) != 0 || !std::filesystem::exists(result)) continue;
-        out.push_back(read_run(result, p.path().filename().string(), v.path().filename().string(), std::stoi(name.substr(5))));
+        out.push_back(
+            read_run(result, p.path().filename().string(), v.path().filename().string(), std::stoi(name.substr(5))));
       }
     }
   }
@@ -68,7 +73,8 @@ std::vector<RunRecord> read_runs(const std::filesystem::path& dir) {
   return out;
 }
 
-void write_summary(const std::filesystem::path& csv, const std::vector<RunRecord>& runs, const std::vector<double>& times) {
+void write_summary(const std::filesystem::path& csv, const std::vector<RunRecord>& runs,
+                   const std::vector<double>& times) {
   std::ostringstream o;
   o << "problem,variant,seed,solved,first_solution_s,best,in_hand_actions,samples,goals";
   for (double t : times) o << ",objective_at_" << t << "s";

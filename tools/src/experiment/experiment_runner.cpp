@@ -39,8 +39,8 @@ class WorldCache {
     if (!w) {
       auto robot = formats::load_robot(q.robot);
       const auto joints = world_joint_values(q, robot.model);
-      w = World::from_artifacts(std::move(robot), formats::load_object(q.object), formats::load_environment(q.environment),
-                                q.query.g0_opening, joints);
+      w = World::from_artifacts(std::move(robot), formats::load_object(q.object),
+                                formats::load_environment(q.environment), q.query.g0_opening, joints);
     }
     return w;
   }
@@ -69,7 +69,8 @@ ExperimentTotals run_experiment(const ExperimentSpec& spec, const ExperimentOpti
     for (auto v : p.variants)
       for (int seed = 1; seed <= runs; ++seed) {
         ++totals.planned;
-        if (std::filesystem::exists(run_folder(o.out, p.name, runtime::to_string(v), seed) / "result.json")) ++totals.skipped;
+        if (std::filesystem::exists(run_folder(o.out, p.name, runtime::to_string(v), seed) / "result.json"))
+          ++totals.skipped;
         else todo.push_back({&p, v, seed});
       }
   // Queries are read up front so a bad one fails before hours of runs.
@@ -107,8 +108,8 @@ ExperimentTotals run_experiment(const ExperimentSpec& spec, const ExperimentOpti
       const int d = ++done;
       const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
       std::lock_guard<std::mutex> lock(out_mutex);
-      progress << (o.redraw_progress ? "\r[" : "[") << d << "/" << todo.size() << "] " << t.problem->name << " " << runtime::to_string(t.variant)
-               << " seed " << t.seed << "  elapsed " << clock_text(elapsed) << "  ETA "
+      progress << (o.redraw_progress ? "\r[" : "[") << d << "/" << todo.size() << "] " << t.problem->name << " "
+               << runtime::to_string(t.variant) << " seed " << t.seed << "  elapsed " << clock_text(elapsed) << "  ETA "
                << clock_text(elapsed / d * double(todo.size() - std::size_t(d))) << (o.redraw_progress ? "   " : "\n")
                << std::flush;
     }

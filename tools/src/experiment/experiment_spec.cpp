@@ -22,7 +22,8 @@ ExperimentSpec read_experiment_spec(const std::filesystem::path& path) {
     const std::filesystem::path x = p;
     return x.is_absolute() ? x : dir / x;
   };
-  require_known_keys(root, {"name", "artifacts", "time_limit", "runs", "threads", "quick", "report_times", "problems"}, file, "");
+  require_known_keys(root, {"name", "artifacts", "time_limit", "runs", "threads", "quick", "report_times", "problems"},
+                     file, "");
   try {
     s.name = root["name"] ? root["name"].as<std::string>() : path.stem().string();
     if (root["artifacts"]) s.artifacts = rel(root["artifacts"].as<std::string>());
@@ -30,7 +31,8 @@ ExperimentSpec read_experiment_spec(const std::filesystem::path& path) {
     if (root["runs"]) s.runs = root["runs"].as<int>();
     if (root["threads"]) {
       s.threads = root["threads"].as<int>();
-      if (*s.threads < 0 || *s.threads > 256) throw Error(file, "threads", "must be in [0, 256] (0: synchronous and deterministic)");
+      if (*s.threads < 0 || *s.threads > 256)
+        throw Error(file, "threads", "must be in [0, 256] (0: synchronous and deterministic)");
     }
     if (const YAML::Node q = root["quick"]) {
       if (q["time_limit"]) s.quick_time_limit = q["time_limit"].as<double>();
@@ -40,7 +42,8 @@ ExperimentSpec read_experiment_spec(const std::filesystem::path& path) {
     if (root["report_times"]) s.report_times = root["report_times"].as<std::vector<double>>();
     for (double t : {s.time_limit, s.quick_time_limit})
       if (!(t >= 0 && t <= 1e6)) throw Error(file, "time_limit", "must be a number of seconds in [0, 1e6]");
-    if (s.runs < 1 || s.quick_runs < 1 || s.runs > 100000 || s.quick_runs > 100000) throw Error(file, "runs", "must be in [1, 100000]");
+    if (s.runs < 1 || s.quick_runs < 1 || s.runs > 100000 || s.quick_runs > 100000)
+      throw Error(file, "runs", "must be in [1, 100000]");
     for (double t : s.report_times)
       if (!(t >= 0 && t <= 1e6)) throw Error(file, "report_times", "each must be a number of seconds in [0, 1e6]");
     const YAML::Node problems = root["problems"];
@@ -56,10 +59,12 @@ ExperimentSpec read_experiment_spec(const std::filesystem::path& path) {
       check_file_name_component(e.name, file, where + ".name");  // it names the runs' folder
       if (!names.insert(e.name).second) throw Error(file, where + ".name", "'" + e.name + "' appears twice");
       e.query = rel(p["query"].as<std::string>());
-      const auto variants = p["variants"] ? p["variants"].as<std::vector<std::string>>() : std::vector<std::string>{"full"};
+      const auto variants =
+          p["variants"] ? p["variants"].as<std::vector<std::string>>() : std::vector<std::string>{"full"};
       for (const auto& v : variants) {
         const auto parsed = runtime::parse_variant(v);
-        if (!parsed) throw Error(file, where + ".variants", "unknown variant '" + v + "' (full, random-grasp, no-regrasp)");
+        if (!parsed)
+          throw Error(file, where + ".variants", "unknown variant '" + v + "' (full, random-grasp, no-regrasp)");
         e.variants.push_back(*parsed);
       }
       s.problems.push_back(std::move(e));

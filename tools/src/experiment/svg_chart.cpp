@@ -53,20 +53,28 @@ std::string line_chart_svg(const std::vector<ChartSeries>& series, const ChartOp
   auto py = [&](double y) { return T + (1 - (y - y0) / (y1 - y0)) * H; };
   std::ostringstream s;
   s.precision(6);
-  s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << o.width << "\" height=\"" << o.height << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
+  s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << o.width << "\" height=\"" << o.height
+    << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
   s << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-  s << "<text x=\"" << o.width / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">" << escape(o.title) << "</text>\n";
+  s << "<text x=\"" << o.width / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">" << escape(o.title)
+    << "</text>\n";
   // Grid and ticks.
   const double xs = tick_step(x1 - x0, 8), ys = tick_step(y1 - y0, 6);
   for (double x = std::ceil(x0 / xs) * xs; x <= x1 + 1e-9; x += xs)
-    s << "<line x1=\"" << px(x) << "\" y1=\"" << T << "\" x2=\"" << px(x) << "\" y2=\"" << T + H << "\" stroke=\"#e4e4e4\"/>"
+    s << "<line x1=\"" << px(x) << "\" y1=\"" << T << "\" x2=\"" << px(x) << "\" y2=\"" << T + H
+      << "\" stroke=\"#e4e4e4\"/>"
       << "<text x=\"" << px(x) << "\" y=\"" << T + H + 16 << "\" text-anchor=\"middle\">" << x << "</text>\n";
   for (double y = std::ceil(y0 / ys) * ys; y <= y1 + 1e-9; y += ys)
-    s << "<line x1=\"" << L << "\" y1=\"" << py(y) << "\" x2=\"" << L + W << "\" y2=\"" << py(y) << "\" stroke=\"#e4e4e4\"/>"
-      << "<text x=\"" << L - 6 << "\" y=\"" << py(y) + 4 << "\" text-anchor=\"end\">" << (std::abs(y) < 1e-12 ? 0 : y) << "</text>\n";
-  s << "<rect x=\"" << L << "\" y=\"" << T << "\" width=\"" << W << "\" height=\"" << H << "\" fill=\"none\" stroke=\"#333\"/>\n";
-  s << "<text x=\"" << L + W / 2 << "\" y=\"" << o.height - 14 << "\" text-anchor=\"middle\">" << escape(o.x_label) << "</text>\n";
-  s << "<text transform=\"translate(18," << T + H / 2 << ") rotate(-90)\" text-anchor=\"middle\">" << escape(o.y_label) << "</text>\n";
+    s << "<line x1=\"" << L << "\" y1=\"" << py(y) << "\" x2=\"" << L + W << "\" y2=\"" << py(y)
+      << "\" stroke=\"#e4e4e4\"/>"
+      << "<text x=\"" << L - 6 << "\" y=\"" << py(y) + 4 << "\" text-anchor=\"end\">" << (std::abs(y) < 1e-12 ? 0 : y)
+      << "</text>\n";
+  s << "<rect x=\"" << L << "\" y=\"" << T << "\" width=\"" << W << "\" height=\"" << H
+    << "\" fill=\"none\" stroke=\"#333\"/>\n";
+  s << "<text x=\"" << L + W / 2 << "\" y=\"" << o.height - 14 << "\" text-anchor=\"middle\">" << escape(o.x_label)
+    << "</text>\n";
+  s << "<text transform=\"translate(18," << T + H / 2 << ") rotate(-90)\" text-anchor=\"middle\">" << escape(o.y_label)
+    << "</text>\n";
   // Bands first, then lines, split at NaN gaps.
   for (const auto& se : series) {
     std::vector<std::pair<double, double>> up, down;
@@ -94,7 +102,8 @@ std::string line_chart_svg(const std::vector<ChartSeries>& series, const ChartOp
     std::ostringstream pts;
     auto flush = [&] {
       if (!pts.str().empty())
-        s << "<polyline fill=\"none\" stroke=\"" << se.color << "\" stroke-width=\"2\" points=\"" << pts.str() << "\"/>\n";
+        s << "<polyline fill=\"none\" stroke=\"" << se.color << "\" stroke-width=\"2\" points=\"" << pts.str()
+          << "\"/>\n";
       pts.str("");
     };
     for (std::size_t i = 0; i < se.x.size(); ++i) {

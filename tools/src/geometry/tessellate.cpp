@@ -90,10 +90,18 @@ TriMesh tessellate(const Shape& s, int segments) {
   segments = std::max(segments, 8);
   TriMesh m;
   switch (s.type) {
-    case ShapeType::Box: m = box(s.size); break;
-    case ShapeType::Cylinder: m = cylinder(s.size[0], s.size[1], segments); break;
-    case ShapeType::Sphere: m = sphere(s.size[0], segments); break;
-    case ShapeType::Mesh: m = s.mesh; break;
+    case ShapeType::Box:
+      m = box(s.size);
+      break;
+    case ShapeType::Cylinder:
+      m = cylinder(s.size[0], s.size[1], segments);
+      break;
+    case ShapeType::Sphere:
+      m = sphere(s.size[0], segments);
+      break;
+    case ShapeType::Mesh:
+      m = s.mesh;
+      break;
   }
   for (Eigen::Index i = 0; i < m.vertices.rows(); ++i)
     m.vertices.row(i) = (s.origin * Eigen::Vector3d(m.vertices.row(i).transpose())).transpose();

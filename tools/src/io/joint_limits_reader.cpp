@@ -37,7 +37,8 @@ std::optional<double> given(const YAML::Node& entry, const char* has, const char
 }
 
 void apply_position(Joint& j, const YAML::Node& entry, const std::string& file, const std::string& where) {
-  if (!entry["has_position_limits"] || !flag(entry["has_position_limits"], file, where + ".has_position_limits")) return;
+  if (!entry["has_position_limits"] || !flag(entry["has_position_limits"], file, where + ".has_position_limits"))
+    return;
   if (j.type != JointType::Revolute && j.type != JointType::Prismatic)
     throw Error(file, where, "position limits on a joint without URDF limits");
   if (!entry["min_position"] || !entry["max_position"])
@@ -49,7 +50,8 @@ void apply_position(Joint& j, const YAML::Node& entry, const std::string& file, 
   } catch (const YAML::Exception&) {
     throw Error(file, where, "min_position and max_position must be numbers");
   }
-  if (!std::isfinite(lo) || !std::isfinite(hi) || lo > hi) throw Error(file, where, "min_position > max_position or not finite");
+  if (!std::isfinite(lo) || !std::isfinite(hi) || lo > hi)
+    throw Error(file, where, "min_position > max_position or not finite");
   if (lo < j.lower - 1e-9 || hi > j.upper + 1e-9) throw Error(file, where, "position limits wider than the URDF's");
   j.lower = lo;
   j.upper = hi;
@@ -65,7 +67,8 @@ JointLimitsFile apply_joint_limits(RobotModel& model, const std::filesystem::pat
                      file, "");
   JointLimitsFile out;
   for (const char* k : {"default_velocity_scaling_factor", "default_acceleration_scaling_factor"})
-    if (root[k]) out.notes.push_back(std::string(k) + " is not used: the query's velocity_scaling/acceleration_scaling apply");
+    if (root[k])
+      out.notes.push_back(std::string(k) + " is not used: the query's velocity_scaling/acceleration_scaling apply");
   const YAML::Node limits = root["joint_limits"];
   if (!limits || !limits.IsMap()) throw Error(file, "joint_limits", "expected a map of joint name: limits");
   for (const auto& kv : limits) {
@@ -75,10 +78,11 @@ JointLimitsFile apply_joint_limits(RobotModel& model, const std::filesystem::pat
     if (index < 0) throw Error(file, where, "no joint '" + name + "' in the robot");
     const YAML::Node& entry = kv.second;
     if (!entry.IsMap()) throw Error(file, where, "expected a map of limits");
-    require_known_keys(entry, {"has_velocity_limits", "max_velocity", "has_acceleration_limits", "max_acceleration",
-                               "has_position_limits", "min_position", "max_position", "has_jerk_limits", "max_jerk",
-                               "has_effort_limits", "max_effort"},
-                       file, where);
+    require_known_keys(
+        entry,
+        {"has_velocity_limits", "max_velocity", "has_acceleration_limits", "max_acceleration", "has_position_limits",
+         "min_position", "max_position", "has_jerk_limits", "max_jerk", "has_effort_limits", "max_effort"},
+        file, where);
     Joint& j = model.joints[std::size_t(index)];
     if (const auto v = given(entry, "has_velocity_limits", "max_velocity", file, where)) j.velocity = *v;
     if (const auto a = given(entry, "has_acceleration_limits", "max_acceleration", file, where)) j.acceleration = *a;

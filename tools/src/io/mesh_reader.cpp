@@ -53,13 +53,15 @@ void check_ply_header(const std::filesystem::path& path, const std::string& file
   in.read(head.data(), std::streamsize(head.size()));
   head.resize(std::size_t(in.gcount()));
   if (head.size() < 3 || std::tolower(static_cast<unsigned char>(head[0])) != 'p' ||
-      std::tolower(static_cast<unsigned char>(head[1])) != 'l' || std::tolower(static_cast<unsigned char>(head[2])) != 'y')
+      std::tolower(static_cast<unsigned char>(head[1])) != 'l' ||
+      std::tolower(static_cast<unsigned char>(head[2])) != 'y')
     return;
   const auto space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; };
   for (std::size_t pos = 0; pos < head.size();) {
     const std::size_t end = std::min(head.find('\n', pos), head.size());
     const std::size_t first = head.find_first_not_of(" \t\r", pos);
-    if (first < end && head.compare(first, 10, "end_header") == 0 && (first + 10 == head.size() || space(head[first + 10])))
+    if (first < end && head.compare(first, 10, "end_header") == 0 &&
+        (first + 10 == head.size() || space(head[first + 10])))
       return;
     for (std::size_t i = pos; i < end; ++i)
       if (static_cast<unsigned char>(head[i]) < 0x20 && !space(head[i]))
@@ -104,8 +106,10 @@ TriMesh read_mesh(const std::filesystem::path& path, const MeshReadOptions& opti
       for (unsigned i = 0; i < n; ++i)
         if (face.mIndices[i] >= mesh.mNumVertices)
           throw Error(file, "", "cannot read mesh: a face refers to a vertex that does not exist (corrupt)");
-      types |= n == 1 ? aiPrimitiveType_POINT : n == 2 ? aiPrimitiveType_LINE : n == 3 ? aiPrimitiveType_TRIANGLE
-                                                                                     : aiPrimitiveType_POLYGON;
+      types |= n == 1   ? aiPrimitiveType_POINT
+               : n == 2 ? aiPrimitiveType_LINE
+               : n == 3 ? aiPrimitiveType_TRIANGLE
+                        : aiPrimitiveType_POLYGON;
     }
     mesh.mPrimitiveTypes = types;
   }

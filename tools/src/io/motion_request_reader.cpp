@@ -30,7 +30,8 @@ MotionRequest read_motion_request(const std::filesystem::path& path) {
     if (!jc || !jc.IsSequence() || jc.size() == 0)
       throw Error(file, "goal_constraints[0].joint_constraints", "missing: only joint-space goals are supported");
     for (const auto& c : jc) {
-      if (!c["joint_name"] || !c["position"]) throw Error(file, "goal_constraints[0].joint_constraints", "entry without joint_name/position");
+      if (!c["joint_name"] || !c["position"])
+        throw Error(file, "goal_constraints[0].joint_constraints", "entry without joint_name/position");
       const double v = c["position"].as<double>();
       const auto name = c["joint_name"].as<std::string>();
       if (!std::isfinite(v)) throw Error(file, "goal joint " + name, "not a finite number");

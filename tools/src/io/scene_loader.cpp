@@ -25,9 +25,10 @@ Scene checked(Scene scene, const std::filesystem::path& path) {
   std::size_t shapes = 0;
   for (const auto& object : scene.objects) shapes += object.shapes.size();
   if (scene.objects.size() > kMaxObjects || shapes > kMaxShapes)
-    throw Error(path.string(), "", std::to_string(scene.objects.size()) + " objects with " + std::to_string(shapes) +
-                                       " shapes: more than this build handles (" + std::to_string(kMaxObjects) + " objects, " +
-                                       std::to_string(kMaxShapes) + " shapes)");
+    throw Error(path.string(), "",
+                std::to_string(scene.objects.size()) + " objects with " + std::to_string(shapes) +
+                    " shapes: more than this build handles (" + std::to_string(kMaxObjects) + " objects, " +
+                    std::to_string(kMaxShapes) + " shapes)");
   for (const auto& object : scene.objects) {
     std::vector<formats::OwnedShape> own;
     for (const auto& sh : object.shapes) own.push_back({0, sh});
@@ -35,14 +36,16 @@ Scene checked(Scene scene, const std::filesystem::path& path) {
     if (!problems.empty()) throw Error(path.string(), "", problems.front());
   }
   if (scene.points.size() > 0 && (!scene.points.allFinite() || scene.points.cwiseAbs().maxCoeff() > kMaxGeometryExtent))
-    throw Error(path.string(), "points", "a point is not finite or beyond " + std::to_string(int(kMaxGeometryExtent)) + " m");
+    throw Error(path.string(), "points",
+                "a point is not finite or beyond " + std::to_string(int(kMaxGeometryExtent)) + " m");
   return scene;
 }
 
 Scene load_any(const std::filesystem::path& path, const SceneLoadOptions& options) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  if (ext == ".yaml" || ext == ".yml") return in_world(read_planning_scene_yaml(path, options.urdf.package_paths), options.frame);
+  if (ext == ".yaml" || ext == ".yml")
+    return in_world(read_planning_scene_yaml(path, options.urdf.package_paths), options.frame);
   if (ext == ".urdf") return in_world(read_urdf_scene(path, options.urdf), options.frame);
   if (ext == ".pcd") return read_scan_scene(path, options.frame);
   if (ext == ".stl" || ext == ".obj" || ext == ".ply" || ext == ".dae" || ext == ".off")

@@ -15,8 +15,7 @@ Scene read_urdf_scene(const std::filesystem::path& urdf, const UrdfOptions& opti
     Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
     if (j.type == JointType::Revolute || j.type == JointType::Continuous)
       motion.linear() = Eigen::AngleAxisd(q, j.axis).toRotationMatrix();
-    else if (j.type == JointType::Prismatic)
-      motion.translation() = q * j.axis;
+    else if (j.type == JointType::Prismatic) motion.translation() = q * j.axis;
     if (j.type != JointType::Fixed && j.type != JointType::Continuous && (q < j.lower || q > j.upper))
       throw Error(file, "joint '" + j.name + "'",
                   "a scene needs fixed joints; this movable joint cannot sit at " + std::to_string(q) + " (limits [" +

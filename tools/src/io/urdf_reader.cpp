@@ -179,7 +179,8 @@ Joint convert_joint(const urdf::Joint& j, const RobotModel& model, const std::st
 // cycle (a link that is its own ancestor) leaked its links, and when urdfdom still found one root the
 // cycle's links were dropped silently (found by fuzzing). Also rejects a link with two parent joints.
 // "x y z" -> exactly `count` finite numbers, or an error naming the element and its line.
-std::vector<double> parse_numbers(const char* text, std::size_t count, const std::string& file, const std::string& where) {
+std::vector<double> parse_numbers(const char* text, std::size_t count, const std::string& file,
+                                  const std::string& where) {
   std::vector<double> v;
   std::istringstream in(text ? text : "");
   std::string item;
@@ -191,7 +192,8 @@ std::vector<double> parse_numbers(const char* text, std::size_t count, const std
     v.push_back(x);
   }
   if (v.size() != count)
-    throw Error(file, where, "expected " + std::to_string(count) + " numbers, got '" + std::string(text ? text : "") + "'");
+    throw Error(file, where,
+                "expected " + std::to_string(count) + " numbers, got '" + std::string(text ? text : "") + "'");
   return v;
 }
 
@@ -204,7 +206,8 @@ void check_link_elements(const tinyxml2::XMLElement& link, const std::string& fi
   const std::string name = name_attr ? name_attr : "";
   std::size_t index = 0;
   for (auto* c = link.FirstChildElement("collision"); c; c = c->NextSiblingElement("collision"), ++index) {
-    const std::string where = quoted("link", name) + " collision " + std::to_string(index) + " (line " + std::to_string(c->GetLineNum()) + ")";
+    const std::string where = quoted("link", name) + " collision " + std::to_string(index) + " (line " +
+                              std::to_string(c->GetLineNum()) + ")";
     if (const auto* o = c->FirstChildElement("origin")) {
       if (o->Attribute("xyz")) {
         for (double x : parse_numbers(o->Attribute("xyz"), 3, file, where + " origin xyz"))
@@ -242,7 +245,8 @@ void check_link_elements(const tinyxml2::XMLElement& link, const std::string& fi
     }
 }
 
-void check_link_tree(const std::string& text, const std::string& file, std::map<std::string, std::size_t>& collision_counts) {
+void check_link_tree(const std::string& text, const std::string& file,
+                     std::map<std::string, std::size_t>& collision_counts) {
   tinyxml2::XMLDocument doc;
   // urdfdom's own XML parser is more lenient: what tinyxml2 rejects is not checked here, so refuse it.
   if (doc.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS)

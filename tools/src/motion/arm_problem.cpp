@@ -50,7 +50,8 @@ std::shared_ptr<const ArmRobot> load_arm_robot(const std::filesystem::path& robo
   r->robot = formats::load_robot(robot_h5);
   const auto& m = r->robot.model;
   r->kin = std::make_unique<runtime::Kinematics>(m, m.arm_base, m.arm_tip);
-  r->fast = std::make_unique<runtime::SphereFieldChecker>(*r->kin, r->robot.spheres, runtime::PrimitiveObstacles::from_scene(Scene{}));
+  r->fast = std::make_unique<runtime::SphereFieldChecker>(*r->kin, r->robot.spheres,
+                                                          runtime::PrimitiveObstacles::from_scene(Scene{}));
   r->fast->set_self_tables(r->robot.self_tables);
   r->exact = std::make_unique<runtime::ExactChecker>(*r->kin, Scene{});
   return r;
@@ -73,7 +74,8 @@ ArmProblem load_arm_problem(std::shared_ptr<const ArmRobot> robot, const std::fi
   for (const auto& [name, value] : req.start) {
     const int j = model.joint_index(name);
     if (j < 0) throw Error(request_yaml.string(), "start_state", "robot has no joint '" + name + "'");
-    const bool in_chain = std::find(p.kin->joint_names().begin(), p.kin->joint_names().end(), name) != p.kin->joint_names().end();
+    const bool in_chain =
+        std::find(p.kin->joint_names().begin(), p.kin->joint_names().end(), name) != p.kin->joint_names().end();
     if (!in_chain && model.joints[std::size_t(j)].mimic < 0 && model.joints[std::size_t(j)].type != JointType::Fixed)
       p.kin->set_joint_value(name, value);
   }
@@ -89,8 +91,10 @@ ArmProblem load_arm_problem(std::shared_ptr<const ArmRobot> robot, const std::fi
   } else {
     const EnvGeometry geometry = make_env_geometry(p.scene);
     const EmbreeScene embree(geometry);
-    const Eigen::AlignedBox3d box(Eigen::Vector3d(-o.reach, -o.reach, -0.3), Eigen::Vector3d(o.reach, o.reach, o.reach + 0.5));
-    p.sdf = std::make_shared<runtime::Grid3>(runtime::to_grid(distance_field(embree, grid_covering(box, o.sdf_resolution), o.sdf_band, 1)));
+    const Eigen::AlignedBox3d box(Eigen::Vector3d(-o.reach, -o.reach, -0.3),
+                                  Eigen::Vector3d(o.reach, o.reach, o.reach + 0.5));
+    p.sdf = std::make_shared<runtime::Grid3>(
+        runtime::to_grid(distance_field(embree, grid_covering(box, o.sdf_resolution), o.sdf_band, 1)));
     p.bake_seconds = since(t0);
     fast.emplace(*p.kin, p.robot->robot.spheres, p.sdf, o.sdf_band);
     fast->set_self_tables(p.robot->robot.self_tables);
@@ -135,7 +139,8 @@ PlanOutcome plan_ours(const ArmProblem& p, double time_limit, double resolution,
 void judge_path(const ArmProblem& p, PlanOutcome& out, double resolution) {
   out.solved = true;
   out.length = path_length(out.path);
-  out.valid = runtime::path_valid(out.path, [&](const Eigen::VectorXd& q) { return p.exact->is_free(q); }, resolution);
+  out.valid = runtime::path_valid(
+      out.path, [&](const Eigen::VectorXd& q) { return p.exact->is_free(q); }, resolution);
 }
 
 }  // namespace dmgplace::tools

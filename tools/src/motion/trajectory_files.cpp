@@ -56,8 +56,8 @@ std::string moveit_trajectory_yaml(const runtime::Trajectory& t, const std::vect
     yaml_list(o, t.velocities[k]);
     o << "\n    accelerations: ";
     yaml_list(o, t.accelerations[k]);
-    o << "\n    effort: []\n    time_from_start:\n      sec: " << ns / 1000000000 << "\n      nanosec: " << ns % 1000000000
-      << '\n';
+    o << "\n    effort: []\n    time_from_start:\n      sec: " << ns / 1000000000
+      << "\n      nanosec: " << ns % 1000000000 << '\n';
   }
   return o.str();
 }

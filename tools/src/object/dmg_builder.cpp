@@ -12,8 +12,8 @@
 namespace dmgplace::tools {
 namespace {
 
-constexpr double kSamplesPerSeed = 5;         // sample spacing = seed / this
-constexpr double kMaxSamples = 4e6;           // refuse a seed so small the sampling explodes
+constexpr double kSamplesPerSeed = 5;  // sample spacing = seed / this
+constexpr double kMaxSamples = 4e6;    // refuse a seed so small the sampling explodes
 
 struct Opposite {
   Eigen::Vector3d point;
@@ -26,8 +26,10 @@ void check_options(const DmgOptions& o, const std::string& file) {
   const double k = 360.0 / o.angle_step_deg;
   if (!(o.angle_step_deg > 0) || std::abs(k - std::round(k)) > 1e-9 || k < 1)
     throw Error(file, "--angle-step", "must divide 360 degrees into a whole number of steps");
-  if (!(o.normal_threshold > 0) || !(o.normal_threshold <= 4)) throw Error(file, "--normal-threshold", "must be in (0, 4]");
-  if (!(o.crease_angle > 0) || !(o.friction_angle > 0)) throw Error(file, "dmg", "crease and friction angles must be positive");
+  if (!(o.normal_threshold > 0) || !(o.normal_threshold <= 4))
+    throw Error(file, "--normal-threshold", "must be in (0, 4]");
+  if (!(o.crease_angle > 0) || !(o.friction_angle > 0))
+    throw Error(file, "dmg", "crease and friction angles must be positive");
 }
 
 // Contiguous runs of valid angle indices, wrap-around merged: (first, count).
@@ -53,7 +55,8 @@ bool intervals_meet(const formats::DmgNode& a, const formats::DmgNode& b, int k)
 }
 
 formats::Dmg assemble(const TriMesh& mesh, const formats::GripperModel& gripper, const DmgOptions& o,
-                      const detail::SurfaceSamples& samples, const detail::SampleGrid& grid, const detail::Patches& patches);
+                      const detail::SurfaceSamples& samples, const detail::SampleGrid& grid,
+                      const detail::Patches& patches);
 
 }  // namespace
 
@@ -83,7 +86,8 @@ formats::Dmg build_dmg_from_points(const TriMesh& mesh, const std::vector<Eigen:
                                    const DmgOptions& o, const std::string& file) {
   check_options(o, file);
   if (mesh.empty()) throw Error(file, "mesh", "empty");
-  if (points.size() != normals.size() || points.empty()) throw Error(file, "points", "no points, or not one normal per point");
+  if (points.size() != normals.size() || points.empty())
+    throw Error(file, "points", "no points, or not one normal per point");
   detail::SurfaceSamples samples;
   const auto patches = detail::supervoxel_patches(mesh, points, normals, o.seed_resolution, samples);
   if (patches.size.empty()) throw Error(file, "points", "no supervoxel: too few points for --seed-resolution");
@@ -94,7 +98,8 @@ formats::Dmg build_dmg_from_points(const TriMesh& mesh, const std::vector<Eigen:
 namespace {
 
 formats::Dmg assemble(const TriMesh& mesh, const formats::GripperModel& gripper, const DmgOptions& o,
-                      const detail::SurfaceSamples& samples, const detail::SampleGrid& grid, const detail::Patches& patches) {
+                      const detail::SurfaceSamples& samples, const detail::SampleGrid& grid,
+                      const detail::Patches& patches) {
   const double spacing = samples.spacing;
   formats::Dmg dmg;
   dmg.angle_step_deg = o.angle_step_deg;

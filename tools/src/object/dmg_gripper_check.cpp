@@ -15,7 +15,8 @@ Eigen::AlignedBox3d bounds(const OrientedBox& b) {
 
 }  // namespace
 
-GripperCheck::GripperCheck(const EmbreeMesh& mesh, const Eigen::AlignedBox3d& object_box, const formats::GripperModel& g)
+GripperCheck::GripperCheck(const EmbreeMesh& mesh, const Eigen::AlignedBox3d& object_box,
+                           const formats::GripperModel& g)
     : mesh_(mesh), object_box_(object_box), g_(g) {
   int cuts[3];
   for (int i = 0; i < 3; ++i) cuts[i] = std::max(1, int(std::ceil(g.palm_size[i] / kPalmPiece)));
@@ -23,7 +24,8 @@ GripperCheck::GripperCheck(const EmbreeMesh& mesh, const Eigen::AlignedBox3d& ob
   for (int i = 0; i < cuts[0]; ++i)
     for (int j = 0; j < cuts[1]; ++j)
       for (int k = 0; k < cuts[2]; ++k) {
-        const Eigen::Vector3d c = g.palm_center - 0.5 * g.palm_size + piece.cwiseProduct(Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5));
+        const Eigen::Vector3d c =
+            g.palm_center - 0.5 * g.palm_size + piece.cwiseProduct(Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5));
         palm_parts_.push_back({c, Eigen::Matrix3d::Identity(), 0.5 * piece});
       }
 }

@@ -13,7 +13,8 @@ class GripperCheck {
   GripperCheck(const EmbreeMesh& mesh, const Eigen::AlignedBox3d& object_box, const formats::GripperModel& g);
   // Finger 1 touches p (outward normal n), finger 2 touches q on the ray p - t n; `approach` is the
   // gripper z axis (unit, perpendicular to n). Pads are placed contact_tolerance off the surface.
-  bool free(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& n, const Eigen::Vector3d& approach) const;
+  bool free(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& n,
+            const Eigen::Vector3d& approach) const;
 
  private:
   bool box_free(const OrientedBox& b) const;

@@ -38,11 +38,11 @@ class SampleGrid {
 };
 
 struct Patches {
-  std::vector<int> of_sample;                  // patch of each sample
-  std::vector<Eigen::Vector3d> position;       // a sample near the patch center: on the surface
-  std::vector<Eigen::Vector3d> normal;         // unit mean sample normal
-  std::vector<int> size;                       // samples
-  std::vector<std::vector<int>> neighbours;    // adjacent patches, sorted
+  std::vector<int> of_sample;                // patch of each sample
+  std::vector<Eigen::Vector3d> position;     // a sample near the patch center: on the surface
+  std::vector<Eigen::Vector3d> normal;       // unit mean sample normal
+  std::vector<int> size;                     // samples
+  std::vector<std::vector<int>> neighbours;  // adjacent patches, sorted
 };
 // Cells of `seed` edge length intersected with crease regions; patches under `min_fraction` of a
 // full cell's samples join their most similar neighbour.

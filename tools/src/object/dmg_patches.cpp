@@ -23,8 +23,8 @@ struct UnionFind {
 };
 
 // Unordered pairs of labels whose samples lie within 2 spacings with normals on the same side.
-std::vector<std::set<int>> label_adjacency(const SurfaceSamples& s, const SampleGrid& grid, const std::vector<int>& label,
-                                           int labels) {
+std::vector<std::set<int>> label_adjacency(const SurfaceSamples& s, const SampleGrid& grid,
+                                           const std::vector<int>& label, int labels) {
   std::vector<std::set<int>> adj(labels);
   for (std::size_t i = 0; i < s.position.size(); ++i)
     grid.near(s.position[i], 2 * s.spacing, [&](int j) {
@@ -46,8 +46,8 @@ Patches segment_patches(const TriMesh& mesh, const SurfaceSamples& s, const Samp
   std::vector<int> label(n);
   for (std::size_t i = 0; i < n; ++i) {
     const auto& p = s.position[i];
-    std::array<long, 4> key{long(std::floor(p.x() / seed)), long(std::floor(p.y() / seed)), long(std::floor(p.z() / seed)),
-                            region[s.triangle[i]]};
+    std::array<long, 4> key{long(std::floor(p.x() / seed)), long(std::floor(p.y() / seed)),
+                            long(std::floor(p.z() / seed)), region[s.triangle[i]]};
     label[i] = ids.emplace(key, int(ids.size())).first->second;
   }
   const int cells = int(ids.size());
@@ -91,7 +91,8 @@ Patches segment_patches(const TriMesh& mesh, const SurfaceSamples& s, const Samp
   const std::size_t np = out.size.size();
   std::vector<Eigen::Vector3d> mean(np, Eigen::Vector3d::Zero());
   out.normal.assign(np, Eigen::Vector3d::Zero());
-  for (std::size_t i = 0; i < n; ++i) mean[out.of_sample[i]] += s.position[i], out.normal[out.of_sample[i]] += s.normal[i];
+  for (std::size_t i = 0; i < n; ++i)
+    mean[out.of_sample[i]] += s.position[i], out.normal[out.of_sample[i]] += s.normal[i];
   for (std::size_t p = 0; p < np; ++p) {
     mean[p] /= out.size[p];
     out.normal[p] = out.normal[p].norm() > 0 ? out.normal[p].normalized() : Eigen::Vector3d::UnitZ();
@@ -137,7 +138,8 @@ Facets find_facets(const Patches& p, double normal_threshold) {
   for (std::size_t k = 0; k < nf; ++k) {
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(scatter[k] / weight[k]);  // eigenvalues ascending
     // A closed band (a cylinder's side) has a near-zero mean normal: use its main direction then.
-    const Eigen::Vector3d n = sum[k].norm() > 0.3 * weight[k] ? Eigen::Vector3d(sum[k].normalized()) : es.eigenvectors().col(2);
+    const Eigen::Vector3d n =
+        sum[k].norm() > 0.3 * weight[k] ? Eigen::Vector3d(sum[k].normalized()) : es.eigenvectors().col(2);
     // The zero-angle axis is the direction the normals vary least along (a cylinder's axis); on a
     // flat facet that is undefined, and the world axis least aligned with n is used instead.
     Eigen::Vector3d z = es.eigenvectors().col(0);

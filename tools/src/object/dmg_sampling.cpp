@@ -80,7 +80,8 @@ std::array<long, 3> SampleGrid::key(const Eigen::Vector3d& p) const {
 }
 
 long SampleGrid::hash(const std::array<long, 3>& k) const {
-  const std::uint64_t h = std::uint64_t(k[0]) * 73856093ull ^ std::uint64_t(k[1]) * 19349663ull ^ std::uint64_t(k[2]) * 83492791ull;
+  const std::uint64_t h =
+      std::uint64_t(k[0]) * 73856093ull ^ std::uint64_t(k[1]) * 19349663ull ^ std::uint64_t(k[2]) * 83492791ull;
   return long(h & (start_.size() - 2));  // bucket count is a power of two
 }
 

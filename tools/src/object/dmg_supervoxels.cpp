@@ -21,7 +21,7 @@ constexpr double kVoxelPerSeed = 8.0 / 13.0;  // the original's 8 mm voxels for 
 // tests' box). The supervoxel seed is scaled so patches cover about seed^2, as the mesh path's do,
 // and --seed-resolution means about the same patch size on both paths.
 constexpr double kSupervoxelSeedPerSeed = 0.65;
-constexpr int kRefinements = 10;              // the original's refinement iterations
+constexpr int kRefinements = 10;  // the original's refinement iterations
 
 Eigen::Vector3d closest_on_mesh(const TriMesh& m, const Eigen::Vector3d& p) {
   double best = std::numeric_limits<double>::infinity();

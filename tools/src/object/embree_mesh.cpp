@@ -39,8 +39,8 @@ bool box_query_callback(RTCPointQueryFunctionArguments* args) {
 }
 
 // Projections of the triangle and the box onto `axis` are disjoint.
-bool separated(const Eigen::Vector3d& axis, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
-               const Eigen::Vector3d& h) {
+bool separated(const Eigen::Vector3d& axis, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+               const Eigen::Vector3d& c, const Eigen::Vector3d& h) {
   if (axis.squaredNorm() < 1e-30) return false;
   const double pa = axis.dot(a), pb = axis.dot(b), pc = axis.dot(c);
   const double r = h.x() * std::abs(axis.x()) + h.y() * std::abs(axis.y()) + h.z() * std::abs(axis.z());
@@ -49,7 +49,8 @@ bool separated(const Eigen::Vector3d& axis, const Eigen::Vector3d& a, const Eige
 
 }  // namespace
 
-bool triangle_overlaps_box(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, const Eigen::Vector3d& h) {
+bool triangle_overlaps_box(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                           const Eigen::Vector3d& h) {
   // Separating axis theorem: 3 box axes, the triangle normal, 9 edge cross products.
   for (int i = 0; i < 3; ++i)
     if (separated(Eigen::Vector3d::Unit(i), a, b, c, h)) return false;
@@ -88,7 +89,8 @@ EmbreeMesh::~EmbreeMesh() {
   if (device_) rtcReleaseDevice(static_cast<RTCDevice>(device_));
 }
 
-std::optional<RayHit> EmbreeMesh::cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double max_distance) const {
+std::optional<RayHit> EmbreeMesh::cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
+                                       double max_distance) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh{};

@@ -39,6 +39,7 @@ class EmbreeMesh {
 };
 
 // Exact triangle / axis-aligned box overlap (box centered at the origin with half extents h).
-bool triangle_overlaps_box(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, const Eigen::Vector3d& h);
+bool triangle_overlaps_box(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                           const Eigen::Vector3d& h);
 
 }  // namespace dmgplace::tools::detail

@@ -11,7 +11,8 @@
 namespace dmgplace::tools {
 namespace {
 
-double positive(const YAML::Node& n, const std::string& file, const std::string& key, double fallback, bool allow_zero = false) {
+double positive(const YAML::Node& n, const std::string& file, const std::string& key, double fallback,
+                bool allow_zero = false) {
   if (!n) return fallback;
   double v = 0;
   try {
@@ -23,7 +24,8 @@ double positive(const YAML::Node& n, const std::string& file, const std::string&
   return v;
 }
 
-Eigen::Vector3d vec3(const YAML::Node& n, const std::string& file, const std::string& key, const Eigen::Vector3d& fallback) {
+Eigen::Vector3d vec3(const YAML::Node& n, const std::string& file, const std::string& key,
+                     const Eigen::Vector3d& fallback) {
   if (!n) return fallback;
   if (!n.IsSequence() || n.size() != 3) throw Error(file, key, "expected a list of 3 numbers");
   Eigen::Vector3d v;
@@ -36,7 +38,8 @@ Eigen::Vector3d vec3(const YAML::Node& n, const std::string& file, const std::st
   return v;
 }
 
-void only_keys(const YAML::Node& n, const std::set<std::string>& keys, const std::string& file, const std::string& where) {
+void only_keys(const YAML::Node& n, const std::set<std::string>& keys, const std::string& file,
+               const std::string& where) {
   if (!n) return;
   if (!n.IsMap()) throw Error(file, where, "expected a mapping");
   for (const auto& kv : n) {

@@ -40,9 +40,12 @@ std::vector<HullFacet> hull_facets(const Hull& hull) {
     }
     // Start the cycle at its lexicographically smallest point: the sums below then do not depend
     // on which halfedge CGAL calls the face's first.
-    const auto first = std::min_element(pts.begin(), pts.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-      return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
-    }) - pts.begin();
+    const auto first =
+        std::min_element(pts.begin(), pts.end(),
+                         [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+                           return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+                         }) -
+        pts.begin();
     std::rotate(pts.begin(), pts.begin() + first, pts.end());
     Eigen::Vector3d n = Eigen::Vector3d::Zero();  // Newell: robust for any polygon
     for (std::size_t i = 0; i < pts.size(); ++i) n += pts[i].cross(pts[(i + 1) % pts.size()]);
@@ -58,7 +61,8 @@ std::vector<HullFacet> hull_facets(const Hull& hull) {
 std::vector<int> convex_hull_2d(const std::vector<Eigen::Vector2d>& p) {
   std::vector<int> idx(p.size());
   std::iota(idx.begin(), idx.end(), 0);
-  std::sort(idx.begin(), idx.end(), [&](int a, int b) { return p[a].x() < p[b].x() || (p[a].x() == p[b].x() && p[a].y() < p[b].y()); });
+  std::sort(idx.begin(), idx.end(),
+            [&](int a, int b) { return p[a].x() < p[b].x() || (p[a].x() == p[b].x() && p[a].y() < p[b].y()); });
   auto cross = [&](int o, int a, int b) {
     return (p[a] - p[o]).x() * (p[b] - p[o]).y() - (p[a] - p[o]).y() * (p[b] - p[o]).x();
   };
@@ -99,8 +103,8 @@ Eigen::Quaterniond rotation_to_down(const Eigen::Vector3d& n) {
 
 }  // namespace
 
-formats::PlacementFaces compute_placement_faces(const TriMesh& mesh, const Eigen::Vector3d& com,
-                                                const FaceOptions& o, const std::string& file) {
+formats::PlacementFaces compute_placement_faces(const TriMesh& mesh, const Eigen::Vector3d& com, const FaceOptions& o,
+                                                const std::string& file) {
   if (!(o.merge_angle >= 0 && o.merge_angle < M_PI / 2) || !(o.margin >= 0) || !(o.margin_fraction >= 0))
     throw Error(file, "placement", "merge angle must be in [0, pi/2) and margins non-negative");
   std::vector<K::Point_3> points;
@@ -154,7 +158,8 @@ formats::PlacementFaces compute_placement_faces(const TriMesh& mesh, const Eigen
     int facet;
   };
   const auto after = [&](const Entry& a, const Entry& b) {  // priority_queue puts the "largest" first
-    return a.area != b.area ? a.area < b.area : keys[b.facet] < keys[a.facet] || (keys[b.facet] == keys[a.facet] && b.facet < a.facet);
+    return a.area != b.area ? a.area < b.area
+                            : keys[b.facet] < keys[a.facet] || (keys[b.facet] == keys[a.facet] && b.facet < a.facet);
   };
   std::priority_queue<Entry, std::vector<Entry>, decltype(after)> queue(after);
   std::vector<int> members;
@@ -174,7 +179,11 @@ formats::PlacementFaces compute_placement_faces(const TriMesh& mesh, const Eigen
   }
 
   // One candidate face per region; the required margin shrinks for thin objects.
-  struct Candidate { Eigen::Vector3d n; double support, width; std::vector<int> verts; };
+  struct Candidate {
+    Eigen::Vector3d n;
+    double support, width;
+    std::vector<int> verts;
+  };
   std::vector<Candidate> cands;
   double min_width = std::numeric_limits<double>::infinity();
   for (auto& reg : regions) {
@@ -190,7 +199,8 @@ formats::PlacementFaces compute_placement_faces(const TriMesh& mesh, const Eigen
     // CGAL may triangulate a coplanar hull face differently from run to run, so the sum varies in
     // its last bits (0 or -2.4e-16): snap it to a 2^-40 grid first, far below any geometric effect.
     const double length = sum.norm();
-    for (int k = 0; k < 3; ++k) sum[k] = std::ldexp(std::round(std::ldexp(sum[k] / length, 40)), -40) + 0.0;  // + 0.0: no -0
+    for (int k = 0; k < 3; ++k)
+      sum[k] = std::ldexp(std::round(std::ldexp(sum[k] / length, 40)), -40) + 0.0;  // + 0.0: no -0
     c.n = sum.normalized();
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v) {

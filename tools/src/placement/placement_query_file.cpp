@@ -48,7 +48,8 @@ long long integer(const YAML::Node& n, long long lo, long long hi, const std::st
   }
   if (v < lo || v > hi)
     throw Error(file, what,
-                runtime::number_text(v) + " is outside its range [" + runtime::number_text(lo) + ", " + runtime::number_text(hi) + "]");
+                runtime::number_text(v) + " is outside its range [" + runtime::number_text(lo) + ", " +
+                    runtime::number_text(hi) + "]");
   return v;
 }
 
@@ -56,7 +57,8 @@ double ranged(const YAML::Node& n, double lo, double hi, const std::string& file
   const double v = real(n, file, what);
   if (v < lo || v > hi)
     throw Error(file, what,
-                runtime::number_text(v) + " is outside its range [" + runtime::number_text(lo) + ", " + runtime::number_text(hi) + "]");
+                runtime::number_text(v) + " is outside its range [" + runtime::number_text(lo) + ", " +
+                    runtime::number_text(hi) + "]");
   return v;
 }
 
@@ -118,12 +120,14 @@ ObjectiveTerm read_term(const YAML::Node& n, const std::string& file, std::size_
 }
 // pusher: {arm: BASE:TIP, tcp: [x, y, z, qx, qy, qz, qw], standoff, step, plan_time, plan_iterations}
 runtime::PusherSpec read_pusher(const YAML::Node& n, const std::string& file) {
-  if (!n.IsMap() || !n["arm"]) throw Error(file, "pusher", "expected {arm: BASE_LINK:TIP_LINK, tcp: [x, y, z, qx, qy, qz, qw]}");
+  if (!n.IsMap() || !n["arm"])
+    throw Error(file, "pusher", "expected {arm: BASE_LINK:TIP_LINK, tcp: [x, y, z, qx, qy, qz, qw]}");
   require_known_keys(n, {"arm", "tcp", "standoff", "step", "plan_time", "plan_iterations"}, file, "pusher");
   runtime::PusherSpec p;
   const auto arm = n["arm"].as<std::string>();
   const auto colon = arm.find(':');
-  if (colon == std::string::npos || colon == 0 || colon + 1 == arm.size() || arm.find(':', colon + 1) != std::string::npos)
+  if (colon == std::string::npos || colon == 0 || colon + 1 == arm.size() ||
+      arm.find(':', colon + 1) != std::string::npos)
     throw Error(file, "pusher.arm", "expected BASE_LINK:TIP_LINK, got '" + arm + "'");
   p.base = arm.substr(0, colon);
   p.tip = arm.substr(colon + 1);
@@ -134,13 +138,14 @@ runtime::PusherSpec read_pusher(const YAML::Node& n, const std::string& file) {
   if (n["standoff"]) p.standoff = ranged(n["standoff"], 1e-3, 0.5, file, "pusher.standoff");
   if (n["step"]) p.step = ranged(n["step"], 1e-4, 0.05, file, "pusher.step");
   if (n["plan_time"]) p.plan_time = ranged(n["plan_time"], 1e-3, 60, file, "pusher.plan_time");
-  if (n["plan_iterations"]) p.plan_iterations = int(integer(n["plan_iterations"], 1, 1000000, file, "pusher.plan_iterations"));
+  if (n["plan_iterations"])
+    p.plan_iterations = int(integer(n["plan_iterations"], 1, 1000000, file, "pusher.plan_iterations"));
   return p;
 }
 }  // namespace
 
-std::filesystem::path resolve_artifact_path(const std::string& text, const std::filesystem::path& root, bool allow_outside,
-                                            const std::string& file, const std::string& element) {
+std::filesystem::path resolve_artifact_path(const std::string& text, const std::filesystem::path& root,
+                                            bool allow_outside, const std::string& file, const std::string& element) {
   namespace fs = std::filesystem;
   if (text.empty()) throw Error(file, element, "empty path");
   const fs::path p = text;
@@ -163,15 +168,17 @@ PlacementQueryFile read_placement_query(const std::filesystem::path& path, const
   const std::string file = path.string();
   const YAML::Node root = load_yaml_file(path);
   if (!root.IsMap()) throw Error(file, "", "expected a map (robot, object, environment, start, initial_grasp, ...)");
-  require_known_keys(root, {"robot", "object", "environment", "start", "initial_grasp", "volume", "objective", "time_limit", "seed",
-                            "variant", "options", "retreat_configuration", "pusher"},
+  require_known_keys(root,
+                     {"robot", "object", "environment", "start", "initial_grasp", "volume", "objective", "time_limit",
+                      "seed", "variant", "options", "retreat_configuration", "pusher"},
                      file, "");
   PlacementQueryFile f;
   f.path = path;
   f.query.source = file;
   const auto dir = artifact_dir.empty() ? path.parent_path() : artifact_dir;
   try {
-    for (auto [key, dst] : {std::pair{"robot", &f.robot}, std::pair{"object", &f.object}, std::pair{"environment", &f.environment}}) {
+    for (auto [key, dst] :
+         {std::pair{"robot", &f.robot}, std::pair{"object", &f.object}, std::pair{"environment", &f.environment}}) {
       if (!root[key]) throw Error(file, key, "missing (path of the artifact, relative to the query file)");
       *dst = resolve_artifact_path(root[key].as<std::string>(), dir, allow_outside, file, key);
     }
@@ -198,7 +205,8 @@ PlacementQueryFile read_placement_query(const std::filesystem::path& path, const
       const auto v = numbers(root["volume"], 6, file, "volume");
       if (v[0] > v[3] || v[1] > v[4] || v[2] > v[5]) throw Error(file, "volume", "min exceeds max");
       for (double x : v)
-        if (std::abs(x) > kMaxGeometryExtent) throw Error(file, "volume", "a coordinate beyond " + std::to_string(int(kMaxGeometryExtent)) + " m");
+        if (std::abs(x) > kMaxGeometryExtent)
+          throw Error(file, "volume", "a coordinate beyond " + std::to_string(int(kMaxGeometryExtent)) + " m");
       f.query.volume = Eigen::AlignedBox3d(Eigen::Vector3d(v[0], v[1], v[2]), Eigen::Vector3d(v[3], v[4], v[5]));
     }
     if (root["objective"]) {
@@ -217,14 +225,17 @@ PlacementQueryFile read_placement_query(const std::filesystem::path& path, const
     }
     if (root["options"]) read_options(root["options"], f.query.options, file);
     if (const YAML::Node r = root["retreat_configuration"]) {
-      if (!r.IsSequence() || r.size() == 0) throw Error(file, "retreat_configuration", "expected a list of the arm's joint values");
+      if (!r.IsSequence() || r.size() == 0)
+        throw Error(file, "retreat_configuration", "expected a list of the arm's joint values");
       Eigen::VectorXd q(Eigen::Index(r.size()));
-      for (std::size_t i = 0; i < r.size(); ++i) q[Eigen::Index(i)] = real(r[i], file, "retreat_configuration[" + std::to_string(i) + "]");
+      for (std::size_t i = 0; i < r.size(); ++i)
+        q[Eigen::Index(i)] = real(r[i], file, "retreat_configuration[" + std::to_string(i) + "]");
       f.query.retreat_configuration = q;
     }
     if (const YAML::Node n = root["pusher"]) f.query.pusher = read_pusher(n, file);
   } catch (const YAML::Exception& e) {
-    throw Error(file, e.mark.is_null() ? "" : "line " + std::to_string(e.mark.line + 1), std::string("malformed query: ") + e.msg);
+    throw Error(file, e.mark.is_null() ? "" : "line " + std::to_string(e.mark.line + 1),
+                std::string("malformed query: ") + e.msg);
   }
   return f;
 }
@@ -246,8 +257,9 @@ Eigen::VectorXd resolve_start(const PlacementQueryFile& f, const runtime::Kinema
   Eigen::VectorXd q(kin.dof());
   if (!f.start_list.empty() || f.start_named.empty()) {
     if (int(f.start_list.size()) != kin.dof())
-      throw Error(file, "start", "has " + std::to_string(f.start_list.size()) + " values, the arm has " +
-                                     std::to_string(kin.dof()) + " joints");
+      throw Error(file, "start",
+                  "has " + std::to_string(f.start_list.size()) + " values, the arm has " + std::to_string(kin.dof()) +
+                      " joints");
     for (int i = 0; i < kin.dof(); ++i) q[i] = f.start_list[std::size_t(i)];
   } else {
     for (int i = 0; i < kin.dof(); ++i) {

@@ -104,13 +104,14 @@ std::string solution_line(const PlacementSolution& s) {
   std::ostringstream o;
   const Eigen::Vector3d t = s.pose.translation();
   o << std::fixed << std::setprecision(3) << "[" << std::setw(7) << s.time << " s] objective " << std::setprecision(4)
-    << s.objective << std::setprecision(3) << "  at (" << t.x() << ", " << t.y() << ", " << t.z() << ")  face " << s.face
-    << "  grasp " << s.grasp_state << " (" << s.in_hand.size() << " in-hand actions)  path " << s.path.size()
+    << s.objective << std::setprecision(3) << "  at (" << t.x() << ", " << t.y() << ", " << t.z() << ")  face "
+    << s.face << "  grasp " << s.grasp_state << " (" << s.in_hand.size() << " in-hand actions)  path " << s.path.size()
     << " waypoints";
   return o.str();
 }
 
-std::string result_json(const PlacementQueryFile& q, const runtime::PlacementResult& r, const runtime::Kinematics& kin) {
+std::string result_json(const PlacementQueryFile& q, const runtime::PlacementResult& r,
+                        const runtime::Kinematics& kin) {
   ordered_json j;
   j["query"] = {{"file", q.path.string()},
                 {"robot", q.robot.string()},
@@ -123,7 +124,8 @@ std::string result_json(const PlacementQueryFile& q, const runtime::PlacementRes
                 {"start", std::vector<double>(q.query.q0.data(), q.query.q0.data() + q.query.q0.size())},
                 {"initial_grasp", pose_json(q.query.g0)}};
   if (q.query.pusher)
-    j["query"]["pusher"] = {{"arm", q.query.pusher->base + ":" + q.query.pusher->tip}, {"tcp", pose_json(q.query.pusher->tcp)}};
+    j["query"]["pusher"] = {{"arm", q.query.pusher->base + ":" + q.query.pusher->tip},
+                            {"tcp", pose_json(q.query.pusher->tcp)}};
   if (const auto others = world_joint_values(q, kin.model()); !others.empty()) j["query"]["joint_values"] = others;
   if (q.query.volume)
     j["query"]["volume"] = {q.query.volume->min().x(), q.query.volume->min().y(), q.query.volume->min().z(),
@@ -146,7 +148,8 @@ std::string result_json(const PlacementQueryFile& q, const runtime::PlacementRes
     j["best"] = solution_json(r.best());
     const bool planned = !r.best().pushes.empty();
     if (!r.best().in_hand.empty())
-      j["in_hand_execution"] = {{"planned", planned}, {"note", planned ? runtime::kInHandPlannedNote : runtime::kInHandExecutionNote}};
+      j["in_hand_execution"] = {{"planned", planned},
+                                {"note", planned ? runtime::kInHandPlannedNote : runtime::kInHandExecutionNote}};
     if (planned) j["pusher_joint_names"] = r.pusher_joints;
   }
   ordered_json imp = ordered_json::array();
@@ -162,8 +165,9 @@ std::string result_json(const PlacementQueryFile& q, const runtime::PlacementRes
   return j.dump(2) + "\n";
 }
 
-void write_placement_result(const std::filesystem::path& dir, const PlacementQueryFile& q, const runtime::PlacementResult& r,
-                            const runtime::Kinematics& kin, TrajectoryFormat format) {
+void write_placement_result(const std::filesystem::path& dir, const PlacementQueryFile& q,
+                            const runtime::PlacementResult& r, const runtime::Kinematics& kin,
+                            TrajectoryFormat format) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw Error(dir.string(), "", "cannot create the output folder: " + ec.message());
@@ -171,9 +175,9 @@ void write_placement_result(const std::filesystem::path& dir, const PlacementQue
   trace << "time,best,iterations,samples,ik_calls,ik_solutions,collision_checks,exact_checks,goals,paths\n";
   for (const auto& p : r.trace) {
     const auto& c = p.counters;
-    trace << p.time << ',' << (std::isnan(p.best) ? std::string() : std::to_string(p.best)) << ',' << c.iterations << ','
-          << c.samples << ',' << c.ik_calls << ',' << c.ik_solutions << ',' << c.collision_checks << ',' << c.exact_checks
-          << ',' << c.goals << ',' << c.paths << '\n';
+    trace << p.time << ',' << (std::isnan(p.best) ? std::string() : std::to_string(p.best)) << ',' << c.iterations
+          << ',' << c.samples << ',' << c.ik_calls << ',' << c.ik_solutions << ',' << c.collision_checks << ','
+          << c.exact_checks << ',' << c.goals << ',' << c.paths << '\n';
   }
   formats::write_file_atomically(dir / "trace.csv", trace.str());
   std::ostringstream path;
@@ -197,15 +201,17 @@ void write_placement_result(const std::filesystem::path& dir, const PlacementQue
   const std::vector<runtime::PushPlan> no_pushes;
   const auto& plans = r.solved() ? r.best().pushes : no_pushes;
   for (const auto& p : plans) pushes += (pushes.empty() ? "" : ",\n") + trajectory_json_text(p.trajectory);
-  formats::write_file_atomically(dir / "trajectory.json",
-                                 "{\"joint_names\": " + nlohmann::json(kin.joint_names()).dump() + ",\n\"approach\": " +
-                                     trajectory_json_text(approach) + ",\n\"retreat\": " + trajectory_json_text(retreat) +
-                                     (plans.empty() ? std::string()
-                                                    : ",\n\"pusher_joint_names\": " + nlohmann::json(r.pusher_joints).dump() +
-                                                          ",\n\"pushes\": [" + pushes + "]") +
-                                     "}\n");
+  formats::write_file_atomically(
+      dir / "trajectory.json",
+      "{\"joint_names\": " + nlohmann::json(kin.joint_names()).dump() +
+          ",\n\"approach\": " + trajectory_json_text(approach) + ",\n\"retreat\": " + trajectory_json_text(retreat) +
+          (plans.empty() ? std::string()
+                         : ",\n\"pusher_joint_names\": " + nlohmann::json(r.pusher_joints).dump() + ",\n\"pushes\": [" +
+                               pushes + "]") +
+          "}\n");
   if (format == TrajectoryFormat::MoveIt) {
-    formats::write_file_atomically(dir / "trajectory_approach.yaml", moveit_trajectory_yaml(approach, kin.joint_names()));
+    formats::write_file_atomically(dir / "trajectory_approach.yaml",
+                                   moveit_trajectory_yaml(approach, kin.joint_names()));
     formats::write_file_atomically(dir / "trajectory_retreat.yaml", moveit_trajectory_yaml(retreat, kin.joint_names()));
     for (std::size_t i = 0; i < plans.size(); ++i)
       formats::write_file_atomically(dir / ("trajectory_push_" + std::to_string(i + 1) + ".yaml"),

@@ -12,10 +12,14 @@ namespace dmgplace::tools {
 
 const char* to_string(DisableReason r) {
   switch (r) {
-    case DisableReason::Adjacent: return "Adjacent";
-    case DisableReason::Default: return "Default";
-    case DisableReason::Always: return "Always";
-    case DisableReason::Never: return "Never";
+    case DisableReason::Adjacent:
+      return "Adjacent";
+    case DisableReason::Default:
+      return "Default";
+    case DisableReason::Always:
+      return "Always";
+    case DisableReason::Never:
+      return "Never";
   }
   return "?";
 }
@@ -54,7 +58,8 @@ AllowedCollisions compute_allowed_collisions(const RobotModel& input, const Allo
   Eigen::VectorXd q(kin.dof());
   const int samples = std::max(1, o.samples);
   for (int s = 0; s < samples; ++s) {
-    for (int i = 0; i < kin.dof(); ++i) q[i] = std::uniform_real_distribution<double>(kin.lower()[i], kin.upper()[i])(rng);
+    for (int i = 0; i < kin.dof(); ++i)
+      q[i] = std::uniform_real_distribution<double>(kin.lower()[i], kin.upper()[i])(rng);
     kin.link_poses(q, poses);
     for (const auto& pair : checker.colliding_link_pairs(poses)) ++hits[pair];
   }
@@ -80,11 +85,12 @@ AllowedCollisions compute_allowed_collisions(const RobotModel& input, const Allo
 std::string srdf_text(const RobotModel& model, const std::vector<DisabledPair>& pairs) {
   std::ostringstream s;
   s << "<?xml version=\"1.0\"?>\n"
-    << "<!-- Written by dmgplace bake-robot: the link pairs it allowed to touch. Review, then pass back with --srdf. -->\n"
+    << "<!-- Written by dmgplace bake-robot: the link pairs it allowed to touch. Review, then pass back with --srdf. "
+       "-->\n"
     << "<robot name=\"" << model.name << "\">\n";
   for (const auto& p : pairs)
-    s << "  <disable_collisions link1=\"" << model.links[std::size_t(p.a)].name << "\" link2=\"" << model.links[std::size_t(p.b)].name
-      << "\" reason=\"" << to_string(p.reason) << "\"/>\n";
+    s << "  <disable_collisions link1=\"" << model.links[std::size_t(p.a)].name << "\" link2=\""
+      << model.links[std::size_t(p.b)].name << "\" reason=\"" << to_string(p.reason) << "\"/>\n";
   s << "</robot>\n";
   return s.str();
 }

@@ -27,12 +27,16 @@ void freeze_joints(RobotModel& m, const std::vector<std::pair<std::string, doubl
     const std::string where = "--fixed-joints " + name;
     if (idx < 0) throw Error(file, where, "no joint named '" + name + "' in robot '" + m.name + "'");
     Joint& j = m.joints[std::size_t(idx)];
-    if (chain.chain_slot(idx) >= 0) throw Error(file, where, "is a joint of the planning chain --arm; only other joints can be frozen");
+    if (chain.chain_slot(idx) >= 0)
+      throw Error(file, where, "is a joint of the planning chain --arm; only other joints can be frozen");
     if (j.type == JointType::Fixed) throw Error(file, where, "is already a fixed joint");
-    if (j.mimic >= 0) throw Error(file, where, "follows '" + m.joints[std::size_t(j.mimic)].name + "' (mimic): freeze that one");
-    if (!std::isfinite(value) || (j.type != JointType::Continuous && (value < j.lower - 1e-9 || value > j.upper + 1e-9)))
-      throw Error(file, where, "value " + std::to_string(value) + " outside its limits [" + std::to_string(j.lower) + ", " +
-                                   std::to_string(j.upper) + "]");
+    if (j.mimic >= 0)
+      throw Error(file, where, "follows '" + m.joints[std::size_t(j.mimic)].name + "' (mimic): freeze that one");
+    if (!std::isfinite(value) ||
+        (j.type != JointType::Continuous && (value < j.lower - 1e-9 || value > j.upper + 1e-9)))
+      throw Error(file, where,
+                  "value " + std::to_string(value) + " outside its limits [" + std::to_string(j.lower) + ", " +
+                      std::to_string(j.upper) + "]");
     for (auto& follower : m.joints)
       if (follower.mimic == idx) freeze(follower, follower.mimic_multiplier * value + follower.mimic_offset);
     freeze(j, value);
@@ -40,7 +44,8 @@ void freeze_joints(RobotModel& m, const std::vector<std::pair<std::string, doubl
 }
 }  // namespace
 
-formats::RobotArtifact bake_robot(const RobotBakeOptions& o, AllowedCollisions* decided, std::vector<std::string>* notes) {
+formats::RobotArtifact bake_robot(const RobotBakeOptions& o, AllowedCollisions* decided,
+                                  std::vector<std::string>* notes) {
   UrdfOptions urdf;
   urdf.package_paths = o.package_paths;
   formats::RobotArtifact robot;

@@ -20,7 +20,8 @@ namespace {
 // Joints from `link` up to the root, nearest first.
 std::vector<int> joints_to_root(const RobotModel& m, const std::vector<int>& parent_joint, int link) {
   std::vector<int> out;
-  for (int l = link; parent_joint[std::size_t(l)] >= 0 && out.size() <= m.joints.size(); l = m.joints[std::size_t(parent_joint[std::size_t(l)])].parent)
+  for (int l = link; parent_joint[std::size_t(l)] >= 0 && out.size() <= m.joints.size();
+       l = m.joints[std::size_t(parent_joint[std::size_t(l)])].parent)
     out.push_back(parent_joint[std::size_t(l)]);
   return out;
 }
@@ -95,8 +96,8 @@ float round_down(double d) {
 
 // The distances of table t (grid already sized): exact on the coarse lattice, then each other node
 // from its coarse cell's Lipschitz bound when that is far from contact, exactly otherwise.
-void fill_table(formats::SelfDistanceTable& t, const runtime::Kinematics& kin, const runtime::ExactChecker& exact, int a, int b,
-                const Eigen::VectorXd& mid, const SelfTableOptions& o, ProgressReporter& progress) {
+void fill_table(formats::SelfDistanceTable& t, const runtime::Kinematics& kin, const runtime::ExactChecker& exact,
+                int a, int b, const Eigen::VectorXd& mid, const SelfTableOptions& o, ProgressReporter& progress) {
   const std::size_t c0 = std::size_t(t.count[0]), c1 = std::size_t(t.count[1]);
   t.distance.assign(c0 * c1, 0.0f);
   progress.add_total(c0 * c1);
@@ -162,7 +163,8 @@ std::vector<formats::SelfDistanceTable> build_self_distance_tables(const runtime
                                                                    const SelfTableOptions& o) {
   std::vector<formats::SelfDistanceTable> out;
   if (!o.enabled) return out;
-  if (o.coarse_stride < 1 || !(o.exact_below >= 0)) throw Error("self-distance tables", "options", "coarse stride >= 1, exact_below >= 0");
+  if (o.coarse_stride < 1 || !(o.exact_below >= 0))
+    throw Error("self-distance tables", "options", "coarse stride >= 1, exact_below >= 0");
   ProgressReporter progress(o.progress, "self-distance tables");
   const RobotModel& m = kin.model();
   runtime::ExactChecker exact(kin, Scene{});
@@ -209,7 +211,8 @@ std::vector<formats::SelfDistanceTable> build_self_distance_tables(const runtime
           q[kin.chain_slot(j)] = std::uniform_real_distribution<double>(jj.lower, jj.upper)(rng);
         }
         kin.link_poses(q, poses);
-        overlap = spheres_overlap(by_link[std::size_t(a)], by_link[std::size_t(b)], poses[std::size_t(a)], poses[std::size_t(b)]);
+        overlap = spheres_overlap(by_link[std::size_t(a)], by_link[std::size_t(b)], poses[std::size_t(a)],
+                                  poses[std::size_t(b)]);
       }
       if (!overlap) continue;
       formats::SelfDistanceTable t;
@@ -221,7 +224,8 @@ std::vector<formats::SelfDistanceTable> build_self_distance_tables(const runtime
         t.lower[k] = j.lower;
         t.count[k] = std::max(2, int(std::ceil((j.upper - j.lower) / o.step)) + 1);
         t.step[k] = (j.upper - j.lower) / (t.count[k] - 1);
-        t.slope[k] = slope_bound(m, parent_joint, moves_a[k] ? a : b, joints[k], by_link[std::size_t(moves_a[k] ? a : b)]);
+        t.slope[k] =
+            slope_bound(m, parent_joint, moves_a[k] ? a : b, joints[k], by_link[std::size_t(moves_a[k] ? a : b)]);
       }
       fill_table(t, kin, exact, a, b, mid, o, progress);
       out.push_back(std::move(t));

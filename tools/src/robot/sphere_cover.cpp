@@ -44,8 +44,9 @@ void check_sample_budget(const std::vector<TriMesh>& meshes, double spacing) {
   }
   if (!(total <= kMaxSamples))
     throw Error("sphere cover", "",
-                "the link's geometry needs about " + std::to_string(total) + " samples at a spacing of " + std::to_string(spacing) +
-                    " m, more than " + std::to_string(kMaxSamples) + " (is the geometry in millimetres? else raise --sphere-spacing)");
+                "the link's geometry needs about " + std::to_string(total) + " samples at a spacing of " +
+                    std::to_string(spacing) + " m, more than " + std::to_string(kMaxSamples) +
+                    " (is the geometry in millimetres? else raise --sphere-spacing)");
 }
 
 }  // namespace

@@ -19,7 +19,8 @@ ScanObject object_from_scans(const std::vector<std::filesystem::path>& files, co
   }
   ScanObject out;
   out.segmented = segment_object(scans, o.segment, name);
-  const TriMesh scan_mesh = reconstruct_surface(out.segmented.points, out.segmented.normals, o.reconstruct, name, out.reconstruction);
+  const TriMesh scan_mesh =
+      reconstruct_surface(out.segmented.points, out.segmented.normals, o.reconstruct, name, out.reconstruction);
   Eigen::AlignedBox3d box;
   for (Eigen::Index i = 0; i < scan_mesh.vertices.rows(); ++i) box.extend(scan_mesh.vertices.row(i).transpose());
   out.origin_in_scan = box.center();

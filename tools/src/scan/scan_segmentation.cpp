@@ -73,10 +73,14 @@ std::vector<std::vector<int>> clusters_of(const Cloud& c, const std::vector<int>
 
 }  // namespace
 
-SegmentedObject segment_object(const std::vector<ScanCloud>& scans, const ScanSegmentOptions& o, const std::string& file) {
+SegmentedObject segment_object(const std::vector<ScanCloud>& scans, const ScanSegmentOptions& o,
+                               const std::string& file) {
   if (scans.empty()) throw Error(file, "", "no scan given");
-  if (!(o.plane_distance > 0) || !(o.cluster_tolerance > 0) || o.min_cluster_points < 1 || o.normal_neighbours < 3 || !(o.smoothing_radius >= 0))
-    throw Error(file, "segmentation", "plane distance and cluster tolerance must be positive, min cluster points >= 1, normal neighbours >= 3");
+  if (!(o.plane_distance > 0) || !(o.cluster_tolerance > 0) || o.min_cluster_points < 1 || o.normal_neighbours < 3 ||
+      !(o.smoothing_radius >= 0))
+    throw Error(
+        file, "segmentation",
+        "plane distance and cluster tolerance must be positive, min cluster points >= 1, normal neighbours >= 3");
   SegmentedObject out;
   Cloud all;
   std::vector<int> scan_of;  // which scan (viewpoint) saw each kept point
@@ -90,7 +94,9 @@ SegmentedObject segment_object(const std::vector<ScanCloud>& scans, const ScanSe
     }
   out.cropped_points = all.size();
   if (all.size() < std::size_t(std::max(o.min_cluster_points, o.normal_neighbours)))
-    throw Error(file, "--crop", "keeps " + std::to_string(all.size()) + " of " + std::to_string(out.input_points) + " points: too few for an object");
+    throw Error(file, "--crop",
+                "keeps " + std::to_string(all.size()) + " of " + std::to_string(out.input_points) +
+                    " points: too few for an object");
 
   std::vector<int> object(all.size());
   std::iota(object.begin(), object.end(), 0);
@@ -123,10 +129,12 @@ SegmentedObject segment_object(const std::vector<ScanCloud>& scans, const ScanSe
       // is one of the object's own faces (an object scanned alone): keep it.
       const double plane_width = describe(all, plane).extent.norm();
       const double object_width = clusters.empty() ? 0 : describe(all, clusters.front()).extent.norm();
-      const bool support = o.support_plane == SupportPlane::Remove || (!clusters.empty() && plane_width > 1.5 * object_width);
+      const bool support =
+          o.support_plane == SupportPlane::Remove || (!clusters.empty() && plane_width > 1.5 * object_width);
       char b[160];
-      std::snprintf(b, sizeof b, "plane: %zu points, %.3f m across (largest cluster on it %.3f m): %s", plane.size(), plane_width,
-                    object_width, support ? "removed as the support" : "kept, it is no wider than the object");
+      std::snprintf(b, sizeof b, "plane: %zu points, %.3f m across (largest cluster on it %.3f m): %s", plane.size(),
+                    plane_width, object_width,
+                    support ? "removed as the support" : "kept, it is no wider than the object");
       out.notes.push_back(b);
       if (support) {
         out.plane_removed = true;
@@ -137,11 +145,14 @@ SegmentedObject segment_object(const std::vector<ScanCloud>& scans, const ScanSe
     }
     for (const auto& c : clusters) out.clusters.push_back(describe(all, c));
     if (clusters.empty())
-      throw Error(file, "clusters", "no cluster of at least " + std::to_string(o.min_cluster_points) + " points is left (after the crop and the plane)");
+      throw Error(file, "clusters",
+                  "no cluster of at least " + std::to_string(o.min_cluster_points) +
+                      " points is left (after the crop and the plane)");
     int chosen = -1;
     if (o.cluster >= 0) {
       if (o.cluster >= int(clusters.size()))
-        throw Error(file, "--cluster", std::to_string(o.cluster) + " is out of range: " + std::to_string(clusters.size()) + " clusters");
+        throw Error(file, "--cluster",
+                    std::to_string(o.cluster) + " is out of range: " + std::to_string(clusters.size()) + " clusters");
       chosen = o.cluster;
     } else if (o.cluster_near) {
       double best = std::numeric_limits<double>::infinity();
@@ -155,15 +166,18 @@ SegmentedObject segment_object(const std::vector<ScanCloud>& scans, const ScanSe
     } else {
       std::string list;
       for (std::size_t c = 0; c < clusters.size() && c < 10; ++c)
-        list += "\n  " + std::to_string(c) + ": " + std::to_string(out.clusters[c].points) + " points at " + vec(out.clusters[c].centroid) +
-                ", " + vec(out.clusters[c].extent) + " m";
+        list += "\n  " + std::to_string(c) + ": " + std::to_string(out.clusters[c].points) + " points at " +
+                vec(out.clusters[c].centroid) + ", " + vec(out.clusters[c].extent) + " m";
       throw Error(file, "clusters",
-                  std::to_string(clusters.size()) + " clusters: choose one with --cluster N or --cluster-near x,y,z (or --crop ... --whole-crop)" + list);
+                  std::to_string(clusters.size()) +
+                      " clusters: choose one with --cluster N or --cluster-near x,y,z (or --crop ... --whole-crop)" +
+                      list);
     }
     out.chosen = chosen;
     object = clusters[std::size_t(chosen)];
     out.notes.push_back("object: cluster " + std::to_string(chosen) + " of " + std::to_string(clusters.size()) + ", " +
-                        std::to_string(object.size()) + " points at " + vec(out.clusters[std::size_t(chosen)].centroid));
+                        std::to_string(object.size()) + " points at " +
+                        vec(out.clusters[std::size_t(chosen)].centroid));
   }
 
   // Normals on the object alone, each turned towards the sensor that saw its point. A viewpoint
@@ -192,23 +206,30 @@ SegmentedObject segment_object(const std::vector<ScanCloud>& scans, const ScanSe
   }
   Eigen::AlignedBox3d box;
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (const auto& p : *cloud) box.extend(p.getVector3fMap().cast<double>()), centroid += p.getVector3fMap().cast<double>();
+  for (const auto& p : *cloud)
+    box.extend(p.getVector3fMap().cast<double>()), centroid += p.getVector3fMap().cast<double>();
   centroid /= double(cloud->size());
   bool viewpoints = true;
   for (const auto& s : scans) viewpoints = viewpoints && !box.contains(s.viewpoint);
   out.orientation = viewpoints ? "viewpoint" : "outward";
-  if (!viewpoints) out.notes.push_back("normals: a scan's viewpoint lies inside the object's box; oriented away from the centroid instead");
+  if (!viewpoints)
+    out.notes.push_back(
+        "normals: a scan's viewpoint lies inside the object's box; oriented away from the centroid instead");
   for (std::size_t k = 0; k < position.size(); ++k) {
     Eigen::Vector3d n = normal[k];
-    if (!n.allFinite() || n.norm() < 0.5 || !position[k].allFinite()) continue;  // too few neighbours for a fit: dropped
+    if (!n.allFinite() || n.norm() < 0.5 || !position[k].allFinite())
+      continue;  // too few neighbours for a fit: dropped
     const Eigen::Vector3d& p = position[k];
-    const Eigen::Vector3d toward = viewpoints ? Eigen::Vector3d(scans[std::size_t(seen_by[k])].viewpoint - p) : Eigen::Vector3d(p - centroid);
+    const Eigen::Vector3d toward =
+        viewpoints ? Eigen::Vector3d(scans[std::size_t(seen_by[k])].viewpoint - p) : Eigen::Vector3d(p - centroid);
     if (n.dot(toward) < 0) n = -n;
     out.points.push_back(p);
     out.normals.push_back(n.normalized());
   }
-  if (viewpoints) detail::agree_with_neighbours(out.points, out.normals, std::max(o.smoothing_radius, 2 * o.plane_distance));
-  if (out.points.size() < std::size_t(o.normal_neighbours)) throw Error(file, "normals", "too few points with a normal");
+  if (viewpoints)
+    detail::agree_with_neighbours(out.points, out.normals, std::max(o.smoothing_radius, 2 * o.plane_distance));
+  if (out.points.size() < std::size_t(o.normal_neighbours))
+    throw Error(file, "normals", "too few points with a normal");
   return out;
 }
 

@@ -35,7 +35,8 @@ double median_point_spacing(const std::vector<Eigen::Vector3d>& points) {
   return d[d.size() / 2];
 }
 
-void agree_with_neighbours(const std::vector<Eigen::Vector3d>& points, std::vector<Eigen::Vector3d>& normals, double radius) {
+void agree_with_neighbours(const std::vector<Eigen::Vector3d>& points, std::vector<Eigen::Vector3d>& normals,
+                           double radius) {
   const auto tree = tree_of(points);
   std::vector<int> idx;
   std::vector<float> sq;
@@ -94,8 +95,8 @@ void smooth_points(const std::vector<Eigen::Vector3d>& points, double radius, st
     }
     const Eigen::Matrix<double, 6, 1> c = ata.ldlt().solve(atb);
     if (!c.allFinite()) continue;
-    smoothed[i] = origin + c[0] * n;                            // the surface above the foot point
-    normals[i] = (n - c[1] * u - c[2] * v).normalized();       // gradient of the height field at (0, 0)
+    smoothed[i] = origin + c[0] * n;                      // the surface above the foot point
+    normals[i] = (n - c[1] * u - c[2] * v).normalized();  // gradient of the height field at (0, 0)
   }
 }
 

@@ -20,6 +20,7 @@ double median_point_spacing(const std::vector<Eigen::Vector3d>& points);
 // Flips each normal that disagrees with the weighted majority of its neighbours' within `radius`
 // (two sweeps): a point seen at a grazing angle beside an edge can be turned the wrong way by the
 // viewpoint test alone.
-void agree_with_neighbours(const std::vector<Eigen::Vector3d>& points, std::vector<Eigen::Vector3d>& normals, double radius);
+void agree_with_neighbours(const std::vector<Eigen::Vector3d>& points, std::vector<Eigen::Vector3d>& normals,
+                           double radius);
 
 }  // namespace dmgplace::tools::detail

@@ -76,7 +76,8 @@ TriMesh canonical(const TriMesh& m) {
   }
   std::sort(faces.begin(), faces.end());
   out.triangles.resize(Eigen::Index(faces.size()), 3);
-  for (std::size_t t = 0; t < faces.size(); ++t) out.triangles.row(Eigen::Index(t)) << faces[t][0], faces[t][1], faces[t][2];
+  for (std::size_t t = 0; t < faces.size(); ++t)
+    out.triangles.row(Eigen::Index(t)) << faces[t][0], faces[t][1], faces[t][2];
   return out;
 }
 
@@ -108,7 +109,8 @@ TriMesh poisson_of(const std::vector<Eigen::Vector3d>& points, const std::vector
   poisson.reconstruct(vertices, polygons);
   TriMesh m;
   m.vertices.resize(Eigen::Index(vertices.size()), 3);
-  for (std::size_t i = 0; i < vertices.size(); ++i) m.vertices.row(Eigen::Index(i)) << vertices[i].x, vertices[i].y, vertices[i].z;
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    m.vertices.row(Eigen::Index(i)) << vertices[i].x, vertices[i].y, vertices[i].z;
   std::vector<std::array<int, 3>> tris;
   for (const auto& poly : polygons)
     for (std::size_t k = 1; k + 1 < poly.vertices.size(); ++k)
@@ -123,9 +125,11 @@ TriMesh poisson_of(const std::vector<Eigen::Vector3d>& points, const std::vector
 TriMesh fill_holes(const TriMesh& m, std::size_t& filled) {
   Mesh sm;
   std::vector<Mesh::Vertex_index> v;
-  for (Eigen::Index i = 0; i < m.vertices.rows(); ++i) v.push_back(sm.add_vertex(K::Point_3(m.vertices(i, 0), m.vertices(i, 1), m.vertices(i, 2))));
+  for (Eigen::Index i = 0; i < m.vertices.rows(); ++i)
+    v.push_back(sm.add_vertex(K::Point_3(m.vertices(i, 0), m.vertices(i, 1), m.vertices(i, 2))));
   for (Eigen::Index t = 0; t < m.triangles.rows(); ++t)
-    sm.add_face(v[std::size_t(m.triangles(t, 0))], v[std::size_t(m.triangles(t, 1))], v[std::size_t(m.triangles(t, 2))]);
+    sm.add_face(v[std::size_t(m.triangles(t, 0))], v[std::size_t(m.triangles(t, 1))],
+                v[std::size_t(m.triangles(t, 2))]);
   CGAL::Polygon_mesh_processing::stitch_borders(sm);  // cracks first: borders that meet are sewn
   std::vector<Mesh::Halfedge_index> borders;
   CGAL::Polygon_mesh_processing::extract_boundary_cycles(sm, std::back_inserter(borders));
@@ -143,7 +147,6 @@ TriMesh fill_holes(const TriMesh& m, std::size_t& filled) {
   return to_trimesh(sm);
 }
 
-
 }  // namespace
 
 double seen_fraction(const TriMesh& mesh, const std::vector<Eigen::Vector3d>& points, double distance) {
@@ -153,7 +156,9 @@ double seen_fraction(const TriMesh& mesh, const std::vector<Eigen::Vector3d>& po
   double area = 0;
   for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
     const Eigen::Vector3d a = mesh.vertices.row(mesh.triangles(t, 0)).transpose();
-    area += 0.5 * (mesh.vertices.row(mesh.triangles(t, 1)).transpose() - a).cross(mesh.vertices.row(mesh.triangles(t, 2)).transpose() - a).norm();
+    area += 0.5 * (mesh.vertices.row(mesh.triangles(t, 1)).transpose() - a)
+                      .cross(mesh.vertices.row(mesh.triangles(t, 2)).transpose() - a)
+                      .norm();
   }
   if (!(area > 0) || points.empty()) return 0;
   const double spacing = std::min(distance, std::sqrt(area / 20000));
@@ -166,7 +171,8 @@ double seen_fraction(const TriMesh& mesh, const std::vector<Eigen::Vector3d>& po
 
 TriMesh reconstruct_surface(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& normals,
                             const ReconstructOptions& o, const std::string& file, ReconstructionReport& report) {
-  if (points.size() < 4 || normals.size() != points.size()) throw Error(file, "reconstruction", "needs at least 4 points, each with a normal");
+  if (points.size() < 4 || normals.size() != points.size())
+    throw Error(file, "reconstruction", "needs at least 4 points, each with a normal");
   if (o.poisson_depth < 4 || o.poisson_depth > 12 || !(o.poisson_samples_per_node >= 1) || !(o.seen_distance >= 0))
     throw Error(file, "reconstruction", "Poisson depth must be in [4, 12], samples per node >= 1, seen distance >= 0");
   report = {};
@@ -174,7 +180,9 @@ TriMesh reconstruct_surface(const std::vector<Eigen::Vector3d>& points, const st
   report.seen_distance = o.seen_distance > 0 ? o.seen_distance : std::max(3 * report.point_spacing, 1e-4);
   const TriMesh raw = o.method == Reconstruction::Hull ? hull_of(points) : poisson_of(points, normals, o);
   if (raw.triangles.rows() < 4)
-    throw Error(file, "reconstruction", std::string(o.method == Reconstruction::Hull ? "the convex hull" : "Poisson") + " gave no surface (are the points flat?)");
+    throw Error(file, "reconstruction",
+                std::string(o.method == Reconstruction::Hull ? "the convex hull" : "Poisson") +
+                    " gave no surface (are the points flat?)");
   // Holes are filled after the cleaning, and the result is not cleaned again: a fill triangle of
   // near-zero area across a slit closes the surface, and dropping it would reopen the slit.
   std::size_t holes = 0;
@@ -186,23 +194,29 @@ TriMesh reconstruct_surface(const std::vector<Eigen::Vector3d>& points, const st
     report.mesh.nonmanifold_edges = filled.nonmanifold_edges;
     report.mesh.inconsistent_edges = filled.inconsistent_edges;
   }
-  if (holes > 0) report.warnings.push_back("filled " + std::to_string(holes) + " small holes the surface was left with");
+  if (holes > 0)
+    report.warnings.push_back("filled " + std::to_string(holes) + " small holes the surface was left with");
   if (!report.mesh.closed_manifold())
     throw Error(file, "reconstruction",
                 "the surface is not closed (" + std::to_string(report.mesh.boundary_edges) + " boundary, " +
-                    std::to_string(report.mesh.nonmanifold_edges) + " non-manifold edges): try --reconstruct hull or another --poisson-depth");
+                    std::to_string(report.mesh.nonmanifold_edges) +
+                    " non-manifold edges): try --reconstruct hull or another --poisson-depth");
   // A view of one side gives Poisson a thin shell around the seen surface, not a solid.
   const double volume = signed_volume(mesh), hull_volume = signed_volume(hull_of(points));
   if (o.method == Reconstruction::Poisson && !(volume > kMinShellFraction * hull_volume)) {
     char b[240];
-    std::snprintf(b, sizeof b, "Poisson gave a thin shell around the seen surface (%.3g m^3 against %.3g m^3 in the points' hull): "
-                  "the scans show too little of the object; use --reconstruct hull, or scan more sides", volume, hull_volume);
+    std::snprintf(b, sizeof b,
+                  "Poisson gave a thin shell around the seen surface (%.3g m^3 against %.3g m^3 in the points' hull): "
+                  "the scans show too little of the object; use --reconstruct hull, or scan more sides",
+                  volume, hull_volume);
     throw Error(file, "reconstruction", b);
   }
   report.seen_fraction = seen_fraction(mesh, points, report.seen_distance);
   if (report.seen_fraction < o.invented_warning) {
     char b[200];
-    std::snprintf(b, sizeof b, "only %.0f%% of the reconstructed surface lies within %.1f mm of a scan point: the rest is invented; scan more sides",
+    std::snprintf(b, sizeof b,
+                  "only %.0f%% of the reconstructed surface lies within %.1f mm of a scan point: the rest is invented; "
+                  "scan more sides",
                   100 * report.seen_fraction, 1e3 * report.seen_distance);
     report.warnings.push_back(b);
   }

@@ -12,7 +12,8 @@ namespace dmgplace::tools {
 ScanCloud synthetic_scan(const TriMesh& scene, const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
                          const SyntheticScanOptions& o) {
   if (!(o.angular_step > 0) || !(o.field_of_view > 0) || !(o.field_of_view < 3) || !(o.noise >= 0))
-    throw Error("synthetic scan", "options", "angular step and field of view must be positive (field of view < 3 rad), noise >= 0");
+    throw Error("synthetic scan", "options",
+                "angular step and field of view must be positive (field of view < 3 rad), noise >= 0");
   const Eigen::Vector3d forward = (target - eye).normalized();
   if (!forward.allFinite()) throw Error("synthetic scan", "view", "eye and target coincide");
   const Eigen::Vector3d up_hint = std::abs(forward.z()) > 0.99 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitZ();
@@ -25,7 +26,8 @@ ScanCloud synthetic_scan(const TriMesh& scene, const Eigen::Vector3d& eye, const
   std::vector<Eigen::Vector3d> hits;
   for (int v = -half; v <= half; ++v)
     for (int u = -half; u <= half; ++u) {
-      const Eigen::Vector3d dir = (forward + std::tan(u * o.angular_step) * right + std::tan(v * o.angular_step) * up).normalized();
+      const Eigen::Vector3d dir =
+          (forward + std::tan(u * o.angular_step) * right + std::tan(v * o.angular_step) * up).normalized();
       const auto hit = mesh.cast(eye, dir, 1e3);
       if (!hit) continue;
       Eigen::Vector3d p = eye + hit->distance * dir;

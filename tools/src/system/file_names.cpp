@@ -17,8 +17,9 @@ bool is_safe_file_name(const std::string& name) {
 void check_file_name_component(const std::string& name, const std::string& file, const std::string& element) {
   if (is_safe_file_name(name)) return;
   throw Error(file, element,
-              "'" + name + "' must be a non-empty word of letters, digits, '.', '_' and '-' (not '.' or '..'): "
-              "it names a file or folder");
+              "'" + name +
+                  "' must be a non-empty word of letters, digits, '.', '_' and '-' (not '.' or '..'): "
+                  "it names a file or folder");
 }
 
 }  // namespace dmgplace::tools

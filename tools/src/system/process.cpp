@@ -173,7 +173,8 @@ ProcessResult run_process(const std::vector<std::string>& argv, const ProcessOpt
       check(::posix_spawn_file_actions_addopen(&actions.a, STDERR_FILENO, "/dev/null", O_WRONLY, 0), "stderr");
       break;
   }
-  if (!options.cwd.empty()) check(::posix_spawn_file_actions_addchdir_np(&actions.a, options.cwd.c_str()), "working folder");
+  if (!options.cwd.empty())
+    check(::posix_spawn_file_actions_addchdir_np(&actions.a, options.cwd.c_str()), "working folder");
 
   std::vector<std::string> args = argv;
   std::vector<char*> c_args = c_array(args);
@@ -185,11 +186,12 @@ ProcessResult run_process(const std::vector<std::string>& argv, const ProcessOpt
   }
   pid_t pid = -1;
   // glibc reports a failed exec (and a failed file action) as posix_spawnp's return value.
-  const int rc =
-      ::posix_spawnp(&pid, file.c_str(), &actions.a, nullptr, c_args.data(), options.env.empty() ? environ : c_env.data());
+  const int rc = ::posix_spawnp(&pid, file.c_str(), &actions.a, nullptr, c_args.data(),
+                                options.env.empty() ? environ : c_env.data());
   if (rc != 0) {
     const bool searched = file.find('/') == std::string::npos;
-    throw Error(program, "", "cannot run: " + errno_text(rc) + (rc == ENOENT && searched ? " (not found in $PATH)" : ""));
+    throw Error(program, "",
+                "cannot run: " + errno_text(rc) + (rc == ENOENT && searched ? " (not found in $PATH)" : ""));
   }
   // Only the child uses these ends: holding them would keep our reads from ever ending.
   in.read.reset();
@@ -230,10 +232,8 @@ ProcessResult run_process(const std::vector<std::string>& argv, const ProcessOpt
       std::string& to = &from == &out.read ? r.output : r.error_output;
       char buf[65536];
       const ssize_t got = ::read(from.get(), buf, sizeof buf);
-      if (got > 0)
-        to.append(buf, std::size_t(got));
-      else if (got == 0 || (errno != EINTR && errno != EAGAIN))
-        from.reset();
+      if (got > 0) to.append(buf, std::size_t(got));
+      else if (got == 0 || (errno != EINTR && errno != EAGAIN)) from.reset();
     }
   }
   // Closing our ends first lets a child still writing end (EPIPE) instead of waiting forever.
@@ -271,7 +271,8 @@ std::optional<std::filesystem::path> find_executable(const std::string& name) {
   for (std::size_t from = 0;;) {
     const std::size_t colon = search.find(':', from);
     const std::string dir = search.substr(from, colon == std::string::npos ? std::string::npos : colon - from);
-    const std::filesystem::path candidate = std::filesystem::path(dir.empty() ? "." : dir) / name;  // "" is the working folder
+    const std::filesystem::path candidate =
+        std::filesystem::path(dir.empty() ? "." : dir) / name;  // "" is the working folder
     if (is_executable_file(candidate)) return candidate;
     if (colon == std::string::npos) break;
     from = colon + 1;

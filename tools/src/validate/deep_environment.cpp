@@ -20,13 +20,15 @@ constexpr double kNodeTolerance = 1e-4;
 
 Eigen::Vector3d node_point(const formats::FieldGrid& g, std::size_t index) {
   const std::size_t nx = std::size_t(g.dims[0]), ny = std::size_t(g.dims[1]);
-  return g.origin + g.resolution * Eigen::Vector3d(double(index % nx), double(index / nx % ny), double(index / (nx * ny)));
+  return g.origin +
+         g.resolution * Eigen::Vector3d(double(index % nx), double(index / nx % ny), double(index / (nx * ny)));
 }
 
 std::size_t nearest_node(const formats::FieldGrid& g, const Eigen::Vector3d& p) {
   std::size_t idx[3];
   for (int a = 0; a < 3; ++a)
-    idx[a] = std::size_t(std::clamp(std::round((p[a] - g.origin[a]) / g.resolution), 0.0, double(g.dims[std::size_t(a)] - 1)));
+    idx[a] = std::size_t(
+        std::clamp(std::round((p[a] - g.origin[a]) / g.resolution), 0.0, double(g.dims[std::size_t(a)] - 1)));
   return idx[0] + std::size_t(g.dims[0]) * (idx[1] + std::size_t(g.dims[1]) * idx[2]);
 }
 
@@ -72,10 +74,13 @@ DeepCheck compare_nodes(const formats::FieldGrid& g, const std::vector<std::size
   WorstOf w;
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     const double stored = g.values[nodes[i]];
-    const double v = std::clamp(exact[i].value, -g.band, g.band), alt = std::clamp(exact[i].alternative, -g.band, g.band);
+    const double v = std::clamp(exact[i].value, -g.band, g.band),
+                 alt = std::clamp(exact[i].alternative, -g.band, g.band);
     const double miss = std::min(std::abs(stored - v), std::abs(stored - alt));
-    w.add(miss, [&] { return "node " + fmt(node_point(g, nodes[i])) + ": stored " + fmt(stored) + ", exact " + fmt(v) +
-                    (alt != v ? " (or " + fmt(alt) + " on the surface)" : ""); });
+    w.add(miss, [&] {
+      return "node " + fmt(node_point(g, nodes[i])) + ": stored " + fmt(stored) + ", exact " + fmt(v) +
+             (alt != v ? " (or " + fmt(alt) + " on the surface)" : "");
+    });
   }
   return {name, dataset, int(nodes.size()), w.worst, kNodeTolerance, "m", w.sample};
 }
@@ -88,7 +93,8 @@ std::vector<std::size_t> random_nodes(const formats::FieldGrid& g, int count, st
 
 // Nodes the stored field puts within two cells of a surface, plus nodes nearest to points on the
 // geometry's own surface (which a field wrong everywhere near it cannot hide).
-std::vector<std::size_t> surface_nodes(const formats::FieldGrid& g, const EnvGeometry& geometry, int count, std::mt19937_64& rng) {
+std::vector<std::size_t> surface_nodes(const formats::FieldGrid& g, const EnvGeometry& geometry, int count,
+                                       std::mt19937_64& rng) {
   std::vector<std::size_t> near;
   for (std::size_t i = 0; i < g.values.size(); ++i)
     if (std::abs(g.values[i]) <= 2 * g.resolution) near.push_back(i);
@@ -99,14 +105,18 @@ std::vector<std::size_t> surface_nodes(const formats::FieldGrid& g, const EnvGeo
   return out;
 }
 
-DeepCheck regions_on_surface(const formats::EnvironmentArtifact& a, const ExactSceneDistance& exact, const DeepOptions& o,
-                             std::mt19937_64& rng) {
-  struct Cell { std::size_t region; int i, j; };
+DeepCheck regions_on_surface(const formats::EnvironmentArtifact& a, const ExactSceneDistance& exact,
+                             const DeepOptions& o, std::mt19937_64& rng) {
+  struct Cell {
+    std::size_t region;
+    int i, j;
+  };
   std::vector<Cell> all;
   for (std::size_t r = 0; r < a.regions.size(); ++r)
     for (int j = 0; j < a.regions[r].depth; ++j)
       for (int i = 0; i < a.regions[r].width; ++i)
-        if (a.regions[r].mask[std::size_t(i) + std::size_t(a.regions[r].width) * std::size_t(j)]) all.push_back({r, i, j});
+        if (a.regions[r].mask[std::size_t(i) + std::size_t(a.regions[r].width) * std::size_t(j)])
+          all.push_back({r, i, j});
   std::vector<Cell> cells;
   for (int k = 0; k < o.samples && !all.empty(); ++k) cells.push_back(all[rng() % all.size()]);
   std::vector<double> miss(cells.size());
@@ -120,11 +130,19 @@ DeepCheck regions_on_surface(const formats::EnvironmentArtifact& a, const ExactS
   for (std::size_t k = 0; k < cells.size(); ++k) {
     const auto& r = a.regions[cells[k].region];
     const Eigen::Vector2d m = r.cell_center(cells[k].i, cells[k].j);
-    w.add(miss[k], [&] { return "region " + std::to_string(cells[k].region) + " cell (" + std::to_string(cells[k].i) + ", " +
-                       std::to_string(cells[k].j) + ") at " + fmt(Eigen::Vector3d(m.x(), m.y(), r.height)) + ": " +
-                       fmt(miss[k] * r.resolution) + " m from any obstacle"; });
+    w.add(miss[k], [&] {
+      return "region " + std::to_string(cells[k].region) + " cell (" + std::to_string(cells[k].i) + ", " +
+             std::to_string(cells[k].j) + ") at " + fmt(Eigen::Vector3d(m.x(), m.y(), r.height)) + ": " +
+             fmt(miss[k] * r.resolution) + " m from any obstacle";
+    });
   }
-  return {"region cells on an obstacle surface", "regions/scalars", int(cells.size()), w.worst, 1.0, "region cells", w.sample};
+  return {"region cells on an obstacle surface",
+          "regions/scalars",
+          int(cells.size()),
+          w.worst,
+          1.0,
+          "region cells",
+          w.sample};
 }
 
 }  // namespace
@@ -141,10 +159,11 @@ void deep_environment(const formats::EnvironmentArtifact& a, const DeepOptions& 
       // On the surface the sign is a matter of rounding.
       return Expected{d, std::abs(d) <= kNodeTolerance ? -d : d};
     };
-    report.checks.push_back(compare_nodes(a.sdf, random_nodes(a.sdf, o.samples, rng), o, "distance field at random grid nodes",
-                                          "fields/sdf/values", sdf_at));
+    report.checks.push_back(compare_nodes(a.sdf, random_nodes(a.sdf, o.samples, rng), o,
+                                          "distance field at random grid nodes", "fields/sdf/values", sdf_at));
     report.checks.push_back(compare_nodes(a.sdf, surface_nodes(a.sdf, geometry, o.samples, rng), o,
-                                          "distance field at grid nodes near the surface", "fields/sdf/values", sdf_at));
+                                          "distance field at grid nodes near the surface", "fields/sdf/values",
+                                          sdf_at));
   } else {
     report.notes.push_back("no distance field stored");
   }
@@ -156,7 +175,8 @@ void deep_environment(const formats::EnvironmentArtifact& a, const DeepOptions& 
       return exact.inside(p) ? Expected{0.0, 0.0} : Expected{above, above};
     };
     report.checks.push_back(compare_nodes(a.clearance, random_nodes(a.clearance, o.samples, rng), o,
-                                          "clearance field at random grid nodes", "fields/clearance/values", clearance_at));
+                                          "clearance field at random grid nodes", "fields/clearance/values",
+                                          clearance_at));
   } else {
     report.notes.push_back("no clearance field stored");
   }

@@ -25,8 +25,9 @@ DeepCheck mesh_against(const formats::ObjectArtifact& a, const TriMesh& read, co
   if (read.vertices.rows() != a.mesh.vertices.rows() || read.triangles.rows() != a.mesh.triangles.rows() ||
       read.triangles != a.mesh.triangles) {
     c.worst = std::numeric_limits<double>::infinity();
-    c.worst_sample = "stored " + std::to_string(a.mesh.vertices.rows()) + " vertices, " + std::to_string(a.mesh.triangles.rows()) +
-                     " triangles; the input " + std::to_string(read.vertices.rows()) + ", " + std::to_string(read.triangles.rows()) +
+    c.worst_sample = "stored " + std::to_string(a.mesh.vertices.rows()) + " vertices, " +
+                     std::to_string(a.mesh.triangles.rows()) + " triangles; the input " +
+                     std::to_string(read.vertices.rows()) + ", " + std::to_string(read.triangles.rows()) +
                      " (or other triangles)";
     return c;
   }
@@ -57,9 +58,10 @@ void object_against_inputs(const formats::ObjectArtifact& a, const std::filesyst
   report.checks.push_back(mesh_against(a, read_mesh(inputs[0].at, o), inputs[0].path));
   const double given = params.value("mass", 0.0);
   const double expected = given > 0 ? given : kDefaultDensity * a.mass.volume;
-  report.checks.push_back({"mass as the bake was asked (" + std::string(given > 0 ? "--mass" : "default density x volume") + ")",
-                           "mass/volume_mass", 1, std::abs(a.mass.mass - expected) / expected, 1e-9, "relative",
-                           "stored " + fmt(a.mass.mass) + " kg, expected " + fmt(expected) + " kg"});
+  report.checks.push_back(
+      {"mass as the bake was asked (" + std::string(given > 0 ? "--mass" : "default density x volume") + ")",
+       "mass/volume_mass", 1, std::abs(a.mass.mass - expected) / expected, 1e-9, "relative",
+       "stored " + fmt(a.mass.mass) + " kg, expected " + fmt(expected) + " kg"});
 }
 
 }  // namespace dmgplace::tools::detail

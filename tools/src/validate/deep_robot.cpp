@@ -34,12 +34,14 @@ std::vector<Eigen::Vector3d> surface_points(const Shape& s) {
     case ShapeType::Cylinder:
       for (int k = 0; k < kRound; ++k) {
         const double t = 2 * std::numbers::pi * k / kRound;
-        for (double z : {-0.5, 0.5}) local.emplace_back(s.size.x() * std::cos(t), s.size.x() * std::sin(t), z * s.size.y());
+        for (double z : {-0.5, 0.5})
+          local.emplace_back(s.size.x() * std::cos(t), s.size.x() * std::sin(t), z * s.size.y());
       }
       break;
     case ShapeType::Sphere:
       for (int k = 0; k < kRound * 4; ++k) {  // a Fibonacci lattice
-        const double z = 1 - (2.0 * k + 1) / (kRound * 4), r = std::sqrt(1 - z * z), t = k * std::numbers::pi * (3 - std::sqrt(5.0));
+        const double z = 1 - (2.0 * k + 1) / (kRound * 4), r = std::sqrt(1 - z * z),
+                     t = k * std::numbers::pi * (3 - std::sqrt(5.0));
         local.push_back(s.size.x() * Eigen::Vector3d(r * std::cos(t), r * std::sin(t), z));
       }
       break;
@@ -59,10 +61,18 @@ DeepCheck sphere_coverage(const formats::RobotArtifact& a) {
         for (const auto& s : a.spheres)
           if (s.link == int(l)) out = std::min(out, (p - s.center).norm() - s.radius);
         ++samples;
-        w.add(out, [&] { return "link '" + a.model.links[l].name + "' surface point " + fmt(p) + " (link frame): " + fmt(out) +
-                       " m outside its nearest sphere"; });
+        w.add(out, [&] {
+          return "link '" + a.model.links[l].name + "' surface point " + fmt(p) + " (link frame): " + fmt(out) +
+                 " m outside its nearest sphere";
+        });
       }
-  return {"link collision geometry inside the link's spheres", "links/spheres", samples, w.worst, kCoverTolerance, "m", w.sample};
+  return {"link collision geometry inside the link's spheres",
+          "links/spheres",
+          samples,
+          w.worst,
+          kCoverTolerance,
+          "m",
+          w.sample};
 }
 
 DeepCheck table_below_exact(const formats::RobotArtifact& a, const formats::SelfDistanceTable& t, std::size_t index,
@@ -73,17 +83,24 @@ DeepCheck table_below_exact(const formats::RobotArtifact& a, const formats::Self
   WorstOf w;
   Eigen::VectorXd q(kin.dof());
   for (int s = 0; s < o.samples; ++s) {
-    for (int k = 0; k < kin.dof(); ++k) q[k] = std::uniform_real_distribution<double>(kin.lower()[k], kin.upper()[k])(rng);
+    for (int k = 0; k < kin.dof(); ++k)
+      q[k] = std::uniform_real_distribution<double>(kin.lower()[k], kin.upper()[k])(rng);
     const double x0 = kin.joint_value(t.joints[0], q), x1 = t.joints[1] >= 0 ? kin.joint_value(t.joints[1], q) : 0.0;
     const double bound = t.lower_bound(x0, x1), d = exact.link_distance(q, t.link_a, t.link_b);
     w.add(bound - d, [&] {
       std::string at = "q =";
       for (int k = 0; k < kin.dof(); ++k) at += " " + fmt(q[k]);
-      return "table " + std::to_string(index) + " (" + pair + ") at " + at + ": bound " + fmt(bound) + " m, exact " + fmt(d) + " m";
+      return "table " + std::to_string(index) + " (" + pair + ") at " + at + ": bound " + fmt(bound) + " m, exact " +
+             fmt(d) + " m";
     });
   }
   return {"self-distance table " + std::to_string(index) + " (" + pair + ") at or below the exact distance",
-          "self_tables/distance", o.samples, w.worst, kTableTolerance, "m", w.sample};
+          "self_tables/distance",
+          o.samples,
+          w.worst,
+          kTableTolerance,
+          "m",
+          w.sample};
 }
 
 }  // namespace

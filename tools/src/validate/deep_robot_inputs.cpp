@@ -40,7 +40,8 @@ double geometry_gap(const std::vector<Shape>& stored, const std::vector<Shape>& 
     const Shape &s = stored[k], &r = ref[k];
     if (s.type != r.type || s.mesh.vertices.rows() != r.mesh.vertices.rows() || s.mesh.triangles != r.mesh.triangles)
       return std::numeric_limits<double>::infinity();
-    gap = std::max({gap, (s.size - r.size).cwiseAbs().maxCoeff(), (s.origin.matrix() - r.origin.matrix()).cwiseAbs().maxCoeff()});
+    gap = std::max(
+        {gap, (s.size - r.size).cwiseAbs().maxCoeff(), (s.origin.matrix() - r.origin.matrix()).cwiseAbs().maxCoeff()});
     if (s.mesh.vertices.rows() > 0) gap = std::max(gap, (s.mesh.vertices - r.mesh.vertices).cwiseAbs().maxCoeff());
   }
   return gap;
@@ -58,7 +59,12 @@ DeepCheck links_against(const formats::RobotArtifact& a, const RobotModel& ref, 
              std::to_string(ref.links[std::size_t(r)].collision.size()) + " in " + urdf;
     });
   }
-  return {"link collision geometry equal to the URDF's (meshes read again)", "links/collision", samples, w.worst, 1e-9, "m",
+  return {"link collision geometry equal to the URDF's (meshes read again)",
+          "links/collision",
+          samples,
+          w.worst,
+          1e-9,
+          "m",
           w.sample};
 }
 
@@ -100,16 +106,20 @@ void robot_against_inputs(const formats::RobotArtifact& a, const std::filesystem
     const int r = ref.joint_index(j.name);
     ++samples;
     if (r < 0) {
-      w.add(std::numeric_limits<double>::infinity(), [&] { return "joint '" + j.name + "' is not in " + urdf.string(); });
+      w.add(std::numeric_limits<double>::infinity(),
+            [&] { return "joint '" + j.name + "' is not in " + urdf.string(); });
       continue;
     }
     const Joint& rj = ref.joints[std::size_t(r)];
-    w.add(excess(j, rj), [&] { return "joint '" + j.name + "': stored [" + fmt(j.lower) + ", " + fmt(j.upper) + "] velocity " + fmt(j.velocity) +
-                             " acceleration " + fmt(j.acceleration) + ", inputs [" + fmt(rj.lower) + ", " + fmt(rj.upper) +
-                             "] velocity " + fmt(rj.velocity) + " acceleration " + fmt(rj.acceleration); });
+    w.add(excess(j, rj), [&] {
+      return "joint '" + j.name + "': stored [" + fmt(j.lower) + ", " + fmt(j.upper) + "] velocity " + fmt(j.velocity) +
+             " acceleration " + fmt(j.acceleration) + ", inputs [" + fmt(rj.lower) + ", " + fmt(rj.upper) +
+             "] velocity " + fmt(rj.velocity) + " acceleration " + fmt(rj.acceleration);
+    });
   }
-  report.checks.push_back({"joint limits within the URDF's" + std::string(limits.empty() ? "" : " and joint_limits.yaml's"),
-                           "joints/values", samples, w.worst, kLimitTolerance, "rad, m or per s", w.sample});
+  report.checks.push_back(
+      {"joint limits within the URDF's" + std::string(limits.empty() ? "" : " and joint_limits.yaml's"),
+       "joints/values", samples, w.worst, kLimitTolerance, "rad, m or per s", w.sample});
 }
 
 }  // namespace dmgplace::tools::detail

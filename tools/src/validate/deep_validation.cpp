@@ -29,8 +29,9 @@ bool DeepReport::ok() const {
 }
 
 std::string describe(const DeepCheck& c) {
-  return c.name + ": worst " + detail::fmt(c.worst) + " " + c.unit + " (tolerance " + detail::fmt(c.tolerance) + " " + c.unit +
-         ", " + std::to_string(c.samples) + " samples)" + (c.worst_sample.empty() ? "" : " at " + c.worst_sample);
+  return c.name + ": worst " + detail::fmt(c.worst) + " " + c.unit + " (tolerance " + detail::fmt(c.tolerance) + " " +
+         c.unit + ", " + std::to_string(c.samples) + " samples)" +
+         (c.worst_sample.empty() ? "" : " at " + c.worst_sample);
 }
 
 std::vector<std::string> DeepReport::problems() const {

@@ -13,7 +13,8 @@ ExactSceneDistance::ExactSceneDistance(const EnvGeometry& geometry) : geometry_(
     const TriMesh& mesh = geometry.meshes[m];
     Eigen::AlignedBox3d box;
     for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
-      Triangle tri{mesh.vertices.row(mesh.triangles(t, 0)).transpose(), mesh.vertices.row(mesh.triangles(t, 1)).transpose(),
+      Triangle tri{mesh.vertices.row(mesh.triangles(t, 0)).transpose(),
+                   mesh.vertices.row(mesh.triangles(t, 1)).transpose(),
                    mesh.vertices.row(mesh.triangles(t, 2)).transpose(), Eigen::Vector3d::Zero(), 0};
       tri.center = (tri.a + tri.b + tri.c) / 3;
       tri.radius = std::max({(tri.a - tri.center).norm(), (tri.b - tri.center).norm(), (tri.c - tri.center).norm()});
@@ -26,7 +27,8 @@ ExactSceneDistance::ExactSceneDistance(const EnvGeometry& geometry) : geometry_(
 
 bool ExactSceneDistance::inside(const Eigen::Vector3d& p) const {
   for (std::size_t m = 0; m < closed_boxes_.size(); ++m)
-    if (!closed_boxes_[m].isEmpty() && closed_boxes_[m].contains(p) && std::abs(winding_number(geometry_->meshes[m], p)) > 0.5)
+    if (!closed_boxes_[m].isEmpty() && closed_boxes_[m].contains(p) &&
+        std::abs(winding_number(geometry_->meshes[m], p)) > 0.5)
       return true;
   return false;
 }

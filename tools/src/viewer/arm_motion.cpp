@@ -43,7 +43,8 @@ std::vector<const Joint*> finger_joints(const runtime::Kinematics& kin) {
   std::vector<const Joint*> out;
   for (const auto& j : m.joints) {
     const auto& names = kin.joint_names();
-    if (j.type == JointType::Fixed || j.mimic >= 0 || std::find(names.begin(), names.end(), j.name) != names.end()) continue;
+    if (j.type == JointType::Fixed || j.mimic >= 0 || std::find(names.begin(), names.end(), j.name) != names.end())
+      continue;
     if (below(m, j.child, hand)) out.push_back(&j);
   }
   return out;
@@ -72,7 +73,8 @@ Timed timed(const std::vector<Eigen::VectorXd>& path, const runtime::Trajectory&
   Timed out;
   if (!trajectory.empty()) {
     out.time = trajectory.time;
-    for (const auto& q : trajectory.positions) out.q.push_back(Eigen::Map<const Eigen::VectorXd>(q.data(), Eigen::Index(q.size())));
+    for (const auto& q : trajectory.positions)
+      out.q.push_back(Eigen::Map<const Eigen::VectorXd>(q.data(), Eigen::Index(q.size())));
     return out;
   }
   double t = 0;
@@ -114,12 +116,13 @@ int sample_phase(double duration, double period, Frame&& frame) {
 }
 }  // namespace
 
-ArmMotion sample_arm_motion(const ViewResult& r, const formats::RobotArtifact& robot, double open_width, double frame_period,
-                            int max_frames) {
+ArmMotion sample_arm_motion(const ViewResult& r, const formats::RobotArtifact& robot, double open_width,
+                            double frame_period, int max_frames) {
   runtime::Kinematics kin(robot.model, robot.model.arm_base, robot.model.arm_tip);
   if (kin.joint_names() != r.joint_names)
-    throw Error(r.file.string(), "/joint_names", "not the arm chain of " + r.robot.string() + " (" + robot.model.arm_base +
-                                                     " -> " + robot.model.arm_tip + ")");
+    throw Error(
+        r.file.string(), "/joint_names",
+        "not the arm chain of " + r.robot.string() + " (" + robot.model.arm_base + " -> " + robot.model.arm_tip + ")");
   const auto fingers = finger_joints(kin);
   for (const auto& [name, value] : r.joint_values) kin.set_joint_value(name, value);
   ArmMotion m;
@@ -134,10 +137,12 @@ ArmMotion sample_arm_motion(const ViewResult& r, const formats::RobotArtifact& r
     m.frame_times.push_back(float(offset + at));
     ++m.frames;
   };
-  const auto arm_frame = [&](double at, const Eigen::VectorXd& q, double opening, const Eigen::Isometry3d* object_rest) {
+  const auto arm_frame = [&](double at, const Eigen::VectorXd& q, double opening,
+                             const Eigen::Isometry3d* object_rest) {
     for (const Joint* j : fingers) kin.set_joint_value(j->name, std::clamp(0.5 * opening, j->lower, j->upper));
     kin.link_poses(q, poses);
-    add_frame(at, poses, object_rest ? *object_rest : Eigen::Isometry3d(poses[std::size_t(kin.tip_link())] * r.grasp.inverse()));
+    add_frame(at, poses,
+              object_rest ? *object_rest : Eigen::Isometry3d(poses[std::size_t(kin.tip_link())] * r.grasp.inverse()));
   };
 
   m.object_initial = kin.tip_pose(r.start) * r.initial_grasp.inverse();
@@ -157,32 +162,40 @@ ArmMotion sample_arm_motion(const ViewResult& r, const formats::RobotArtifact& r
   if (!r.pushes.empty()) {
     runtime::Kinematics pusher(robot.model, robot.model.arm_base, r.pusher_tip);
     if (pusher.joint_names() != r.pusher_joint_names)
-      throw Error(r.file.string(), "/pusher_joint_names", "not the chain " + robot.model.arm_base + " -> " + r.pusher_tip);
-    for (std::size_t j = 0; j < r.joint_names.size(); ++j) pusher.set_joint_value(r.joint_names[j], r.start[Eigen::Index(j)]);
+      throw Error(r.file.string(), "/pusher_joint_names",
+                  "not the chain " + robot.model.arm_base + " -> " + r.pusher_tip);
+    for (std::size_t j = 0; j < r.joint_names.size(); ++j)
+      pusher.set_joint_value(r.joint_names[j], r.start[Eigen::Index(j)]);
     for (const auto& [name, value] : r.joint_values)
       if (pusher.chain_slot(robot.model.joint_index(name)) < 0) pusher.set_joint_value(name, value);
     for (const Joint* j : fingers) pusher.set_joint_value(j->name, std::clamp(0.5 * r.opening, j->lower, j->upper));
     const Eigen::Isometry3d tcp = kin.tip_pose(r.start);
     for (std::size_t i = 0; i < r.pushes.size(); ++i) {
       const auto& p = r.pushes[i];
-      const runtime::ObjectMotion motion = runtime::object_motion(tcp, p.object_before.inverse() * tcp, p.object_after.inverse() * tcp);
+      const runtime::ObjectMotion motion =
+          runtime::object_motion(tcp, p.object_before.inverse() * tcp, p.object_after.inverse() * tcp);
       const std::vector<double> at = waypoint_times(pushes[i], p.path);
       const double begin = at[std::size_t(p.begin)], end = at[std::size_t(p.end)];
       m.push_frames.push_back(m.frames);
       sample_phase(pushes[i].duration(), period, [&](double t) {
         pusher.link_poses(pushes[i].at(t), poses);
-        add_frame(t, poses, motion.at(end > begin ? std::clamp((t - begin) / (end - begin), 0.0, 1.0) : t < begin ? 0.0 : 1.0) *
-                                p.object_before);
+        add_frame(t, poses,
+                  motion.at(end > begin ? std::clamp((t - begin) / (end - begin), 0.0, 1.0)
+                            : t < begin ? 0.0
+                                        : 1.0) *
+                      p.object_before);
       });
       offset += pushes[i].duration();
     }
   }
   // Then the transport, the release and the retreat, the object at rest from the release on.
-  const auto phase = [&](const Timed& motion, const std::vector<Eigen::VectorXd>& wps, double opening, const Eigen::Isometry3d* rest) {
+  const auto phase = [&](const Timed& motion, const std::vector<Eigen::VectorXd>& wps, double opening,
+                         const Eigen::Isometry3d* rest) {
     const int first = m.frames;
     const int n = sample_phase(motion.duration(), period, [&](double t) { arm_frame(t, motion.at(t), opening, rest); });
     for (double t : waypoint_times(motion, wps))
-      m.waypoint_frames.push_back(first + (t >= motion.duration() - 1e-9 ? n - 1 : std::min(n - 1, int(std::lround(t / period)))));
+      m.waypoint_frames.push_back(
+          first + (t >= motion.duration() - 1e-9 ? n - 1 : std::min(n - 1, int(std::lround(t / period)))));
     offset += motion.duration();
   };
   phase(path, r.path, r.opening, nullptr);

@@ -124,16 +124,14 @@ std::string scene_data_json(const ViewResult& r, const ArmMotion& motion, const 
     j["regions"].push_back({{"height", env.regions[k].height}, {"mesh", mesh_json(region_mesh(env.regions[k]))}});
   j["robot"] = robot_json(robot, motion);
   j["object"] = {{"mesh", mesh_json(object.mesh)}, {"initial", pose_json(motion.object_initial)}};
-  j["motion"] = {{"frames", motion.frames},
-                 {"links", base64(motion.link_poses)},
-                 {"object", base64(motion.object_poses)},
-                 {"times", motion.frame_times},
-                 {"waypoints", motion.waypoint_frames},
-                 {"pushes", motion.push_frames},
-                 {"retreat", motion.retreat_frame}};
+  j["motion"] = {
+      {"frames", motion.frames},        {"links", base64(motion.link_poses)},  {"object", base64(motion.object_poses)},
+      {"times", motion.frame_times},    {"waypoints", motion.waypoint_frames}, {"pushes", motion.push_frames},
+      {"retreat", motion.retreat_frame}};
   if (r.solved) {
-    j["best"] = {{"objective", r.objective}, {"time", r.time},    {"region", r.region},
-                 {"pose", pose_json(r.pose)}, {"grasp", pose_json(r.grasp)}, {"opening", r.opening}};
+    j["best"] = {{"objective", r.objective},    {"time", r.time},
+                 {"region", r.region},          {"pose", pose_json(r.pose)},
+                 {"grasp", pose_json(r.grasp)}, {"opening", r.opening}};
     j["in_hand"] = in_hand_json(r);
   }
   j["improvements"] = json::array();

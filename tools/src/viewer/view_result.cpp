@@ -36,7 +36,8 @@ class Reader {
     if (!v.is_array()) fail(ptr, "not a list");
     std::vector<double> out;
     for (std::size_t i = 0; i < v.size(); ++i) out.push_back(number(v, "/" + std::to_string(i)));
-    if (n && out.size() != n) fail(ptr, "expected " + std::to_string(n) + " numbers, got " + std::to_string(out.size()));
+    if (n && out.size() != n)
+      fail(ptr, "expected " + std::to_string(n) + " numbers, got " + std::to_string(out.size()));
     return out;
   }
   Eigen::Vector3d vec3(const json& j, const std::string& ptr) const {
@@ -68,7 +69,8 @@ class Reader {
   runtime::Trajectory trajectory(const json& j, const std::string& ptr, std::size_t dof) const {
     runtime::Trajectory t;
     t.time = numbers(j, ptr + "/time");
-    for (const auto& q : joint_path(j, ptr + "/positions", dof)) t.positions.emplace_back(q.data(), q.data() + q.size());
+    for (const auto& q : joint_path(j, ptr + "/positions", dof))
+      t.positions.emplace_back(q.data(), q.data() + q.size());
     if (t.positions.size() != t.time.size()) fail(ptr, "time and positions differ in length");
     for (std::size_t i = 0; i < t.time.size(); ++i)
       if (!std::isfinite(t.time[i]) || t.time[i] < (i ? t.time[i - 1] : 0.0))
@@ -131,7 +133,8 @@ ViewResult read_view_result(const std::filesystem::path& result_dir, const std::
   v.start = Eigen::Map<const Eigen::VectorXd>(start.data(), Eigen::Index(start.size()));
   v.initial_grasp = r.pose(j, "/query/initial_grasp");
   if (j["query"].contains("joint_values"))
-    for (const auto& [name, value] : r.at(j, "/query/joint_values").items()) v.joint_values[name] = r.number(j, "/query/joint_values/" + name);
+    for (const auto& [name, value] : r.at(j, "/query/joint_values").items())
+      v.joint_values[name] = r.number(j, "/query/joint_values/" + name);
   if (j["query"].contains("volume")) {
     const auto b = r.numbers(j, "/query/volume", 6);
     v.volume = Eigen::AlignedBox3d(Eigen::Vector3d(b[0], b[1], b[2]), Eigen::Vector3d(b[3], b[4], b[5]));

@@ -11,11 +11,11 @@ struct InputFile {
 };
 
 struct ArtifactHeader {
-  std::string schema;          // "dmgplace.object", "dmgplace.environment", "dmgplace.robot"
+  std::string schema;  // "dmgplace.object", "dmgplace.environment", "dmgplace.robot"
   int schema_version = 0;
-  std::string tool_version;    // dmgplace version that wrote it
-  std::string created_utc;     // ISO 8601
-  std::string parameters_json; // creation parameters as a JSON object
+  std::string tool_version;     // dmgplace version that wrote it
+  std::string created_utc;      // ISO 8601
+  std::string parameters_json;  // creation parameters as a JSON object
   std::vector<InputFile> inputs;
   // Not stored: the file this artifact was read from (empty when built in memory), so errors
   // found after loading can still name it.

@@ -36,11 +36,11 @@ struct FieldGrid {
 // One contiguous horizontal support surface, rasterised on square cells of `resolution`:
 // cell (i, j) spans x0 + i*res .. x0 + (i+1)*res (same for y); x fastest in mask and free_height.
 struct PlacementRegion {
-  double height = 0;         // z of the supporting surface (world)
-  double resolution = 0;     // cell edge (m)
+  double height = 0;                                 // z of the supporting surface (world)
+  double resolution = 0;                             // cell edge (m)
   Eigen::Vector2d origin = Eigen::Vector2d::Zero();  // x0, y0: lower corner of cell (0, 0)
-  int width = 0, depth = 0;  // cells along x and y
-  std::vector<std::uint8_t> mask;  // 1 = supported and free above
+  int width = 0, depth = 0;                          // cells along x and y
+  std::vector<std::uint8_t> mask;                    // 1 = supported and free above
   std::vector<float> free_height;  // free height above each mask cell (m, capped at the top of V); 0 outside
   double area = 0;                 // mask cells x resolution^2
   int surface = -1;                // connected surface the region was split from (equal for siblings)

@@ -19,7 +19,7 @@ inline constexpr int kGraspGraphSchemaVersion = 1;
 enum class GraspMoveKind : std::uint8_t { Translation = 0, Rotation = 1 };
 
 struct GraspGraphTable {
-  double rotation_weight = 0.1;         // cost per radian of in-hand rotation (the original's)
+  double rotation_weight = 0.1;           // cost per radian of in-hand rotation (the original's)
   std::vector<std::int32_t> state_node;   // per state
   std::vector<std::int32_t> state_angle;  // per state: absolute angle index in [0, angle_count)
   // Compressed adjacency: edges leaving state s are [offsets[s], offsets[s + 1]).

@@ -18,11 +18,11 @@ inline constexpr const char* kObjectSchema = "dmgplace.object";
 inline constexpr int kObjectSchemaVersion = 3;  // 3: the grasp graph is stored
 
 struct MassProperties {
-  double volume = 0;                                    // m^3, from the closed mesh
-  double mass = 0;                                      // kg
-  Eigen::Vector3d com = Eigen::Vector3d::Zero();        // object frame
-  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();    // about the COM, kg m^2
-  bool com_overridden = false;                          // --com given by the user
+  double volume = 0;                                  // m^3, from the closed mesh
+  double mass = 0;                                    // kg
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();      // object frame
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();  // about the COM, kg m^2
+  bool com_overridden = false;                        // --com given by the user
 };
 
 // A stable resting face: merged convex-hull facets. Only stable faces are stored.
@@ -35,21 +35,21 @@ struct PlacementFace {
 };
 
 struct PlacementFaces {
-  double merge_angle = 0.2;      // rad: a face holds the hull facets within this of its seed facet's normal
-  double required_margin = 0.01; // m: a face is stable when margin >= this
+  double merge_angle = 0.2;       // rad: a face holds the hull facets within this of its seed facet's normal
+  double required_margin = 0.01;  // m: a face is stable when margin >= this
   std::vector<PlacementFace> faces;
 };
 
 // Parallel-jaw gripper in its TCP frame: z approach (palm -> fingertips), y closing axis, TCP
 // between the finger pads at the contact depth.
 struct GripperModel {
-  double max_opening = 0.08;        // m between the pads
-  double finger_length = 0.055;     // along z
-  double finger_width = 0.022;      // along x
-  double finger_thickness = 0.027;  // along y, outward from the pad
-  double tip_offset = 0.01;         // fingertip beyond the TCP along z
-  Eigen::Vector3d palm_size{0.07, 0.215, 0.095};     // box, full extents
-  Eigen::Vector3d palm_center{0.0, -0.002, -0.0834}; // box center in the TCP frame
+  double max_opening = 0.08;                          // m between the pads
+  double finger_length = 0.055;                       // along z
+  double finger_width = 0.022;                        // along x
+  double finger_thickness = 0.027;                    // along y, outward from the pad
+  double tip_offset = 0.01;                           // fingertip beyond the TCP along z
+  Eigen::Vector3d palm_size{0.07, 0.215, 0.095};      // box, full extents
+  Eigen::Vector3d palm_center{0.0, -0.002, -0.0834};  // box center in the TCP frame
   // Pads are checked this far off the contact: the surface may rise this much under a pad (a
   // curved or scanned surface; compliant pads), as the original allowed 3-5 mm of protrusion.
   double contact_tolerance = 0.003;
@@ -64,15 +64,15 @@ struct DmgNode {
   int opposite_patch = 0;  // patch hit by the other finger
   int first_angle = 0;
   int angle_count = 0;
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // finger-1 contact on the surface
-  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();   // outward unit patch normal (grasp axis)
-  Eigen::Vector3d zero_axis = Eigen::Vector3d::UnitX();  // unit, perpendicular to normal
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();        // finger-1 contact on the surface
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();         // outward unit patch normal (grasp axis)
+  Eigen::Vector3d zero_axis = Eigen::Vector3d::UnitX();      // unit, perpendicular to normal
   Eigen::Vector3d opposite_point = Eigen::Vector3d::Zero();  // finger-2 contact: ray along -normal
   Eigen::Vector3d opposite_normal = Eigen::Vector3d::UnitZ();
 };
 
 struct Dmg {
-  double angle_step_deg = 10;   // divides 360
+  double angle_step_deg = 10;  // divides 360
   double seed_resolution = 0.01;
   double normal_threshold = 0.07;
   int patch_count = 0;

@@ -10,7 +10,8 @@
 namespace dmgplace::formats {
 
 // Throws dmgplace::Error(file, element, ...) for a non-finite value or a quaternion shorter than 1e-6.
-Eigen::Isometry3d pose_from_xyz_quaternion(std::span<const double, 7> v, const std::string& file, const std::string& element);
+Eigen::Isometry3d pose_from_xyz_quaternion(std::span<const double, 7> v, const std::string& file,
+                                           const std::string& element);
 Eigen::Isometry3d pose_from_xyz_rpy(std::span<const double, 6> v, const std::string& file, const std::string& element);
 
 }  // namespace dmgplace::formats

@@ -14,7 +14,8 @@
 namespace dmgplace::formats {
 
 inline constexpr const char* kRobotSchema = "dmgplace.robot";
-inline constexpr int kRobotSchemaVersion = 5;  // 3: self-distance tables; 4: convex hulls of mesh shapes; 5: acceleration limits
+inline constexpr int kRobotSchemaVersion =
+    5;  // 3: self-distance tables; 4: convex hulls of mesh shapes; 5: acceleration limits
 
 // One sphere of the fast collision model, in its link's frame.
 struct LinkSphere {
@@ -34,8 +35,8 @@ struct SelfDistanceTable {
   int link_a = -1, link_b = -1;
   std::array<int, 2> joints{-1, -1};  // model joint indices; joints[1] = -1 for a 1-D table
   std::array<double, 2> lower{0, 0}, step{1, 1}, slope{0, 0};
-  std::array<int, 2> count{1, 1};     // nodes per joint (count[1] = 1 for a 1-D table)
-  std::vector<float> distance;        // count[0] x count[1], row-major; rounded down, 0 on contact
+  std::array<int, 2> count{1, 1};  // nodes per joint (count[1] = 1 for a 1-D table)
+  std::vector<float> distance;     // count[0] x count[1], row-major; rounded down, 0 on contact
 
   // The proven lower bound at joint values x0 (joints[0]) and x1 (joints[1]; ignored for 1-D).
   double lower_bound(double x0, double x1) const {

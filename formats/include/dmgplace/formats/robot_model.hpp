@@ -18,13 +18,13 @@ struct Link {
 struct Joint {
   std::string name;
   JointType type = JointType::Fixed;
-  int parent = -1;  // link index
-  int child = -1;   // link index
+  int parent = -1;                                           // link index
+  int child = -1;                                            // link index
   Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  // child frame in parent frame at q = 0
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();           // unit, in the joint frame
   double lower = 0, upper = 0, velocity = 0;
   double acceleration = 0;  // max |q''| (joint_limits.yaml); 0: not given, timing uses its default
-  int mimic = -1;  // joint index this one follows: q = multiplier * q_mimic + offset
+  int mimic = -1;           // joint index this one follows: q = multiplier * q_mimic + offset
   double mimic_multiplier = 1, mimic_offset = 0;
 };
 
@@ -32,7 +32,7 @@ struct RobotModel {
   std::string name;
   std::vector<Link> links;
   std::vector<Joint> joints;
-  std::string arm_base, arm_tip;                 // the planning chain
+  std::string arm_base, arm_tip;                   // the planning chain
   std::vector<std::pair<int, int>> allowed_pairs;  // link pairs never checked against each other
 
   int link_index(const std::string& n) const {

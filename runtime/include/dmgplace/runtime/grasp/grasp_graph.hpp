@@ -32,7 +32,7 @@ class GraspGraph {
   const formats::Dmg& dmg() const { return dmg_; }
   const WeightedGraph& graph() const { return graph_; }
   GraspMove move(int edge) const { return moves_[edge]; }  // edge index as in graph()
-  double angle_step() const { return step_; }               // rad
+  double angle_step() const { return step_; }              // rad
   // State of (node, angle), or -1 when the angle is not in the node's interval.
   int find(int node, int angle) const;
 
@@ -45,7 +45,8 @@ class GraspGraph {
   // The state whose TCP pose is nearest `tcp` (metres + snap_weight x rotation angle, the gripper's
   // 180-degree symmetry about z counted as the same pose, plus |opening difference| if an opening is given).
   // Returns -1 for an empty graph; `distance` (optional) receives the score.
-  int snap(const Eigen::Isometry3d& tcp, std::optional<double> opening = std::nullopt, double* distance = nullptr) const;
+  int snap(const Eigen::Isometry3d& tcp, std::optional<double> opening = std::nullopt,
+           double* distance = nullptr) const;
   static constexpr double snap_weight = 0.05;  // m per rad
 
  private:

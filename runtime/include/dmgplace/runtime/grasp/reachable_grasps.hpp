@@ -15,7 +15,7 @@ struct InHandAction {
   int from_state = 0, to_state = 0;
   // Translation: finger contacts from start to end, one point per DMG node passed.
   std::vector<Eigen::Vector3d> finger1_path, finger2_path;
-  double distance = 0;                                    // finger-1 path length (m)
+  double distance = 0;                                       // finger-1 path length (m)
   Eigen::Vector3d push_direction = Eigen::Vector3d::Zero();  // unit, finger 1's first move
   // Rotation: the gripper turns by `angle` (rad, right-handed) about `axis` (the grasp axis,
   // towards finger 1) through `pivot` (the TCP), relative to the object.
@@ -32,8 +32,8 @@ struct ReachableGrasp {
 };
 
 struct ReachableGrasps {
-  int initial_state = -1;       // the snapped initial grasp (-1: the object has no grasps)
-  double snap_distance = 0;     // how far the given pose was from it (see GraspGraph::snap)
+  int initial_state = -1;              // the snapped initial grasp (-1: the object has no grasps)
+  double snap_distance = 0;            // how far the given pose was from it (see GraspGraph::snap)
   std::vector<ReachableGrasp> grasps;  // by increasing cost, the initial grasp first
   ShortestPaths paths;                 // over all states of the graph
   // In-hand actions from the initial grasp to `state` (consecutive moves of one kind merged).

@@ -31,18 +31,18 @@ std::optional<ObjectiveTerm::Kind> parse_objective_kind(const std::string& s);  
 
 struct PlacementOptions {
   // Goal sampling (Algorithm 2).
-  int max_depth = 4;            // quadtree x theta levels below a region (smallest theta 2 pi / 4^4)
-  double ucb_c = 0.5;           // UCB1 exploration constant
-  int goal_iterations = 25;     // i_max: MCTS iterations per goal-sampling call
+  int max_depth = 4;         // quadtree x theta levels below a region (smallest theta 2 pi / 4^4)
+  double ucb_c = 0.5;        // UCB1 exploration constant
+  int goal_iterations = 25;  // i_max: MCTS iterations per goal-sampling call
   // Relaxed rewards of invalid samples (the authors' weights), normalised by their sum.
   double reward_arm_free = 0.1, reward_object_free = 0.15, reward_contact = 0.15, reward_objective = 0.25,
          reward_reachable = 0.2;
   // Grasp selection (Algorithm 3).
-  double p_accept = 0.9;        // a cached grasp whose hand fits is taken with this probability
-  int hand_tries = 8;           // beyond the paper: hand-checked draws from G(g0) \ G first (0: off)
+  double p_accept = 0.9;  // a cached grasp whose hand fits is taken with this probability
+  int hand_tries = 8;     // beyond the paper: hand-checked draws from G(g0) \ G first (0: off)
   // Validity.
-  double lift = 0.004;          // goal configurations hold the object this far above the support (m)
-  int ik_restarts = 4;          // random restarts after the seed
+  double lift = 0.004;  // goal configurations hold the object this far above the support (m)
+  int ik_restarts = 4;  // random restarts after the seed
   // Motion planning.
   double motion_resolution = 0.05;  // joint-space collision check step (rad)
   int threads = 0;                  // 0: synchronous and deterministic; N > 0: N planner worker threads
@@ -50,7 +50,7 @@ struct PlacementOptions {
   int max_open_goals = 64;          // goal sampling pauses while this many wait for a path
   // Local optimisation (OPTIMIZELOCALLY).
   bool optimize_locally = true;
-  double local_step = 0.01;     // initial step of the object along the gradient (m; rad for theta)
+  double local_step = 0.01;  // initial step of the object along the gradient (m; rad for theta)
   double local_min_step = 0.0005;
   int local_iterations = 100;
   // Beyond the paper.
@@ -61,10 +61,10 @@ struct PlacementOptions {
   // within the budget (retreat_iterations planner iterations, at most retreat_time s) is dropped.
   bool check_retreat = true;
   double release_clearance = 0.01;  // m per finger
-  double retreat_distance = 0.08;  // m
+  double retreat_distance = 0.08;   // m
   int retreat_iterations = 5000;
-  double retreat_time = 1.0;       // s
-  double tie_tolerance = 1e-4;     // objective values this close count as equal: fewer in-hand actions win
+  double retreat_time = 1.0;    // s
+  double tie_tolerance = 1e-4;  // objective values this close count as equal: fewer in-hand actions win
   // Timed trajectories of every path returned: fractions of the robot's velocity and
   // acceleration limits (MoveIt's scaling factors).
   double velocity_scaling = 1.0;
@@ -90,19 +90,20 @@ void check_placement_options(const PlacementOptions& o, const std::string& sourc
 // holds q0 while the pusher's tool pushes the object in the closed gripper (PlacementSolution::pushes).
 struct PusherSpec {
   std::string base, tip;  // the pusher's chain; base is the grasping arm's base or rigid with it
-  Eigen::Isometry3d tcp = Eigen::Isometry3d::Identity();  // the tool's contact point in the tip frame, z the push direction
-  double standoff = 0.03;        // m: the tool starts and ends each push this far from the object
-  double step = 0.005;           // m: Cartesian step of the pushes, each solved by IK
-  double plan_time = 0.5;        // s: budget of each free motion to and from a push
-  int plan_iterations = 3000;    // and its planner iterations (deterministic runs end on these)
+  Eigen::Isometry3d tcp =
+      Eigen::Isometry3d::Identity();  // the tool's contact point in the tip frame, z the push direction
+  double standoff = 0.03;             // m: the tool starts and ends each push this far from the object
+  double step = 0.005;                // m: Cartesian step of the pushes, each solved by IK
+  double plan_time = 0.5;             // s: budget of each free motion to and from a push
+  int plan_iterations = 3000;         // and its planner iterations (deterministic runs end on these)
 };
 
 struct PlacementQuery {
-  Eigen::VectorXd q0;                                   // arm chain joints, the kinematics' order
+  Eigen::VectorXd q0;                                    // arm chain joints, the kinematics' order
   Eigen::Isometry3d g0 = Eigen::Isometry3d::Identity();  // initial grasp: TCP pose in the object frame
-  std::optional<double> g0_opening;                     // m; unset: the grasp graph's own
-  std::optional<Eigen::AlignedBox3d> volume;            // target volume; unset: the environment's
-  std::optional<Eigen::VectorXd> retreat_configuration; // where the arm retreats to; unset: q0
+  std::optional<double> g0_opening;                      // m; unset: the grasp graph's own
+  std::optional<Eigen::AlignedBox3d> volume;             // target volume; unset: the environment's
+  std::optional<Eigen::VectorXd> retreat_configuration;  // where the arm retreats to; unset: q0
   // Plans each in-hand action for this arm; unset: the actions are reported for a second arm or a
   // fixture to perform. The pusher starts and ends at its joints' values in the world.
   std::optional<PusherSpec> pusher;

@@ -28,23 +28,24 @@ inline constexpr const char* kInHandPlannedNote =
 // configuration to a pre-push pose `standoff` from the object, in to the contact, the push (the
 // contact moving with the object), back out along the push, and home again.
 struct PushPlan {
-  int action = 0;                                            // index in PlacementSolution::in_hand
-  Eigen::Vector3d contact = Eigen::Vector3d::Zero();         // world: where the tool touches the object
-  Eigen::Vector3d direction = Eigen::Vector3d::Zero();       // world, unit: the tool's push at the contact
-  Eigen::Isometry3d object_before = Eigen::Isometry3d::Identity(), object_after = Eigen::Isometry3d::Identity();  // world
-  Eigen::Isometry3d grasp_after = Eigen::Isometry3d::Identity();  // TCP in the object frame after the action
-  JointPath path;                 // the pusher's joints (PlacementResult::pusher_joints)
+  int action = 0;                                       // index in PlacementSolution::in_hand
+  Eigen::Vector3d contact = Eigen::Vector3d::Zero();    // world: where the tool touches the object
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // world, unit: the tool's push at the contact
+  Eigen::Isometry3d object_before = Eigen::Isometry3d::Identity(),
+                    object_after = Eigen::Isometry3d::Identity();  // world
+  Eigen::Isometry3d grasp_after = Eigen::Isometry3d::Identity();   // TCP in the object frame after the action
+  JointPath path;                    // the pusher's joints (PlacementResult::pusher_joints)
   int push_begin = 0, push_end = 0;  // waypoints of `path` in contact with the object: [push_begin, push_end]
-  Trajectory trajectory;          // `path` timed under the pusher's limits
+  Trajectory trajectory;             // `path` timed under the pusher's limits
 };
 
 struct PlacementCounters {
-  long iterations = 0;        // outer loop rounds
-  long samples = 0;           // poses sampled by MCTS rollouts
-  long stable = 0;            // ... of which stable on their region
-  long object_free = 0;       // ... and with the object free of the scene
-  long improving = 0;         // ... and improving on the best so far
-  long cached_grasps = 0;     // samples whose grasp came from Algorithm 3's cache
+  long iterations = 0;     // outer loop rounds
+  long samples = 0;        // poses sampled by MCTS rollouts
+  long stable = 0;         // ... of which stable on their region
+  long object_free = 0;    // ... and with the object free of the scene
+  long improving = 0;      // ... and improving on the best so far
+  long cached_grasps = 0;  // samples whose grasp came from Algorithm 3's cache
   long ik_calls = 0, ik_solutions = 0;
   long reachable = 0;         // IK solutions free of collision: kinematically reachable samples
   long collision_checks = 0;  // arm configurations checked (fast layer; exact where needed)
@@ -68,15 +69,15 @@ struct PlacementSolution {
   int grasp_state = -1;        // grasp-graph state of g*
   Eigen::Isometry3d grasp = Eigen::Isometry3d::Identity();  // g*: TCP in the object frame
   double opening = 0;
-  double grasp_cost = 0;                // in-hand path cost from g0
-  std::vector<InHandAction> in_hand;    // g0 -> g*
-  JointPath path;     // q0 ... placement configuration (object held `lift` above its resting pose)
-  JointPath retreat;  // placement configuration ... retreat configuration (empty when not checked)
-  double release_opening = 0;     // m: the fingers open this far to let go (the retreat is checked so)
-  Trajectory trajectory;          // `path` timed under the arm's limits (options' scaling)
-  Trajectory retreat_trajectory;  // `retreat` timed the same way (empty when it is)
-  std::vector<PushPlan> pushes;   // one per in_hand action when the query has a pusher
-  double time = 0;    // seconds since run() started
+  double grasp_cost = 0;              // in-hand path cost from g0
+  std::vector<InHandAction> in_hand;  // g0 -> g*
+  JointPath path;                     // q0 ... placement configuration (object held `lift` above its resting pose)
+  JointPath retreat;                  // placement configuration ... retreat configuration (empty when not checked)
+  double release_opening = 0;         // m: the fingers open this far to let go (the retreat is checked so)
+  Trajectory trajectory;              // `path` timed under the arm's limits (options' scaling)
+  Trajectory retreat_trajectory;      // `retreat` timed the same way (empty when it is)
+  std::vector<PushPlan> pushes;       // one per in_hand action when the query has a pusher
+  double time = 0;                    // seconds since run() started
   PlacementCounters counters;
 };
 
@@ -92,11 +93,11 @@ struct PlacementResult {
   PlacementCounters counters;
   double seconds = 0;
   int reachable_grasps = 0;
-  int initial_state = -1;     // the grasp-graph state nearest g0: in-hand sequences start there
-  double snap_distance = 0;   // how far g0 is from it (GraspGraph::snap's score: m + 0.05 m/rad)
-  double initial_opening = 0; // g0's finger opening (given, or measured on the object's mesh)
+  int initial_state = -1;                  // the grasp-graph state nearest g0: in-hand sequences start there
+  double snap_distance = 0;                // how far g0 is from it (GraspGraph::snap's score: m + 0.05 m/rad)
+  double initial_opening = 0;              // g0's finger opening (given, or measured on the object's mesh)
   std::vector<std::string> pusher_joints;  // the pusher's joints, PushPlan::path's order (empty: no pusher)
-  std::string reason;  // why there is no solution (empty when there is one)
+  std::string reason;                      // why there is no solution (empty when there is one)
   bool solved() const { return !improvements.empty(); }
   const PlacementSolution& best() const { return improvements.back(); }
 };

@@ -91,15 +91,15 @@ class Kinematics {
   std::shared_ptr<const RobotModel> model_;  // shared by copies (e.g. one per finger opening)
   int base_ = -1, tip_ = -1;
   bool base_is_root_ = false;
-  std::vector<int> chain_joints_;        // independent moving joints from base to tip
-  std::vector<int> path_joints_;         // every joint from base to tip (fixed included), in order
+  std::vector<int> chain_joints_;  // independent moving joints from base to tip
+  std::vector<int> path_joints_;   // every joint from base to tip (fixed included), in order
   // The fixed joints that end the path (a wrist flange, a hand, a TCP) as one transform:
   // chain_pose composes path_joints_[0, path_moving_end_) and then this.
   std::size_t path_moving_end_ = 0;
   Eigen::Isometry3d path_tail_ = Eigen::Isometry3d::Identity();
-  std::vector<int> order_;               // joints in topological order (parents first)
-  std::vector<int> chain_slot_;          // joint -> index in q, or -1
-  std::vector<double> fixed_values_;     // joint values of non-chain joints
+  std::vector<int> order_;            // joints in topological order (parents first)
+  std::vector<int> chain_slot_;       // joint -> index in q, or -1
+  std::vector<double> fixed_values_;  // joint values of non-chain joints
   std::vector<std::string> joint_names_;
   Eigen::VectorXd lower_, upper_;
 };

@@ -85,7 +85,8 @@ class BallMotion {
   void add_revolute(const Eigen::Vector3d& axis, const Eigen::Vector3d& origin, double rate, double reach);
   // The same with the center's lever arm known: axis x (center - origin), and its norm (callers
   // that bound one ball over several joint subsets compute each arm once).
-  void add_revolute_arm(const Eigen::Vector3d& axis, const Eigen::Vector3d& arm, double arm_norm, double rate, double reach);
+  void add_revolute_arm(const Eigen::Vector3d& axis, const Eigen::Vector3d& arm, double arm_norm, double rate,
+                        double reach);
   void add_prismatic(const Eigen::Vector3d& axis, double rate, double reach);
   DisplacementBound bound() const;
   BallVelocity velocity() const { return {center_, linear_, angular_, radius_}; }

@@ -94,7 +94,8 @@ class ExactChecker {
   // ball first, and one farther than that from the smallest time so far cannot end it sooner. A
   // gap is proven only up to `enough_gap` (GJK stops there) unless its time then falls short of
   // `enough_time`.
-  double link_environment_time(const std::vector<Eigen::Isometry3d>& poses, int link, double enough_gap, double enough_time,
+  double link_environment_time(const std::vector<Eigen::Isometry3d>& poses, int link, double enough_gap,
+                               double enough_time,
                                const std::function<double(double gap, const Eigen::Vector3d& n)>& time,
                                const std::function<double(double t)>& reach) const;
   // Whether those gaps can be had: the scene all primitives, every link shape a primitive or a mesh

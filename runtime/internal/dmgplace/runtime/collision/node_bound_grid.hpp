@@ -49,7 +49,8 @@ class NodeBoundGrid {
     const MF cx = __builtin_convertvector(u + half, MF), cy = __builtin_convertvector(v + half, MF),
              cz = __builtin_convertvector(w + half, MF);
     const MF index = cx + dims_[0] * (cy + dims_[1] * cz);
-    const F dx = px - (ox + res * __builtin_convertvector(cx, F)), dy = py - (oy + res * __builtin_convertvector(cy, F)),
+    const F dx = px - (ox + res * __builtin_convertvector(cx, F)),
+            dy = py - (oy + res * __builtin_convertvector(cy, F)),
             dz = pz - (oz + res * __builtin_convertvector(cz, F));
     alignas(32) int idx[lanes::WF];
     alignas(32) float dist[lanes::WF];

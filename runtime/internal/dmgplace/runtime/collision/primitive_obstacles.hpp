@@ -80,7 +80,8 @@ class PrimitiveObstacles {
     };
     if (all_have_bits()) {
       const std::uint64_t every = lanes_.size() == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << lanes_.size()) - 1;
-      for (std::uint64_t left = candidates & every; left && clear; left &= left - 1) test(std::size_t(__builtin_ctzll(left)));
+      for (std::uint64_t left = candidates & every; left && clear; left &= left - 1)
+        test(std::size_t(__builtin_ctzll(left)));
       return clear;
     }
     for (std::size_t i = 0; i < lanes_.size() && clear; ++i)
@@ -94,7 +95,8 @@ class PrimitiveObstacles {
   // both. In floats: the caller adds its rounding margin to `need`. `wide`: compiled for AVX
   // (lanes::bits).
   DMGPLACE_LANES_INLINE std::uint32_t clear_reaching_lanes(const float* x, const float* y, const float* z, float need,
-                                                           std::uint32_t alive, std::uint64_t& reach, bool wide = false) const {
+                                                           std::uint32_t alive, std::uint64_t& reach,
+                                                           bool wide = false) const {
     if (!all_have_bits()) {
       reach = ~std::uint64_t(0);
       return clear_lanes(x, y, z, need, alive, reach, wide);
@@ -122,10 +124,10 @@ class PrimitiveObstacles {
  private:
   struct Primitive {
     ShapeType type;
-    Eigen::Matrix3d to_local;    // rotation world -> shape
-    Eigen::Vector3d origin;      // shape center in the world
-    Eigen::Vector3d half;        // box: half extents; cylinder: radius, -, half length; sphere: radius
-    double bound_radius = 0;     // every point of the shape is within this of `origin`
+    Eigen::Matrix3d to_local;  // rotation world -> shape
+    Eigen::Vector3d origin;    // shape center in the world
+    Eigen::Vector3d half;      // box: half extents; cylinder: radius, -, half length; sphere: radius
+    double bound_radius = 0;   // every point of the shape is within this of `origin`
   };
   static double local_distance(const Primitive& s, const Eigen::Vector3d& p);
   // A primitive as the float lanes read it: rotation (row-major) and origin already in every lane
@@ -183,7 +185,8 @@ class PrimitiveObstacles {
                                                         float need, bool wide) {
     using lanes::splatf;
     const float reach = need + s.bound_radius;
-    const lanes::F dx = x - lanes::load(s.origin[0]), dy = y - lanes::load(s.origin[1]), dz = z - lanes::load(s.origin[2]);
+    const lanes::F dx = x - lanes::load(s.origin[0]), dy = y - lanes::load(s.origin[1]),
+                   dz = z - lanes::load(s.origin[2]);
     return lanes::bits(dx * dx + dy * dy + dz * dz < splatf(reach * reach), wide);
   }
   std::vector<LanePrimitive> lanes_;  // prims_ in floats
@@ -201,8 +204,8 @@ class PrimitiveObstacles {
   static double distance_portable(const std::vector<DistanceBlock>& blocks, const Eigen::Vector3d& p);
   static void distances_avx2(const std::vector<LanePrimitive>& prims, const float* x, const float* y, const float* z,
                              float* out);
-  static void distances_portable(const std::vector<LanePrimitive>& prims, const float* x, const float* y, const float* z,
-                                 float* out);
+  static void distances_portable(const std::vector<LanePrimitive>& prims, const float* x, const float* y,
+                                 const float* z, float* out);
 };
 
 }  // namespace dmgplace::runtime

@@ -54,7 +54,7 @@ struct SphereCheck {
   // A ball inside a link's solid reaches an exact primitive, or another link's inner ball: the
   // configuration collides, no exact check needed (the rest of this answer is then incomplete).
   bool proven_collision = false;
-  double min_clearance = 0;   // smallest proven (distance - radius) seen, metres
+  double min_clearance = 0;  // smallest proven (distance - radius) seen, metres
   // check_along() only. When free: q + t * direction is free for every t in [0, free_distance]
   // (the spheres cannot move farther than their clearance); 0 when nothing is certified. When
   // links or pairs are flagged (and nothing overflowed or was proven): the same for everything
@@ -71,8 +71,8 @@ class SphereFieldChecker {
  public:
   // `sdf` is the environment's signed distance in the kinematics' base frame; `band` the value
   // far cells were clamped to (distances at or above it are "at least band").
-  SphereFieldChecker(const Kinematics& kin, std::vector<formats::LinkSphere> spheres,
-                     std::shared_ptr<const Grid3> sdf, double band, double padding = 0.0);
+  SphereFieldChecker(const Kinematics& kin, std::vector<formats::LinkSphere> spheres, std::shared_ptr<const Grid3> sdf,
+                     double band, double padding = 0.0);
   // For a scene of exact primitives alone (PrimitiveObstacles::from_scene, at most 64 of them:
   // all_have_bits()), which every check then reads instead of a field: nothing is baked for a
   // new scene. Other scenes: dmgplace::Error.
@@ -109,14 +109,16 @@ class SphereFieldChecker {
   // forward kinematics with the exact layer.
   SphereCheck check(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses) const;
   SphereCheck check_along(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses,
-                          const Eigen::VectorXd& direction, double enough = std::numeric_limits<double>::infinity()) const;
+                          const Eigen::VectorXd& direction,
+                          double enough = std::numeric_limits<double>::infinity()) const;
   bool is_free(const Eigen::VectorXd& q) const { return check(q).free(); }
 
   // How long along `direction` (joint space, as check_along) a flagged link keeps an exact
   // clearance `gap` (metres) to the scene, or a flagged pair of links their exact gap: the same
   // speed bounds as the spheres' certificates, over the link's whole body. 0 when the link has no
   // body here (no spheres) or the pair is not one this checker tests.
-  double link_time(const std::vector<Eigen::Isometry3d>& poses, int link, double gap, const Eigen::VectorXd& direction) const;
+  double link_time(const std::vector<Eigen::Isometry3d>& poses, int link, double gap,
+                   const Eigen::VectorXd& direction) const;
   double pair_time(const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b, double gap,
                    const Eigen::VectorXd& direction) const;
   // The speed bounds behind link_time and pair_time (time = bound.time_to_move(gap)), for a caller
@@ -143,7 +145,8 @@ class SphereFieldChecker {
   // leaves a test undecided, by the lanes' own bound (motion_bounds) where smaller. Nothing is
   // proven (0) where speeds are unknown (a mimic joint follows a chain joint) or a static
   // widening passes 1 m.
-  std::uint32_t free_lanes_along(const double* const* q, int count, const Eigen::VectorXd& direction, double reach) const;
+  std::uint32_t free_lanes_along(const double* const* q, int count, const Eigen::VectorXd& direction,
+                                 double reach) const;
   // free_lanes_along's widening, lane by lane, for tests and diagnostics: for every body
   // (link_b = -1) and then every checked pair, how far it can move (a pair: relative to each
   // other) within `reach` along +-direction from q[k], in metres: the smaller of the static bound
@@ -178,9 +181,9 @@ class SphereFieldChecker {
   struct Body {
     int link = -1;
     std::vector<ChainJoint> chain;  // chain joints that move this body, the link's own joint first
-    int lever_begin = 0;     // its chain's first lever arm in a query's per-body cache (Pass::levers)
-    int begin = 0, end = 0;  // sphere range
-    int local = 0;           // its spheres in pair_spheres_ (offset)
+    int lever_begin = 0;            // its chain's first lever arm in a query's per-body cache (Pass::levers)
+    int begin = 0, end = 0;         // sphere range
+    int local = 0;                  // its spheres in pair_spheres_ (offset)
     Eigen::Vector3d center = Eigen::Vector3d::Zero();
     double radius = 0;
     // A long body's capsule (geometry/capsule.hpp), kept for three spheres or more where it is
@@ -199,7 +202,7 @@ class SphereFieldChecker {
   // A self-distance table as the hot path reads it: distances as uint16 tenths of a millimetre
   // rounded down (half the memory, so both Panda tables stay in cache), no division per lookup.
   struct Table {
-    int slot[2] = {-1, -1};  // q indices of the table's joints; slot[1] = -1 for a 1-D table
+    int slot[2] = {-1, -1};           // q indices of the table's joints; slot[1] = -1 for a 1-D table
     formats::SelfDistanceTable data;  // joints, grid and slopes (its distances are not read here)
     double inv_step[2] = {1, 1};
     std::vector<std::uint16_t> tenths_mm;
@@ -232,7 +235,9 @@ class SphereFieldChecker {
         const double x = slot[k] >= 0 ? q[slot[k]] : 0.0;
         const double u = (x - data.lower[std::size_t(k)]) * inv_step[k];
         const long i = !(u > 0) ? 0 : std::min(long(std::min(u, 1e9) + 0.5), long(data.count[std::size_t(k)]) - 1);
-        if (loss) *loss += data.slope[std::size_t(k)] * std::abs(x - (data.lower[std::size_t(k)] + double(i) * data.step[std::size_t(k)]));
+        if (loss)
+          *loss += data.slope[std::size_t(k)] *
+                   std::abs(x - (data.lower[std::size_t(k)] + double(i) * data.step[std::size_t(k)]));
         index = index * std::size_t(data.count[std::size_t(k)]) + std::size_t(i);
       }
       return index;
@@ -248,8 +253,8 @@ class SphereFieldChecker {
   void build_pairs();
   void build_static_reach();
   struct Pass;  // one query's passes: environment, self pairs, certificate (src/collision/sphere_check_pass.hpp)
-  SphereCheck evaluate(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses, const Eigen::VectorXd* direction,
-                       double enough) const;
+  SphereCheck evaluate(const Eigen::VectorXd& q, const std::vector<Eigen::Isometry3d>& poses,
+                       const Eigen::VectorXd* direction, double enough) const;
   const std::vector<Eigen::Isometry3d>& poses_at(const Eigen::VectorXd& q) const;  // thread-local FK
   // Joints moving one body of a pair relative to the other (those above both move them together).
   struct PairMoves {
@@ -314,14 +319,14 @@ class SphereFieldChecker {
   // what each test needs (free_lanes_along's static bounds); null: none. `motion` (with widen):
   // a body whose bounding sphere the static widening leaves undecided is widened by its lanes'
   // own bound instead, where smaller.
-  static std::uint32_t free_lanes_avx2(const SphereFieldChecker& c, const double* const* q, int count, const float* widen,
-                                       const LaneMotion* motion);
+  static std::uint32_t free_lanes_avx2(const SphereFieldChecker& c, const double* const* q, int count,
+                                       const float* widen, const LaneMotion* motion);
   static std::uint32_t free_lanes_portable(const SphereFieldChecker& c, const double* const* q, int count,
                                            const float* widen, const LaneMotion* motion);
   // `wide`: a vector of lanes is one register (AVX2), so masks are ORed and turned into bits once;
   // the portable build compares lane by lane, where bits per test cost less.
-  static std::uint32_t free_lanes_body(const SphereFieldChecker& c, const double* const* q, int count, const float* widen,
-                                       const LaneMotion* motion, bool wide);
+  static std::uint32_t free_lanes_body(const SphereFieldChecker& c, const double* const* q, int count,
+                                       const float* widen, const LaneMotion* motion, bool wide);
   struct LanePass;  // free_lanes_body's query: environment, then self pairs (src/collision/sphere_lane_pass.hpp)
   // free_lanes works in floats: lanes whose body centers stay within lane_limit_ metres of the
   // origin on every axis, every test that can say "free" widened by lane_margin() metres, which
@@ -337,14 +342,14 @@ class SphereFieldChecker {
   // distances in float lanes (Pass::exact_distances) are lower bounds by this much.
   double exact_float_error_ = 0;
   std::vector<Body> bodies_;
-  double reach_ = 0;  // no sphere gets farther than this from the model root's origin
-  double link_reach_ = 0;  // nor from its own link's origin
-  std::vector<Pair> pairs_;                   // body pairs checked for self-collision
-  std::vector<PairMoves> pair_moves_;         // per pair
+  double reach_ = 0;                   // no sphere gets farther than this from the model root's origin
+  double link_reach_ = 0;              // nor from its own link's origin
+  std::vector<Pair> pairs_;            // body pairs checked for self-collision
+  std::vector<PairMoves> pair_moves_;  // per pair
   // static_speeds as one product: a row per body, then per pair (the pair's relative joints), a
   // column per chain joint (its slot in q), each entry the sum of that joint's reaches in the row.
   Eigen::MatrixXd static_reach_;
-  int lever_count_ = 0;                       // chain joints summed over the bodies
+  int lever_count_ = 0;                               // chain joints summed over the bodies
   std::shared_ptr<const std::vector<Table>> tables_;  // shared by every per-grasp copy
   // Every `kCoarseStride`-th node of the distance grid: small enough to stay in cache, and with
   // a nearest-node bound (value - distance to the node, 1-Lipschitz) it clears most bodies in one
@@ -353,8 +358,8 @@ class SphereFieldChecker {
   std::shared_ptr<const NodeBoundGrid> coarse_, fine_;  // shared by every per-grasp copy
   double coarse_lower_bound(const Eigen::Vector3d& p) const;
   double fine_lower_bound(const Eigen::Vector3d& p) const;
-  std::vector<std::pair<int, int>> allowed_;  // link pairs
-  std::vector<int> touching_;                 // links the attached object may touch
+  std::vector<std::pair<int, int>> allowed_;             // link pairs
+  std::vector<int> touching_;                            // links the attached object may touch
   std::shared_ptr<const PrimitiveObstacles> obstacles_;  // null unless the scene is all primitives
   // A few primitives (at most 64, as the lanes' reach masks hold): their exact distances, in
   // cache and with no cell loss or band, cost less than the field's loads (measured on bench-mbm's
@@ -366,8 +371,8 @@ class SphereFieldChecker {
   double inner(int sphere) const { return std::size_t(sphere) < inner_->size() ? (*inner_)[std::size_t(sphere)] : 0.0; }
   double band_, padding_;
   Eigen::Vector3d lo_ = Eigen::Vector3d::Zero(), hi_ = Eigen::Vector3d::Zero();  // grid bounds (none: zero)
-  int attached_link_ = -1;   // link carrying the attached object, -1 when none
-  int attached_begin_ = 0;   // first sphere of the attached object
+  int attached_link_ = -1;  // link carrying the attached object, -1 when none
+  int attached_begin_ = 0;  // first sphere of the attached object
 };
 
 }  // namespace dmgplace::runtime

@@ -15,11 +15,12 @@
 namespace dmgplace::runtime {
 
 struct CheckCounters {
-  std::atomic<long> fast{0};         // every query
-  std::atomic<long> exact_pairs{0};  // settled by exact checks of the flagged links and pairs only
-  std::atomic<long> exact_full{0};   // needed the full exact check
+  std::atomic<long> fast{0};               // every query
+  std::atomic<long> exact_pairs{0};        // settled by exact checks of the flagged links and pairs only
+  std::atomic<long> exact_full{0};         // needed the full exact check
   std::atomic<long> proven_collisions{0};  // settled as colliding by the spheres' inner balls
-  std::atomic<long> exact_gaps{0};   // flagged links and pairs all settled (and certified, when asked) by exact clearances
+  std::atomic<long> exact_gaps{
+      0};  // flagged links and pairs all settled (and certified, when asked) by exact clearances
 };
 
 class TwoLayerChecker {
@@ -57,7 +58,8 @@ class TwoLayerChecker {
       ++counters_->fast;
       fd = f.free_distance;
       iso = f.isotropic_distance;
-    } else if (const double t = gaps_ && enough > 0 && !f.proven_collision ? exact_gaps(poses, f, direction, enough, iso) : 0.0;
+    } else if (const double t =
+                   gaps_ && enough > 0 && !f.proven_collision ? exact_gaps(poses, f, direction, enough, iso) : 0.0;
                t > 0) {
       ++counters_->fast;
       ++counters_->exact_gaps;
@@ -77,7 +79,8 @@ class TwoLayerChecker {
   }
   // The same, each bit proving every configuration within `reach` of q[k] along +-direction
   // (SphereFieldChecker::free_lanes_along).
-  std::uint32_t proven_free_along(const double* const* q, int count, const Eigen::VectorXd& direction, double reach) const {
+  std::uint32_t proven_free_along(const double* const* q, int count, const Eigen::VectorXd& direction,
+                                  double reach) const {
     counters_->fast += count;
     return fast_.free_lanes_along(q, count, direction, reach);
   }
@@ -176,7 +179,7 @@ class TwoLayerChecker {
   }
   SphereFieldChecker fast_;
   ExactChecker exact_;
-  bool gaps_ = false;  // exact_gaps is worth asking (gaps_are_cheap)
+  bool gaps_ = false;        // exact_gaps is worth asking (gaps_are_cheap)
   bool mesh_links_ = false;  // links_have_meshes
   std::shared_ptr<CheckCounters> counters_;
 };

@@ -11,7 +11,7 @@ namespace dmgplace::runtime {
 
 struct EnvironmentModel {
   Eigen::AlignedBox3d volume;
-  std::shared_ptr<const Grid3> sdf;        // null when the artifact has none
+  std::shared_ptr<const Grid3> sdf;  // null when the artifact has none
   double sdf_band = 0;
   bool sdf_signed = true;
   std::shared_ptr<const Grid3> clearance;  // null when the artifact has none

@@ -24,16 +24,19 @@ inline __attribute__((always_inline)) void fast_sincos_core(double x, double& s,
   const double j = (x * kTwoOverPi + kRound) - kRound;
   const double y = (x - j * kPio2Hi) - j * kPio2Lo;
   const double z = y * y;
-  const double sy = y + y * z * (-1.66666666666666307295e-1 +
-                                 z * (8.33333333332211858878e-3 +
-                                      z * (-1.98412698295895385996e-4 +
-                                           z * (2.75573136213857245213e-6 +
-                                                z * (-2.50507477628578072866e-8 + z * 1.58962301576546568060e-10)))));
-  const double cy = 1.0 - 0.5 * z + z * z * (4.16666666666665929218e-2 +
-                                             z * (-1.38888888888730564116e-3 +
-                                                  z * (2.48015872888517045348e-5 +
-                                                       z * (-2.75573141792967388112e-7 +
-                                                            z * (2.08757008419747316778e-9 + z * -1.13585365213876817300e-11)))));
+  const double sy = y + y * z *
+                            (-1.66666666666666307295e-1 +
+                             z * (8.33333333332211858878e-3 +
+                                  z * (-1.98412698295895385996e-4 +
+                                       z * (2.75573136213857245213e-6 +
+                                            z * (-2.50507477628578072866e-8 + z * 1.58962301576546568060e-10)))));
+  const double cy = 1.0 - 0.5 * z +
+                    z * z *
+                        (4.16666666666665929218e-2 +
+                         z * (-1.38888888888730564116e-3 +
+                              z * (2.48015872888517045348e-5 +
+                                   z * (-2.75573141792967388112e-7 +
+                                        z * (2.08757008419747316778e-9 + z * -1.13585365213876817300e-11)))));
   const int q = static_cast<int>(j) & 3;  // quadrant: (s, c) = (sy, cy), (cy, -sy), (-sy, -cy), (-cy, sy)
   const double ss = (q & 1) ? cy : sy, cc = (q & 1) ? sy : cy;
   s = (q & 2) ? -ss : ss;
@@ -86,8 +89,10 @@ DMGPLACE_LANES_INLINE void fast_sincos_f8(const double* x, float* s, float* c) {
   const MF q = __builtin_shufflevector(q4[0], q4[1], 0, 1, 2, 3, 4, 5, 6, 7);
   const F z = y * y;
   const F sy = y + y * z * (splatf(-1.6666654611e-1f) + z * (splatf(8.3321608736e-3f) + z * splatf(-1.9515295891e-4f)));
-  const F cy = splatf(1.0f) - splatf(0.5f) * z +
-               z * z * (splatf(4.166664568298827e-2f) + z * (splatf(-1.388731625493765e-3f) + z * splatf(2.443315711809948e-5f)));
+  const F cy =
+      splatf(1.0f) - splatf(0.5f) * z +
+      z * z *
+          (splatf(4.166664568298827e-2f) + z * (splatf(-1.388731625493765e-3f) + z * splatf(2.443315711809948e-5f)));
   // The quadrant, as fast_sincos_core: (s, c) = (sy, cy), (cy, -sy), (-sy, -cy), (-cy, sy).
   const MF one = MF{} + 1, two = one + one;
   const MF odd = (q & one) != MF{};

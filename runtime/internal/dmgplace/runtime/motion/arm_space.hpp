@@ -23,6 +23,7 @@ ompl::base::SpaceInformationPtr make_arm_space(const Kinematics& kin, ValidityFn
 // The space over a two-layer checker: its validity, its certified motions, and its batch proofs
 // (short stretches near obstacles state by state, wider ones by span batches; AVX2 only).
 // `checker` must outlive the space.
-ompl::base::SpaceInformationPtr make_arm_space(const Kinematics& kin, const TwoLayerChecker& checker, double resolution);
+ompl::base::SpaceInformationPtr make_arm_space(const Kinematics& kin, const TwoLayerChecker& checker,
+                                               double resolution);
 
 }  // namespace dmgplace::runtime

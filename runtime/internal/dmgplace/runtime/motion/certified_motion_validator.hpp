@@ -27,9 +27,11 @@ class CertifiedMotionValidator : public ompl::base::MotionValidator {
   struct Certificate {
     double reach, estimate;
   };
-  using CertificateFn = std::function<Certificate(const Eigen::VectorXd& q, const Eigen::VectorXd& direction, double enough)>;
+  using CertificateFn =
+      std::function<Certificate(const Eigen::VectorXd& q, const Eigen::VectorXd& direction, double enough)>;
   // The same with the estimate the reach itself.
-  using FreeDistanceFn = std::function<double(const Eigen::VectorXd& q, const Eigen::VectorXd& direction, double enough)>;
+  using FreeDistanceFn =
+      std::function<double(const Eigen::VectorXd& q, const Eigen::VectorXd& direction, double enough)>;
   static CertificateFn certificate_of(FreeDistanceFn free_distance);
   // Bit k set: every configuration within `reach` (joint-space length, 0: q[k] alone) of q[k]
   // (of `count` <= 8) along +-direction is proven free; unset means undecided.

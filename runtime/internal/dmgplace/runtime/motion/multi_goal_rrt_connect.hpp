@@ -21,9 +21,9 @@ namespace dmgplace::runtime {
 
 struct FoundPath {
   int goal_id = -1;
-  JointPath path;        // start ... goal, every segment valid at the motion resolution
-  double length = 0;     // joint-space length
-  double time_found = 0; // seconds since solve() started
+  JointPath path;         // start ... goal, every segment valid at the motion resolution
+  double length = 0;      // joint-space length
+  double time_found = 0;  // seconds since solve() started
   // When the trees met (or the straight line held), before shortcutting: the time OMPL's stock
   // planners report, since they do not shorten their paths.
   double time_connected = 0;

@@ -53,7 +53,7 @@ class MultiGraspPlanner {
     std::shared_ptr<MultiGoalRRTConnect> planner;
     bool busy = false;
   };
-  Entry& entry(int grasp);  // mutex_ held
+  Entry& entry(int grasp);                                // mutex_ held
   void collect(int grasp, MultiGoalRRTConnect& planner);  // mutex_ held
   void work();
 

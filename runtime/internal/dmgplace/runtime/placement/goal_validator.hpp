@@ -36,8 +36,8 @@ struct GoalCounters {
 
 class GoalValidator {
  public:
-  GoalValidator(const PlacementWorld& world, const SearchSpace& space, const Objective& objective, PerGraspCheckers& per_grasp,
-                GraspSelector& selector, const PlacementQuery& query);
+  GoalValidator(const PlacementWorld& world, const SearchSpace& space, const Objective& objective,
+                PerGraspCheckers& per_grasp, GraspSelector& selector, const PlacementQuery& query);
   // `better(value)`: whether an objective value would improve on the best solution so far.
   GoalCheck check(const PlacementSample& s, const std::function<bool(double)>& better, std::mt19937_64& rng);
   Eigen::Isometry3d lifted(const Eigen::Isometry3d& resting) const;

@@ -16,7 +16,7 @@
 namespace dmgplace::runtime {
 
 struct LocalOptimum {
-  JointPath steps;  // configurations after the start, each reached by a valid segment
+  JointPath steps;                       // configurations after the start, each reached by a valid segment
   std::vector<Eigen::Isometry3d> poses;  // resting pose after each step
   std::vector<double> values;            // objective after each step (increasing)
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // resting pose reached (the last step's)

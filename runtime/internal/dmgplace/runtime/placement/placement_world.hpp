@@ -88,7 +88,9 @@ class PlacementWorld {
   // Fingers at `opening` (< 0: as the world's kinematics has them).
   bool hand_free(const Eigen::Isometry3d& tcp_world, double opening = -1) const;
   // Hand links' poses in the TCP frame with the fingers at `opening` (>= 0; tests, viewers).
-  const std::vector<std::pair<int, Eigen::Isometry3d>>& hand_at(double opening) const { return fingers_at(opening).hand; }
+  const std::vector<std::pair<int, Eigen::Isometry3d>>& hand_at(double opening) const {
+    return fingers_at(opening).hand;
+  }
 
  private:
   formats::RobotArtifact robot_;

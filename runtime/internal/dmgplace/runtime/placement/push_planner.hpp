@@ -50,8 +50,8 @@ class PushPlanner {
   // cannot be: then the grasp they lead to is out of reach. Each action is planned once per
   // planner (cached by its two grasp states). Thread-safe.
   std::optional<std::vector<PushPlan>> plan(const std::vector<InHandAction>& actions, const TimingOptions& timing);
-  long planned() const;     // actions planned so far (cache misses)
-  double seconds() const;   // time spent planning them
+  long planned() const;    // actions planned so far (cache misses)
+  double seconds() const;  // time spent planning them
 
  private:
   std::optional<PushPlan> plan_action(const InHandAction& a);

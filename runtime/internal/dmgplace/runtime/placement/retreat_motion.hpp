@@ -19,8 +19,8 @@ namespace dmgplace::runtime {
 
 struct RetreatScene {
   const Kinematics* kin = nullptr;
-  const TwoLayerChecker* arm = nullptr;          // empty-handed, fingers open, against the scene
-  const ExactChecker* placed = nullptr;          // the same robot with the object as an obstacle
+  const TwoLayerChecker* arm = nullptr;                       // empty-handed, fingers open, against the scene
+  const ExactChecker* placed = nullptr;                       // the same robot with the object as an obstacle
   const std::vector<formats::LinkSphere>* spheres = nullptr;  // their union covers every link
   Eigen::Vector3d object_center = Eigen::Vector3d::Zero();    // the placed object's bounding ball (world)
   double object_radius = 0;

@@ -56,7 +56,7 @@ struct Kinematics::Lanes {
     int parent = 0, child = 0, slot = -1;
     double mult = 1, offset = 0;
     double O[9], OK[9], OKK[9], t[3], a[3];  // origin rotation (row-major), Rodrigues terms, translation, O * axis
-    bool quarter = false;  // JointMotionTerms' quarter-turn form
+    bool quarter = false;                    // JointMotionTerms' quarter-turn form
     int perm[3] = {0, 1, 2}, axis = -1;
     double sign[3] = {1, 1, 1}, axis_sign = 1;
   };

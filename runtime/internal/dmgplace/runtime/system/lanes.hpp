@@ -65,22 +65,31 @@ concept Vector = std::is_same_v<V, D> || std::is_same_v<V, F> || std::is_same_v<
 template <class T>
 using VectorOf = std::conditional_t<std::is_same_v<T, double>, D, F>;
 template <class T>
-  requires Vector<VectorOf<T>>
-DMGPLACE_LANES_INLINE VectorOf<T> load(const T* p) {
+requires Vector<VectorOf<T>> DMGPLACE_LANES_INLINE VectorOf<T> load(const T* p) {
   VectorOf<T> v;
   std::memcpy(&v, p, sizeof v);
   return v;
 }
 template <class T>
-DMGPLACE_LANES_INLINE void store(T* p, VectorOf<T> v) { std::memcpy(p, &v, sizeof v); }
+DMGPLACE_LANES_INLINE void store(T* p, VectorOf<T> v) {
+  std::memcpy(p, &v, sizeof v);
+}
 template <Vector V>
-DMGPLACE_LANES_INLINE V min(V a, V b) { return a < b ? a : b; }
+DMGPLACE_LANES_INLINE V min(V a, V b) {
+  return a < b ? a : b;
+}
 template <Vector V>
-DMGPLACE_LANES_INLINE V max(V a, V b) { return a > b ? a : b; }
+DMGPLACE_LANES_INLINE V max(V a, V b) {
+  return a > b ? a : b;
+}
 template <Vector V>
-DMGPLACE_LANES_INLINE V max0(V a) { return max(a, V{}); }
+DMGPLACE_LANES_INLINE V max0(V a) {
+  return max(a, V{});
+}
 template <Vector V>
-DMGPLACE_LANES_INLINE V abs(V a) { return max(a, -a); }
+DMGPLACE_LANES_INLINE V abs(V a) {
+  return max(a, -a);
+}
 template <Vector V>
 DMGPLACE_LANES_INLINE V sqrt(V a) {
   V r;

@@ -6,8 +6,8 @@ namespace dmgplace::runtime {
 
 enum class SimdPath { Portable, Avx2 };
 
-SimdPath simd_path();                      // the path in use
-void force_simd_path(SimdPath p);          // tests; Avx2 is refused (stays Portable) without the CPU
+SimdPath simd_path();              // the path in use
+void force_simd_path(SimdPath p);  // tests; Avx2 is refused (stays Portable) without the CPU
 const char* to_string(SimdPath p);
 
 // Puts back the path in use when it was made: a test that forces a path cannot leak it into the

@@ -43,8 +43,8 @@ namespace dmgplace::tools {
 struct BatchBake {
   std::string kind;  // robot, object, environment
   std::string name;
-  std::vector<std::string> args;                 // after the command, without --out
-  std::vector<std::filesystem::path> inputs;     // files read (their bytes enter the identity)
+  std::vector<std::string> args;              // after the command, without --out
+  std::vector<std::filesystem::path> inputs;  // files read (their bytes enter the identity)
 };
 
 // One query run of a template.

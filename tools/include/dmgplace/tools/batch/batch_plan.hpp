@@ -12,13 +12,13 @@
 namespace dmgplace::tools {
 
 struct BatchTask {
-  std::string id;    // 64 hex digits
-  std::string kind;  // robot, object, environment, query
-  std::string name;  // e.g. "object bottle", "query cabinet/bottle@cabinet/side/full/1"
-  std::vector<std::string> args;          // dmgplace's arguments, the output included
-  std::filesystem::path output;           // the artifact, or the run folder (result.json)
-  std::vector<std::string> deps;          // ids of the bakes a query needs
-  std::string query_yaml;                 // a query's file, written into its run folder first
+  std::string id;                 // 64 hex digits
+  std::string kind;               // robot, object, environment, query
+  std::string name;               // e.g. "object bottle", "query cabinet/bottle@cabinet/side/full/1"
+  std::vector<std::string> args;  // dmgplace's arguments, the output included
+  std::filesystem::path output;   // the artifact, or the run folder (result.json)
+  std::vector<std::string> deps;  // ids of the bakes a query needs
+  std::string query_yaml;         // a query's file, written into its run folder first
   // Columns of the collected dataset.
   std::string robot, object, environment, grasp, variant;
   std::array<double, 7> g0{};

@@ -13,13 +13,13 @@
 namespace dmgplace::tools {
 
 struct BatchOptions {
-  std::filesystem::path cli;   // the dmgplace executable the tasks run
-  int jobs = 1;                // tasks at a time
+  std::filesystem::path cli;  // the dmgplace executable the tasks run
+  int jobs = 1;               // tasks at a time
   int shard_index = 1, shard_count = 1;
-  std::string phase = "all";   // all, bakes, queries (a Slurm array job runs one phase)
-  bool dry_run = false;        // list what would run, run nothing
-  bool json = false;           // one JSON object per finished task on `out` (for log shippers)
-  bool deep = true;            // every bake's output passes `validate --deep` before a query uses it
+  std::string phase = "all";  // all, bakes, queries (a Slurm array job runs one phase)
+  bool dry_run = false;       // list what would run, run nothing
+  bool json = false;          // one JSON object per finished task on `out` (for log shippers)
+  bool deep = true;           // every bake's output passes `validate --deep` before a query uses it
 };
 
 struct BatchTotals {

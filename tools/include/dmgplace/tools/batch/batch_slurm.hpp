@@ -8,11 +8,11 @@ namespace dmgplace::tools {
 
 struct SlurmOptions {
   std::filesystem::path cli, manifest, out;
-  int array_size = 4;      // shards
-  std::string partition;   // empty: the cluster's default
-  std::string time;        // HH:MM:SS per array task; empty: the partition's default
+  int array_size = 4;     // shards
+  std::string partition;  // empty: the cluster's default
+  std::string time;       // HH:MM:SS per array task; empty: the partition's default
   std::string sbatch = "sbatch";
-  bool deep = true;        // false: the bakes skip `validate --deep` (batch --no-deep)
+  bool deep = true;  // false: the bakes skip `validate --deep` (batch --no-deep)
 };
 
 struct SlurmSubmission {

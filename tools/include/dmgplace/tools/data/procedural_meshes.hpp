@@ -17,7 +17,7 @@ struct BottleShape {
   double shoulder_height = 0.02;  // may be 0 (a flat step from body to cap)
   double cap_radius = 0.012;      // must be smaller than body_radius
   double cap_height = 0.025;
-  int segments = 32;              // vertices per ring, at least 3
+  int segments = 32;  // vertices per ring, at least 3
 };
 
 // Axis-aligned box centered at the origin with full edge lengths `extents` (12 triangles).

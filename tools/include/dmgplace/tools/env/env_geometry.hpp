@@ -8,9 +8,9 @@
 namespace dmgplace::tools {
 
 struct EnvGeometry {
-  std::vector<TriMesh> meshes;  // world frame, one per shape
-  std::vector<bool> closed;     // per mesh: closed manifold, so its inside is well defined
-  RowMatrixX3d points;          // scan points, world frame
+  std::vector<TriMesh> meshes;         // world frame, one per shape
+  std::vector<bool> closed;            // per mesh: closed manifold, so its inside is well defined
+  RowMatrixX3d points;                 // scan points, world frame
   Eigen::AlignedBox3d bounds() const;  // of all vertices and points (empty box if none)
   bool any_closed() const;
 };

@@ -22,12 +22,15 @@ struct RunRecord {
   double first_time() const { return improvements.empty() ? -1 : improvements.front().first; }
 };
 
-std::filesystem::path run_folder(const std::filesystem::path& dir, const std::string& problem, const std::string& variant, int seed);
+std::filesystem::path run_folder(const std::filesystem::path& dir, const std::string& problem,
+                                 const std::string& variant, int seed);
 // One run's result.json (errors name the file).
-RunRecord read_run(const std::filesystem::path& result_json, const std::string& problem, const std::string& variant, int seed);
+RunRecord read_run(const std::filesystem::path& result_json, const std::string& problem, const std::string& variant,
+                   int seed);
 // Every finished run under DIR/runs, sorted by problem, variant, seed.
 std::vector<RunRecord> read_runs(const std::filesystem::path& dir);
 // summary.csv: one row per run with the objective at each of `report_times`.
-void write_summary(const std::filesystem::path& csv, const std::vector<RunRecord>& runs, const std::vector<double>& report_times);
+void write_summary(const std::filesystem::path& csv, const std::vector<RunRecord>& runs,
+                   const std::vector<double>& report_times);
 
 }  // namespace dmgplace::tools

@@ -14,9 +14,9 @@ struct ExperimentOptions {
   std::filesystem::path artifacts;  // overrides the spec's
   int runs = 0;                     // > 0 overrides the spec's (or the quick preset's)
   int jobs = 1;
-  bool quick = false;               // the spec's quick preset: few seeds, seconds each
-  double time_limit = -1;           // >= 0 overrides
-  bool redraw_progress = false;     // one progress line redrawn in place (a terminal) or a line per run
+  bool quick = false;            // the spec's quick preset: few seeds, seconds each
+  double time_limit = -1;        // >= 0 overrides
+  bool redraw_progress = false;  // one progress line redrawn in place (a terminal) or a line per run
 };
 
 struct ExperimentTotals {

@@ -9,9 +9,9 @@ namespace dmgplace::tools {
 
 struct ChartSeries {
   std::string label;
-  std::string color;            // any SVG colour
-  std::vector<double> x, y;     // same length
-  std::vector<double> lo, hi;   // optional band, same length as x (NaN: none)
+  std::string color;           // any SVG colour
+  std::vector<double> x, y;    // same length
+  std::vector<double> lo, hi;  // optional band, same length as x (NaN: none)
 };
 
 struct ChartOptions {

@@ -9,8 +9,8 @@ namespace dmgplace::tools {
 
 // Options of the placement-face analysis (not the planner's runtime::PlacementOptions).
 struct FaceOptions {
-  double merge_angle = 0.2;      // rad: a face grows from its seed facet over neighbours within this of the seed's normal
-  double margin = 0.01;          // m: COM projection at least this far inside the support polygon...
+  double merge_angle = 0.2;  // rad: a face grows from its seed facet over neighbours within this of the seed's normal
+  double margin = 0.01;      // m: COM projection at least this far inside the support polygon...
   double margin_fraction = 0.1;  // ...but at most this fraction of the object's smallest width (small objects)
 };
 

@@ -31,18 +31,18 @@ struct PlacementQueryFile {
   std::vector<double> start_list;                    // either a list in chain order...
   std::map<std::string, double> start_named;         // ... or joint name -> value
   double time_limit = 10;
-  runtime::PlacementQuery query;                     // q0 filled by resolve_start()
+  runtime::PlacementQuery query;  // q0 filled by resolve_start()
 };
 
 // Relative artifact paths are resolved against `artifact_dir`, or the query's folder when empty.
 // A path that leads outside that folder (`..`, an absolute path, a symbolic link) is refused
 // unless `allow_outside`. Unknown or duplicate keys and out-of-range values are refused with the
 // key, its line and the range.
-PlacementQueryFile read_placement_query(const std::filesystem::path& path, const std::filesystem::path& artifact_dir = {},
-                                        bool allow_outside = false);
+PlacementQueryFile read_placement_query(const std::filesystem::path& path,
+                                        const std::filesystem::path& artifact_dir = {}, bool allow_outside = false);
 // `text` resolved against `root`; throws (naming file and element) when it escapes root, unless allowed.
-std::filesystem::path resolve_artifact_path(const std::string& text, const std::filesystem::path& root, bool allow_outside,
-                                            const std::string& file, const std::string& element);
+std::filesystem::path resolve_artifact_path(const std::string& text, const std::filesystem::path& root,
+                                            bool allow_outside, const std::string& file, const std::string& element);
 // The named start entries for joints outside the robot's arm chain (another arm, a torso): pass
 // them to the PlacementWorld, which sets and checks them. A name that is no joint of the robot is
 // refused here, naming the query file.

@@ -16,11 +16,11 @@ namespace dmgplace::tools {
 // One line per improvement for the terminal.
 std::string solution_line(const runtime::PlacementSolution& s);
 // The result as JSON text.
-std::string result_json(const PlacementQueryFile& query, const runtime::PlacementResult& r, const runtime::Kinematics& kin);
+std::string result_json(const PlacementQueryFile& query, const runtime::PlacementResult& r,
+                        const runtime::Kinematics& kin);
 // Writes result.json, trace.csv, path.csv and the trajectories into `dir` (created), each atomically.
 void write_placement_result(const std::filesystem::path& dir, const PlacementQueryFile& query,
                             const runtime::PlacementResult& r, const runtime::Kinematics& kin,
                             TrajectoryFormat format = TrajectoryFormat::Json);
-
 
 }  // namespace dmgplace::tools

@@ -15,7 +15,7 @@
 namespace dmgplace::tools {
 
 struct RobotBakeOptions {
-  std::filesystem::path urdf, srdf;  // srdf may be empty
+  std::filesystem::path urdf, srdf;    // srdf may be empty
   std::filesystem::path joint_limits;  // MoveIt joint_limits.yaml (may be empty): velocity/acceleration limits
   std::vector<std::filesystem::path> package_paths;
   std::string arm_base, arm_tip;

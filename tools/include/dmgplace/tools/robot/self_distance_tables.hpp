@@ -18,12 +18,12 @@
 namespace dmgplace::tools {
 
 struct SelfTableOptions {
-  double step = 0.02;        // radians between nodes (the bound loses slope * step / 2 per joint)
+  double step = 0.02;          // radians between nodes (the bound loses slope * step / 2 per joint)
   int overlap_samples = 2000;  // random joint values tried to see whether the spheres overlap
-  int threads = 0;           // <= 0: all cores
+  int threads = 0;             // <= 0: all cores
   bool enabled = true;
-  int coarse_stride = 4;     // 1: every node exact
-  double exact_below = 0.05; // m: nodes bounded below this are computed exactly
+  int coarse_stride = 4;      // 1: every node exact
+  double exact_below = 0.05;  // m: nodes bounded below this are computed exactly
   // Nodes settled of all nodes so far known (the tables are found one by one).
   ProgressFn progress;
 };

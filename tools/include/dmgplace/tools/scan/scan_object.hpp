@@ -18,10 +18,10 @@ struct ScanObjectOptions {
 };
 
 struct ScanObject {
-  TriMesh mesh;                                  // object frame
-  std::vector<Eigen::Vector3d> points, normals;  // the segmented scan points, object frame
+  TriMesh mesh;                                              // object frame
+  std::vector<Eigen::Vector3d> points, normals;              // the segmented scan points, object frame
   Eigen::Vector3d origin_in_scan = Eigen::Vector3d::Zero();  // object frame origin in the scan frame
-  SegmentedObject segmented;                     // in the scan frame
+  SegmentedObject segmented;                                 // in the scan frame
   ReconstructionReport reconstruction;
 };
 

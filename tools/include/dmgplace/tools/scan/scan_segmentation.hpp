@@ -15,15 +15,15 @@ namespace dmgplace::tools {
 enum class SupportPlane { Auto, Remove, Keep };
 
 struct ScanSegmentOptions {
-  std::optional<Eigen::AlignedBox3d> crop;  // keep only points inside (cloud frame)
-  bool whole_crop = false;                  // take the cropped points as the object: no plane, no clusters
+  std::optional<Eigen::AlignedBox3d> crop;          // keep only points inside (cloud frame)
+  bool whole_crop = false;                          // take the cropped points as the object: no plane, no clusters
   SupportPlane support_plane = SupportPlane::Auto;  // Auto: removed when wider than the object on it
-  double plane_distance = 0.005;            // m: RANSAC inlier distance of the plane
-  double cluster_tolerance = 0.01;          // m: Euclidean clustering gap
+  double plane_distance = 0.005;                    // m: RANSAC inlier distance of the plane
+  double cluster_tolerance = 0.01;                  // m: Euclidean clustering gap
   int min_cluster_points = 50;
-  int cluster = -1;                         // >= 0: that cluster (largest first)
+  int cluster = -1;                             // >= 0: that cluster (largest first)
   std::optional<Eigen::Vector3d> cluster_near;  // the cluster with the point nearest this
-  int normal_neighbours = 20;               // k of the normal estimation (no smoothing)
+  int normal_neighbours = 20;                   // k of the normal estimation (no smoothing)
   // Moving least squares: each point projected onto a quadric fitted within this radius, which
   // also gives its normal; takes sensor noise out of hulls and Poisson surfaces. 0: off.
   double smoothing_radius = 0.01;
@@ -41,12 +41,13 @@ struct SegmentedObject {
   bool plane_removed = false;
   std::vector<ScanCluster> clusters;  // largest first
   int chosen = -1;
-  std::string orientation;  // "viewpoint" (towards each point's sensor) or "outward" (from the centroid)
+  std::string orientation;         // "viewpoint" (towards each point's sensor) or "outward" (from the centroid)
   std::vector<std::string> notes;  // what was decided, one line each
 };
 
 // Throws dmgplace::Error naming `file` when nothing is left, or several clusters remain and none
 // was chosen (the message lists them with sizes and centroids).
-SegmentedObject segment_object(const std::vector<ScanCloud>& scans, const ScanSegmentOptions& options, const std::string& file);
+SegmentedObject segment_object(const std::vector<ScanCloud>& scans, const ScanSegmentOptions& options,
+                               const std::string& file);
 
 }  // namespace dmgplace::tools

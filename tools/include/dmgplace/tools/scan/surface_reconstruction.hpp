@@ -15,17 +15,17 @@ enum class Reconstruction { Poisson, Hull };
 
 struct ReconstructOptions {
   Reconstruction method = Reconstruction::Poisson;
-  int poisson_depth = 7;             // octree depth: cells of (object size x 1.1) / 2^depth
+  int poisson_depth = 7;                // octree depth: cells of (object size x 1.1) / 2^depth
   double poisson_samples_per_node = 3;  // higher smooths noisier scans
-  double seen_distance = 0;          // m: a surface point this near a scan point was seen; 0: 3 x point spacing
-  double invented_warning = 0.5;     // warn when less than this fraction of the surface was seen
+  double seen_distance = 0;             // m: a surface point this near a scan point was seen; 0: 3 x point spacing
+  double invented_warning = 0.5;        // warn when less than this fraction of the surface was seen
 };
 
 struct ReconstructionReport {
-  double seen_fraction = 0;   // of the surface area, within seen_distance of a scan point
-  double seen_distance = 0;   // m, as used
-  double point_spacing = 0;   // m: median distance of a scan point to its nearest neighbour
-  MeshReport mesh;            // clean_mesh's report on the result
+  double seen_fraction = 0;  // of the surface area, within seen_distance of a scan point
+  double seen_distance = 0;  // m, as used
+  double point_spacing = 0;  // m: median distance of a scan point to its nearest neighbour
+  MeshReport mesh;           // clean_mesh's report on the result
   std::vector<std::string> warnings;
 };
 

@@ -19,8 +19,8 @@ enum class StderrTo {
 };
 
 struct ProcessOptions {
-  std::optional<std::string> input;      // written to the child's stdin; none: stdin reads /dev/null
-  std::filesystem::path cwd;             // the child's working directory; empty: this process's
+  std::optional<std::string> input;                      // written to the child's stdin; none: stdin reads /dev/null
+  std::filesystem::path cwd;                             // the child's working directory; empty: this process's
   std::vector<std::pair<std::string, std::string>> env;  // NAME=VALUE set on top of this process's environment
   StderrTo stderr_to = StderrTo::inherit;
 };

@@ -13,18 +13,18 @@ namespace dmgplace::tools {
 
 struct DeepOptions {
   std::uint64_t seed = 1;
-  int samples = 1000;          // per check (a field, a table, ...)
-  bool check_inputs = false;   // also hold the artifact against the inputs its header names, where found
-  int threads = 0;             // <= 0: every CPU the process may use
+  int samples = 1000;         // per check (a field, a table, ...)
+  bool check_inputs = false;  // also hold the artifact against the inputs its header names, where found
+  int threads = 0;            // <= 0: every CPU the process may use
 };
 
 // One re-derived fact over its samples.
 struct DeepCheck {
-  std::string name;          // what was compared, e.g. "signed distance field at grid nodes"
-  std::string dataset;       // the HDF5 dataset whose numbers were compared
+  std::string name;     // what was compared, e.g. "signed distance field at grid nodes"
+  std::string dataset;  // the HDF5 dataset whose numbers were compared
   int samples = 0;
-  double worst = 0;          // largest disagreement (in `unit`)
-  double tolerance = 0;      // allowed disagreement (in `unit`)
+  double worst = 0;      // largest disagreement (in `unit`)
+  double tolerance = 0;  // allowed disagreement (in `unit`)
   std::string unit = "m";
   std::string worst_sample;  // where the worst disagreement lies, with both values
   bool ok() const { return worst <= tolerance; }

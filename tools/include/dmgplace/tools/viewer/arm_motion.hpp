@@ -10,7 +10,7 @@
 namespace dmgplace::tools::viewer {
 
 struct ArmMotion {
-  std::vector<int> links;            // robot links drawn: those with collision geometry
+  std::vector<int> links;  // robot links drawn: those with collision geometry
   int frames = 0;
   std::vector<float> frame_times;    // s from the start of the first push (or of the transport), not decreasing
   std::vector<float> link_poses;     // frames x links x 7 (x, y, z, qx, qy, qz, qw), world

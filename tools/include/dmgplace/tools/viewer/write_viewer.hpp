@@ -7,9 +7,9 @@ namespace dmgplace::tools::viewer {
 
 struct ViewerSummary {
   bool solved = false;
-  int steps = 0;            // path + retreat waypoints
-  int frames = 0;           // animation frames after densifying
-  std::size_t bytes = 0;    // page size
+  int steps = 0;          // path + retreat waypoints
+  int frames = 0;         // animation frames after densifying
+  std::size_t bytes = 0;  // page size
 };
 
 // Reads RESULT_DIR/result.json and the artifacts it names (looked up in `artifacts` when given),

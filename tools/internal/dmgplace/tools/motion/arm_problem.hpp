@@ -29,7 +29,7 @@ struct ArmRobot {
   formats::RobotArtifact robot;
   std::unique_ptr<runtime::Kinematics> kin;
   std::unique_ptr<runtime::SphereFieldChecker> fast;  // no field, no scene yet
-  std::unique_ptr<runtime::ExactChecker> exact;        // an empty scene
+  std::unique_ptr<runtime::ExactChecker> exact;       // an empty scene
 };
 std::shared_ptr<const ArmRobot> load_arm_robot(const std::filesystem::path& robot_h5);
 
@@ -54,11 +54,11 @@ ArmProblem load_arm_problem(const std::filesystem::path& robot_h5, const std::fi
 
 struct PlanOutcome {
   bool solved = false;
-  bool valid = false;        // every segment re-checked exactly at the resolution
-  double seconds = 0;         // to the returned path
+  bool valid = false;             // every segment re-checked exactly at the resolution
+  double seconds = 0;             // to the returned path
   double first_path_seconds = 0;  // to the first path, before shortcutting (= seconds for planners that do not shorten)
   double planner_setup_seconds = 0;  // of both: the space, the planner and its goal, before planning
-  double length = 0;         // joint-space path length
+  double length = 0;                 // joint-space path length
   runtime::JointPath path;
 };
 

@@ -28,7 +28,8 @@ struct PoseLanes {
 };
 
 // c = R p + t in every lane, p given in every lane.
-inline __attribute__((always_inline)) void transform(const PoseLanes& T, lanes::F px, lanes::F py, lanes::F pz, LaneXyz& c) {
+inline __attribute__((always_inline)) void transform(const PoseLanes& T, lanes::F px, lanes::F py, lanes::F pz,
+                                                     LaneXyz& c) {
   const lanes::F* t = T.t;
   lanes::store(c.x, t[0] * px + t[1] * py + t[2] * pz + t[9]);
   lanes::store(c.y, t[3] * px + t[4] * py + t[5] * pz + t[10]);
@@ -38,7 +39,8 @@ inline __attribute__((always_inline)) void transform(const PoseLanes& T, lanes::
 // Lanes with every coordinate of p within `limit` (false for NaN): a rounding margin holds there.
 inline __attribute__((always_inline)) lanes::MF within(const LaneXyz& p, float limit) {
   const lanes::F l = lanes::splatf(limit);
-  return (lanes::abs(lanes::load(p.x)) <= l) & (lanes::abs(lanes::load(p.y)) <= l) & (lanes::abs(lanes::load(p.z)) <= l);
+  return (lanes::abs(lanes::load(p.x)) <= l) & (lanes::abs(lanes::load(p.y)) <= l) &
+         (lanes::abs(lanes::load(p.z)) <= l);
 }
 
 }  // namespace kernels

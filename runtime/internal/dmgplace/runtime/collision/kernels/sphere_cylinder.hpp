@@ -6,8 +6,10 @@
 
 namespace dmgplace::runtime::kernels {
 
-inline __attribute__((always_inline)) LaneGap cylinder_gap(lanes::F px, lanes::F py, lanes::F pz, float radius, float half_length) {
-  const lanes::F orad = lanes::sqrt(px * px + py * py) - lanes::splatf(radius), oz = lanes::abs(pz) - lanes::splatf(half_length);
+inline __attribute__((always_inline)) LaneGap cylinder_gap(lanes::F px, lanes::F py, lanes::F pz, float radius,
+                                                           float half_length) {
+  const lanes::F orad = lanes::sqrt(px * px + py * py) - lanes::splatf(radius),
+                 oz = lanes::abs(pz) - lanes::splatf(half_length);
   const lanes::F cr = lanes::max0(orad), cz = lanes::max0(oz);
   return {cr * cr + cz * cz, lanes::min(lanes::max(orad, oz), lanes::F{})};
 }

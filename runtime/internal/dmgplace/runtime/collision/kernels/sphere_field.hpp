@@ -14,16 +14,18 @@ namespace dmgplace::runtime::kernels {
 // In floats: `need` carries the margin, and the grid box is shrunk by it, so a lane inside is
 // inside for its unrounded point too.
 inline __attribute__((always_inline)) std::uint32_t clear_of_field(const LaneXyz& p, float need, float margin,
-                                                                  std::uint32_t alive, const Eigen::Vector3d& lo,
-                                                                  const Eigen::Vector3d& hi, const NodeBoundGrid* coarse,
-                                                                  const NodeBoundGrid& fine, bool wide) {
+                                                                   std::uint32_t alive, const Eigen::Vector3d& lo,
+                                                                   const Eigen::Vector3d& hi,
+                                                                   const NodeBoundGrid* coarse,
+                                                                   const NodeBoundGrid& fine, bool wide) {
   using lanes::F;
   using lanes::splatf;
   const F px = lanes::load(p.x), py = lanes::load(p.y), pz = lanes::load(p.z);
   auto low = [&](double v) { return splatf(float(v) + margin); };
   auto high = [&](double v) { return splatf(float(v) - margin); };
   const std::uint32_t in_grid = lanes::bits((px >= low(lo.x())) & (py >= low(lo.y())) & (pz >= low(lo.z())) &
-                                            (px <= high(hi.x())) & (py <= high(hi.y())) & (pz <= high(hi.z())), wide);
+                                                (px <= high(hi.x())) & (py <= high(hi.y())) & (pz <= high(hi.z())),
+                                            wide);
   alignas(32) float b[lanes::WF];
   auto at_least_need = [&] { return lanes::bits(lanes::load(b) >= splatf(need), wide); };
   std::uint32_t ok = 0;

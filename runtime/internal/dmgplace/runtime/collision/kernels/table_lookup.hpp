@@ -11,18 +11,18 @@
 namespace dmgplace::runtime::kernels {
 
 struct TableLanes {
-  const int* slot;               // q indices of the table's joints; slot[1] = -1 for a 1-D table
+  const int* slot;  // q indices of the table's joints; slot[1] = -1 for a 1-D table
   const std::array<double, 2>& lower;
   const std::array<double, 2>& step;
-  const double* inv_step;        // 1 / step
+  const double* inv_step;  // 1 / step
   const std::array<double, 2>& slope;
   const std::array<int, 2>& count;
   const std::uint16_t* tenths_mm;  // count[0] x count[1] values, row-major, tenths of a mm rounded down
 };
 
 // Bit k set where the table's bound at q[k] (8 configurations) is above `padding`.
-inline __attribute__((always_inline)) std::uint32_t table_apart(const TableLanes& t, const double* const* q, double padding,
-                                                                bool wide) {
+inline __attribute__((always_inline)) std::uint32_t table_apart(const TableLanes& t, const double* const* q,
+                                                                double padding, bool wide) {
   using lanes::D;
   typedef int I __attribute__((vector_size(4 * sizeof(int))));
   std::uint32_t out = 0;
@@ -37,7 +37,8 @@ inline __attribute__((always_inline)) std::uint32_t table_apart(const TableLanes
       u = u > D{} ? u : D{};  // also maps NaN to 0
       u = lanes::min(u, lanes::splat(double(t.count[k] - 1)));
       const I i = __builtin_convertvector(u + lanes::splat(0.5), I);  // u >= 0: truncation rounds
-      loss += lanes::splat(t.slope[k]) * lanes::abs(x - (lower + __builtin_convertvector(i, D) * lanes::splat(t.step[k])));
+      loss +=
+          lanes::splat(t.slope[k]) * lanes::abs(x - (lower + __builtin_convertvector(i, D) * lanes::splat(t.step[k])));
       index = index * t.count[k] + i;
     }
     const D value = D{double(t.tenths_mm[std::size_t(index[0])]), double(t.tenths_mm[std::size_t(index[1])]),
