@@ -20,7 +20,7 @@
 #include "dmgplace/formats/h5_reader.hpp"
 #include "dmgplace/formats/h5_writer.hpp"
 #include "dmgplace/tools/batch/batch_state.hpp"
-#include "dmgplace/tools/data/procedural_meshes.hpp"
+#include "dmgplace/tools/geometry/procedural_meshes.hpp"
 #include "run_cli.hpp"
 #include "test_support.hpp"
 

@@ -4,7 +4,7 @@
 #include "dmgplace/formats/object_artifact.hpp"
 #include "dmgplace/formats/robot_artifact.hpp"
 #include "dmgplace/formats/sha256.hpp"
-#include "dmgplace/tools/data/procedural_meshes.hpp"
+#include "dmgplace/tools/geometry/procedural_meshes.hpp"
 #include "dmgplace/tools/env/bake_environment.hpp"
 #include "dmgplace/tools/io/scene_loader.hpp"
 #include "dmgplace/tools/object/dmg_builder.hpp"

@@ -1,6 +1,6 @@
 #include "fixtures.hpp"
 
-#include "dmgplace/tools/data/procedural_meshes.hpp"
+#include "dmgplace/tools/geometry/procedural_meshes.hpp"
 #include "dmgplace/tools/env/bake_environment.hpp"
 #include "dmgplace/tools/io/scene_loader.hpp"
 #include "dmgplace/tools/io/urdf_reader.hpp"

@@ -2,7 +2,7 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "dmgplace/tools/data/procedural_meshes.hpp"
+#include "dmgplace/tools/geometry/procedural_meshes.hpp"
 
 namespace dmgplace::cli {
 

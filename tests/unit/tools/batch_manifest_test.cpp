@@ -8,7 +8,7 @@
 #include <set>
 
 #include "dmgplace/tools/batch/batch_plan.hpp"
-#include "dmgplace/tools/data/procedural_meshes.hpp"
+#include "dmgplace/tools/geometry/procedural_meshes.hpp"
 #include "test_support.hpp"
 
 namespace dmgplace::tools {

@@ -12,7 +12,7 @@
 #include <set>
 
 #include "dmgplace/formats/error.hpp"
-#include "dmgplace/tools/data/procedural_meshes.hpp"
+#include "dmgplace/tools/geometry/procedural_meshes.hpp"
 #include "dmgplace/tools/object/gripper_model.hpp"
 #include "dmgplace/tools/object/mass_properties.hpp"
 #include "dmgplace/tools/object/placement_faces.hpp"

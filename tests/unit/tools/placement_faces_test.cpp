@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "dmgplace/formats/error.hpp"
-#include "dmgplace/tools/data/procedural_meshes.hpp"
+#include "dmgplace/tools/geometry/procedural_meshes.hpp"
 #include "dmgplace/tools/object/mass_properties.hpp"
 
 namespace dmgplace::tools {

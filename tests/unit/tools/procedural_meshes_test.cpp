@@ -1,5 +1,5 @@
 // Property tests of the built-in procedural meshes and of the STL / OBJ writers.
-#include "dmgplace/tools/data/procedural_meshes.hpp"
+#include "dmgplace/tools/geometry/procedural_meshes.hpp"
 
 #include <gtest/gtest.h>
 

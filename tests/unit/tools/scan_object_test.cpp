@@ -7,7 +7,7 @@
 #include <numbers>
 
 #include "dmgplace/formats/error.hpp"
-#include "dmgplace/tools/data/procedural_meshes.hpp"
+#include "dmgplace/tools/geometry/procedural_meshes.hpp"
 #include "dmgplace/tools/io/pcd_writer.hpp"
 #include "dmgplace/tools/object/dmg_builder.hpp"
 #include "dmgplace/tools/object/gripper_model.hpp"

@@ -1,4 +1,4 @@
-#include "dmgplace/tools/data/procedural_meshes.hpp"
+#include "dmgplace/tools/geometry/procedural_meshes.hpp"
 
 #include <array>
 #include <bit>
