@@ -101,6 +101,13 @@ class PooledObject : public fcl::CollisionObjectd {
   double radius_;
 };
 
+// Two placed parts whose boxes are apart cannot touch (each box bounds its part: the local box
+// moved, or its bounding sphere's). For two primitives fcl::collide goes straight to GJK, so the
+// box test first saves most self pairs of a state.
+bool may_touch(const fcl::CollisionObjectd* a, const fcl::CollisionObjectd* b) {
+  return a->getAABB().overlap(b->getAABB());
+}
+
 // One CollisionObject per part, built once and reused: the constructor walks every vertex of a
 // mesh (FCL recomputes the local AABB), far more than the query itself near an obstacle. A query
 // leases a set, so concurrent queries never share one.
@@ -335,6 +342,7 @@ ExactCheck ExactChecker::check(const Eigen::VectorXd& q) const {
   }
   fcl::CollisionRequestd req;
   for (auto [a, b] : impl.self_pairs) {
+    if (!may_touch(objs[std::size_t(a)], objs[std::size_t(b)])) continue;
     fcl::CollisionResultd res;
     if (fcl::collide(objs[std::size_t(a)], objs[std::size_t(b)], req, res) > 0) {
       out.self_free = false;
@@ -508,10 +516,10 @@ bool ExactChecker::link_pairs_free(const std::vector<Eigen::Isometry3d>& poses, 
     if (!wanted) continue;
     const auto& pa = impl.parts[std::size_t(a)];
     const auto& pb = impl.parts[std::size_t(b)];
+    fcl::CollisionObjectd* oa = lease.place(std::size_t(a), poses[std::size_t(la)] * pa.local);
+    fcl::CollisionObjectd* ob = lease.place(std::size_t(b), poses[std::size_t(lb)] * pb.local);
     fcl::CollisionResultd res;
-    if (fcl::collide(lease.place(std::size_t(a), poses[std::size_t(la)] * pa.local),
-                     lease.place(std::size_t(b), poses[std::size_t(lb)] * pb.local), req, res) > 0)
-      return false;
+    if (may_touch(oa, ob) && fcl::collide(oa, ob, req, res) > 0) return false;
   }
   return true;
 }
@@ -529,10 +537,10 @@ std::vector<std::pair<int, int>> ExactChecker::colliding_link_pairs(const std::v
     const auto& pb = impl.parts[std::size_t(b)];
     const std::pair<int, int> links{std::min(pa.link, pb.link), std::max(pa.link, pb.link)};
     if (std::find(out.begin(), out.end(), links) != out.end()) continue;  // another shape of the pair hit already
+    fcl::CollisionObjectd* oa = lease.place(std::size_t(a), poses[std::size_t(pa.link)] * pa.local);
+    fcl::CollisionObjectd* ob = lease.place(std::size_t(b), poses[std::size_t(pb.link)] * pb.local);
     fcl::CollisionResultd res;
-    if (fcl::collide(lease.place(std::size_t(a), poses[std::size_t(pa.link)] * pa.local),
-                     lease.place(std::size_t(b), poses[std::size_t(pb.link)] * pb.local), req, res) > 0)
-      out.push_back(links);
+    if (may_touch(oa, ob) && fcl::collide(oa, ob, req, res) > 0) out.push_back(links);
   }
   return out;
 }
