@@ -131,6 +131,23 @@ TEST_F(Viewer, PageIsSelfContained) {
   EXPECT_EQ(html.find("src=\"http"), std::string::npos);
 }
 
+// A trajectory.json beside the result whose times run backwards is refused, naming it and the element.
+TEST_F(Viewer, ABadTrajectoryNamesTheFileAndElement) {
+  const fs::path place = dir_->path() / "place";
+  if (!nlohmann::json::parse(test::read_text(place / "result.json"))["solved"].get<bool>())
+    GTEST_SKIP() << "no solution in the placement's time";
+  nlohmann::json t = nlohmann::json::parse(test::read_text(place / "trajectory.json"));
+  ASSERT_GE(t["approach"]["time"].size(), 2u);
+  t["approach"]["time"][1] = -1.0;
+  test::TempDir d;
+  fs::copy_file(place / "result.json", d / "result.json");
+  test::write_text(d / "trajectory.json", t.dump());
+  const std::string msg =
+      test::error_of([&] { tools::viewer::write_viewer(d.path(), d / "x.html", dir_->path() / "artifacts"); });
+  EXPECT_NE(msg.find((d.path() / "trajectory.json").string() + ": /approach/time/1"), std::string::npos) << msg;
+  EXPECT_FALSE(fs::exists(d / "x.html"));
+}
+
 TEST(ViewerInput, MissingResultNamesTheFile) {
   test::TempDir d;
   const std::string msg = test::error_of([&] { tools::viewer::write_viewer(d.path(), d / "x.html"); });

@@ -120,52 +120,64 @@ TEST(LaneKernels, ClearOfFieldAgreesWithTheScalarNodeBounds) {
   EXPECT_GT(found, 1000);
 }
 
-// Outside: the squared distance to the box (Eigen's exterior distance); inside: minus the distance
-// to the nearest face.
-TEST(LaneKernels, BoxGapIsTheExactDistanceToTheBox) {
-  std::mt19937_64 rng(13);
-  std::uniform_real_distribution<double> size(0.01, 0.4);
+// A shape's exact answer at a point: its squared distance from the outside and its depth inside
+// (> 0 inside: the distance to the nearest face).
+struct ExactGap {
+  double out2, depth;
+};
+
+// 2000 random shapes (`draw(rng)` gives the kernel's gaps at lanes of points and the exact answer
+// at a point), 8 random points each: every lane within float rounding of the exact answer.
+template <class Draw>
+void expect_exact_gaps(std::uint64_t seed, Draw draw) {
+  std::mt19937_64 rng(seed);
   int inside = 0, outside = 0;
   for (int round = 0; round < 2000; ++round) {
-    const float half[3] = {float(size(rng)), float(size(rng)), float(size(rng))};
-    const Eigen::Vector3d h(half[0], half[1], half[2]);
-    const Eigen::AlignedBox3d box(-h, h);
+    const auto [kernel, exact] = draw(rng);
     const LaneXyz p = random_points(rng, 0.5);
-    const kernels::LaneGap g = kernels::box_gap(lanes::load(p.x), lanes::load(p.y), lanes::load(p.z), half);
+    const kernels::LaneGap g = kernel(lanes::load(p.x), lanes::load(p.y), lanes::load(p.z));
     for (int k = 0; k < N; ++k) {
       const Eigen::Vector3d q = lane(p, k);
-      const double depth = (h - q.cwiseAbs()).minCoeff();  // > 0 inside: to the nearest face
-      EXPECT_NEAR(g.out2[k], box.squaredExteriorDistance(q), 1e-6) << q.transpose();
-      EXPECT_NEAR(g.inside[k], depth > 0 ? -depth : 0.0, 1e-6) << q.transpose();
-      (depth > 0 ? inside : outside)++;
+      const ExactGap e = exact(q);
+      EXPECT_NEAR(g.out2[k], e.out2, 1e-6) << q.transpose();
+      EXPECT_NEAR(g.inside[k], e.depth > 0 ? -e.depth : 0.0, 1e-6) << q.transpose();
+      (e.depth > 0 ? inside : outside)++;
     }
   }
   EXPECT_GT(inside, 500);
   EXPECT_GT(outside, 5000);
 }
 
+// Outside: the squared distance to the box (Eigen's exterior distance); inside: the distance to
+// the nearest face.
+TEST(LaneKernels, BoxGapIsTheExactDistanceToTheBox) {
+  expect_exact_gaps(13, [](std::mt19937_64& rng) {
+    std::uniform_real_distribution<double> size(0.01, 0.4);
+    const std::array<float, 3> half{float(size(rng)), float(size(rng)), float(size(rng))};
+    const Eigen::Vector3d h(half[0], half[1], half[2]);
+    return std::pair{
+        [half](lanes::F x, lanes::F y, lanes::F z) { return kernels::box_gap(x, y, z, half.data()); },
+        [h](const Eigen::Vector3d& q) {
+          return ExactGap{Eigen::AlignedBox3d(-h, h).squaredExteriorDistance(q), (h - q.cwiseAbs()).minCoeff()};
+        }};
+  });
+}
+
 // The cylinder in (radius, height) coordinates is a rectangle: the same distances in 2-D.
 TEST(LaneKernels, CylinderGapIsTheExactDistanceToTheCylinder) {
-  std::mt19937_64 rng(17);
-  std::uniform_real_distribution<double> size(0.01, 0.4);
-  int inside = 0, outside = 0;
-  for (int round = 0; round < 2000; ++round) {
+  expect_exact_gaps(17, [](std::mt19937_64& rng) {
+    std::uniform_real_distribution<double> size(0.01, 0.4);
     const float radius = float(size(rng)), half_length = float(size(rng));
-    const Eigen::AlignedBox2d section(Eigen::Vector2d(-radius, -half_length), Eigen::Vector2d(radius, half_length));
-    const LaneXyz p = random_points(rng, 0.5);
-    const kernels::LaneGap g =
-        kernels::cylinder_gap(lanes::load(p.x), lanes::load(p.y), lanes::load(p.z), radius, half_length);
-    for (int k = 0; k < N; ++k) {
-      const Eigen::Vector3d q = lane(p, k);
-      const Eigen::Vector2d rz(std::hypot(q.x(), q.y()), q.z());
-      const double depth = std::min(double(radius) - rz.x(), double(half_length) - std::abs(rz.y()));
-      EXPECT_NEAR(g.out2[k], section.squaredExteriorDistance(rz), 1e-6) << q.transpose();
-      EXPECT_NEAR(g.inside[k], depth > 0 ? -depth : 0.0, 1e-6) << q.transpose();
-      (depth > 0 ? inside : outside)++;
-    }
-  }
-  EXPECT_GT(inside, 500);
-  EXPECT_GT(outside, 5000);
+    return std::pair{
+        [=](lanes::F x, lanes::F y, lanes::F z) { return kernels::cylinder_gap(x, y, z, radius, half_length); },
+        [=](const Eigen::Vector3d& q) {
+          const Eigen::AlignedBox2d section(Eigen::Vector2d(-radius, -half_length),
+                                            Eigen::Vector2d(radius, half_length));
+          const Eigen::Vector2d rz(std::hypot(q.x(), q.y()), q.z());
+          return ExactGap{section.squaredExteriorDistance(rz),
+                          std::min(double(radius) - rz.x(), double(half_length) - std::abs(rz.y()))};
+        }};
+  });
 }
 
 // The lanes' table reads agree with the scalar lookup (formats::SelfDistanceTable::lower_bound on
