@@ -9,8 +9,13 @@ IkOptions ik_options(const PlacementOptions& o) {
 }
 }  // namespace
 
-double GoalCheck::reward(const PlacementOptions& o) const {
+double GoalCheck::reward(const PlacementOptions& o, bool solved) const {
   if (valid()) return 1.0;
+  // Once a solution exists, the relaxation below would keep paying the subtree already solved
+  // (its poses stay feasible, and the grasp cache keeps them reachable) nearly as much as a goal,
+  // and any partial credit (an improving pose whose IK succeeds but whose arm always collides)
+  // can hold the tree for good: only goals count from then on, UCB1 on the rate of new goals.
+  if (solved) return 0.0;
   const double total =
       o.reward_arm_free + o.reward_object_free + o.reward_contact + o.reward_objective + o.reward_reachable;
   if (!(total > 0)) return 0.0;

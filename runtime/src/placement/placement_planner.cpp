@@ -264,7 +264,7 @@ struct PlacementPlanner::Run {
       }
       const PlacementSample s = tree->rollout(n, rng);
       const GoalCheck c = validator->check(s, improves, rng);
-      tree->backpropagate(n, c.reward(o));
+      tree->backpropagate(n, c.reward(o, !result.improvements.empty()));
       if (c.kinematically_reachable()) selector->cache(n, c.grasp);
       if (c.valid()) {
         add_goal(c, s);

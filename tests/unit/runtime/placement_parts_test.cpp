@@ -1,5 +1,5 @@
 // The placement planner's parts on synthetic inputs: the object's sphere cover, the search space,
-// the MCTS hierarchy and the objective.
+// the MCTS hierarchy, the samples' reward and the objective.
 #include <gtest/gtest.h>
 
 #include <numbers>
@@ -8,6 +8,7 @@
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/formats/triangle_distance.hpp"
 #include "dmgplace/runtime/collision/object_spheres.hpp"
+#include "dmgplace/runtime/placement/goal_validator.hpp"
 #include "dmgplace/runtime/placement/objective.hpp"
 #include "dmgplace/runtime/placement/placement_tree.hpp"
 #include "fixtures.hpp"
@@ -188,6 +189,36 @@ TEST(PlacementTree, RolloutsStayInsideTheirNodeAndOnSupport) {
   }
   // UCB concentrates visits: the rewarding corner's face-region subtree holds most of them.
   EXPECT_GT(tree.size(), 50);
+}
+
+// Every combination of the five constraints, before and after a first solution.
+TEST(GoalReward, RelaxedUntilAFirstSolutionThenOnlyGoalsCount) {
+  const PlacementOptions o;
+  auto check = [](int bits) {
+    GoalCheck c;
+    c.stable = bits & 1, c.object_free = bits & 2, c.improves = bits & 4, c.reachable = bits & 8, c.arm_free = bits & 16;
+    return c;
+  };
+  for (int bits = 0; bits < 32; ++bits) {
+    const GoalCheck c = check(bits);
+    const double before = c.reward(o, false), after = c.reward(o, true);
+    EXPECT_EQ(before == 1.0, c.valid()) << bits;
+    EXPECT_EQ(after, c.valid() ? 1.0 : 0.0) << "after a solution only a new goal earns: " << bits;
+    EXPECT_GE(before, 0.0);
+    EXPECT_LE(before, 1.0);
+    // Monotone: satisfying one more constraint never lowers the relaxed reward.
+    for (int k = 0; k < 5; ++k) {
+      if (!(bits & (1 << k))) {
+        EXPECT_GE(check(bits | (1 << k)).reward(o, false), before) << bits << " + bit " << k;
+      }
+    }
+    if (bits != 0 && bits != 4) {  // "improves" alone counts only for a placement
+      EXPECT_GT(before, 0.0) << "before a solution every constraint met earns: " << bits;
+    }
+  }
+  // The plateau the relaxation made after a first solution: a feasible, reached pose that does not
+  // improve earned nearly as much as a goal.
+  EXPECT_GT(check(1 | 2 | 8 | 16).reward(o, false), 0.6);
 }
 
 TEST(Objective, DepthAndDistanceTermsAndTheirGradients) {

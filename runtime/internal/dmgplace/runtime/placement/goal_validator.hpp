@@ -24,9 +24,10 @@ struct GoalCheck {
   // Kinematically reachable in the paper's sense: an IK solution that is collision-free with
   // the object held by this grasp (which includes the object against the scene).
   bool kinematically_reachable() const { return reachable && arm_free; }
-  // 1 when valid; otherwise the weighted share of satisfied constraints (the authors' weights),
-  // the objective's share only for a stable, object-free pose.
-  double reward(const PlacementOptions& o) const;
+  // 1 when valid. Until a first solution exists, otherwise the weighted share of satisfied
+  // constraints (the authors' weights), the objective's share only for a stable, object-free pose;
+  // once one exists (`solved`), 0: the relaxation only leads the tree to a first goal.
+  double reward(const PlacementOptions& o, bool solved) const;
 };
 
 struct GoalCounters {
