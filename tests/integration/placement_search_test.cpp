@@ -145,6 +145,36 @@ TEST_F(PlacementSearch, AnEmptyCacheStillRollsPAccept) {
   EXPECT_TRUE(c.cached);
 }
 
+TEST_F(PlacementSearch, ACachedGraspThatNeverReachesBelowANodeIsOfferedLessThere) {
+  const PlacementQuery qr = query(side_grasp());
+  Parts p(*world_, qr);
+  std::mt19937_64 rng(3);
+  const auto [a, b] = nodes_under_two_faces(p.tree, rng);
+  ASSERT_GE(b, 0);
+  const int up = p.tree.node(a).parent;
+  ASSERT_GE(p.tree.node(up).parent, 0) << "a's parent is below the root";
+  const int g = p.per_grasp.size() - 1;
+  GraspSelector s(p.per_grasp, p.tree, PlacementVariant::Full, 1.0, 8, always_free);
+  s.cache(a, g);
+  EXPECT_EQ(s.acceptance(a, g), 1.0) << "no record: the paper's p_accept";
+  // A record above a node counts there until the node has its own: the nearest one wins.
+  s.record(up, g, false);
+  EXPECT_DOUBLE_EQ(s.acceptance(a, g), 0.5);
+  for (int k = 0; k < 99; ++k) s.record(a, g, false);
+  EXPECT_DOUBLE_EQ(s.acceptance(a, g), 0.01) << "99 tries at a, none reached";
+  EXPECT_DOUBLE_EQ(s.acceptance(up, g), 1.0 / 101) << "a's 99 and up's own one";
+  EXPECT_EQ(s.acceptance(b, g), 1.0) << "records do not cross the root";
+  int cached = 0;
+  for (int k = 0; k < 300; ++k) cached += s.select(a, Eigen::Isometry3d::Identity(), rng).cached;
+  EXPECT_LT(cached, 30) << "grasps outside the cache are drawn where the cached one never reaches";
+  s.record(a, g, true);
+  EXPECT_EQ(s.acceptance(a, g), 1.0) << "a grasp that reached here at all keeps the paper's p_accept";
+  for (int k = 0; k < 50; ++k) EXPECT_TRUE(s.select(a, Eigen::Isometry3d::Identity(), rng).cached);
+  GraspSelector random(p.per_grasp, p.tree, PlacementVariant::RandomGrasp, 1.0, 8, always_free);
+  random.record(a, g, false);
+  EXPECT_EQ(random.acceptance(a, g), 1.0) << "only full keeps records";
+}
+
 TEST_F(PlacementSearch, CachedGraspsAreFoundFromTheNodeUpButNotThroughTheRoot) {
   const PlacementQuery qr = query(side_grasp());
   Parts p(*world_, qr);

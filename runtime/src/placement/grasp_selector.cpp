@@ -18,6 +18,23 @@ void GraspSelector::cache(int node, int grasp) {
   }
 }
 
+void GraspSelector::record(int node, int grasp, bool reached) {
+  if (variant_ != PlacementVariant::Full || grasp < 0) return;
+  for (int n = node; n >= 0 && tree_->node(n).parent >= 0; n = tree_->node(n).parent) {
+    Tries& t = tries_[key(n, grasp)];
+    t.reached += reached;
+    ++t.tried;
+  }
+}
+
+double GraspSelector::acceptance(int node, int grasp) const {
+  for (int n = node; n >= 0 && tree_->node(n).parent >= 0; n = tree_->node(n).parent) {
+    const auto it = tries_.find(key(n, grasp));
+    if (it != tries_.end()) return it->second.reached > 0 ? 1.0 : 1.0 / double(it->second.tried + 1);
+  }
+  return 1.0;
+}
+
 std::vector<int> GraspSelector::cached(int node) const {
   std::vector<int> out;
   // Up to, not including, the root (Algorithm 3, line 3).
@@ -75,7 +92,7 @@ GraspChoice GraspSelector::select(int node, const Eigen::Isometry3d& pose, std::
       unusable_[std::size_t(k)] = 1;
       continue;
     }
-    if (u(rng) <= p_accept_) return {k, true};
+    if (u(rng) <= p_accept_ * acceptance(node, k)) return {k, true};
   }
   // Lines 14-16: from G(g0) \ G, or from all of G(g0) when G covers it; the first draws
   // hand-checked (beyond the paper, see the header).

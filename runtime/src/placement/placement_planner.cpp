@@ -264,7 +264,9 @@ struct PlacementPlanner::Run {
       }
       const PlacementSample s = tree->rollout(n, rng);
       const GoalCheck c = validator->check(s, improves, rng);
-      tree->backpropagate(n, c.reward(o, !result.improvements.empty()));
+      const bool solved = !result.improvements.empty();
+      tree->backpropagate(n, c.reward(o, solved));
+      if (solved && c.object_free) selector->record(n, c.grasp, c.kinematically_reachable());
       if (c.kinematically_reachable()) selector->cache(n, c.grasp);
       if (c.valid()) {
         add_goal(c, s);
