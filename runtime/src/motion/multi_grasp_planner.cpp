@@ -52,12 +52,20 @@ void MultiGraspPlanner::remove_goal(int grasp, int goal_id) {
 
 std::vector<GraspPath> MultiGraspPlanner::take_paths() {
   std::lock_guard<std::mutex> lock(mutex_);
+  collect_all();
   return std::exchange(found_, {});
 }
 
 std::vector<std::pair<int, int>> MultiGraspPlanner::take_rejected() {
   std::lock_guard<std::mutex> lock(mutex_);
+  collect_all();
   return std::exchange(rejected_, {});
+}
+
+void MultiGraspPlanner::collect_all() {
+  // A worker collects at the end of its slice; a path found inside one is taken at once (the
+  // planners' own queues are thread-safe), not a slice later.
+  for (auto& [grasp, e] : entries_) collect(grasp, *e.planner);
 }
 
 void MultiGraspPlanner::collect(int grasp, MultiGoalRRTConnect& planner) {

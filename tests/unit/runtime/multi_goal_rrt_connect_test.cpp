@@ -248,3 +248,32 @@ TEST(MultiGraspPlanner, ServesEachGraspInItsOwnSpace) {
   EXPECT_FALSE(got.count({1, 11})) << "unreachable in grasp 1's space";
   EXPECT_EQ(validated.load(), int(all.size()));
 }
+
+TEST(MultiGraspPlanner, APathFoundInsideAWorkersSliceIsTakenWithoutWaitingForItsEnd) {
+  auto factory = [](int) {
+    auto space = std::make_shared<ob::RealVectorStateSpace>(2);
+    space->setBounds(0, 10);
+    auto si = std::make_shared<ob::SpaceInformation>(space);
+    si->setStateValidityChecker([](const ob::State* s) {
+      const auto* v = s->as<ob::RealVectorStateSpace::StateType>();
+      return free_point(v->values[0], v->values[1], kMargin);
+    });
+    si->setStateValidityCheckingResolution(0.002);
+    si->setup();
+    return ob::SpaceInformationPtr(si);
+  };
+  // A slice that does not end before stop(): the path must still come out while the worker runs.
+  dmgplace::runtime::MultiGraspPlanner mgp(factory, {1, 1}, 1, 5, 1e9);
+  ASSERT_TRUE(mgp.add_goal(0, 7, {2, 2}));
+  mgp.start();
+  std::vector<dmgplace::runtime::GraspPath> taken;
+  for (int i = 0; i < 3000 && taken.empty(); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    taken = mgp.take_paths();
+  }
+  mgp.stop();
+  ASSERT_EQ(taken.size(), 1u) << "taken while the worker was inside its slice";
+  EXPECT_EQ(taken[0].grasp, 0);
+  EXPECT_EQ(taken[0].found.goal_id, 7);
+  expect_valid_path(taken[0].found, 2, 2);
+}

@@ -55,6 +55,7 @@ class MultiGraspPlanner {
   };
   Entry& entry(int grasp);                                // mutex_ held
   void collect(int grasp, MultiGoalRRTConnect& planner);  // mutex_ held
+  void collect_all();                                     // mutex_ held
   void work();
 
   SpaceFactory factory_;
