@@ -196,7 +196,8 @@ TEST(GoalReward, RelaxedUntilAFirstSolutionThenOnlyGoalsCount) {
   const PlacementOptions o;
   auto check = [](int bits) {
     GoalCheck c;
-    c.stable = bits & 1, c.object_free = bits & 2, c.improves = bits & 4, c.reachable = bits & 8, c.arm_free = bits & 16;
+    c.stable = bits & 1, c.object_free = bits & 2, c.improves = bits & 4, c.reachable = bits & 8,
+    c.arm_free = bits & 16;
     return c;
   };
   for (int bits = 0; bits < 32; ++bits) {

@@ -56,7 +56,7 @@ class GraspSelector {
   // Records that `grasp` kinematically reached a pose sampled below `node`.
   void cache(int node, int grasp);
   // Records a try of `grasp` at a pose sampled below `node` (the object free there): whether it
-  // reached it kinematically. Only `full` reads the records.
+  // reached it kinematically. Only `full` keeps records.
   void record(int node, int grasp, bool reached);
   // The factor on p_accept for `grasp` at `node`: 1 / (t + 1) when the nearest record has t tries
   // and none reached, else 1.
@@ -80,11 +80,11 @@ class GraspSelector {
   int hand_tries_;
   HandFree hand_free_;
   long hand_checks_ = 0;
-  std::vector<std::vector<int>> node_grasps_;  // per tree node, in the order cached
+  std::vector<std::vector<int>> node_grasps_;       // per tree node, in the order cached
   std::unordered_map<std::uint64_t, Tries> tries_;  // per (node, grasp): tries below the node
-  std::vector<int> g_;                         // G of the current call
-  std::vector<std::uint32_t> in_g_;            // == stamp_: in G for the current call
-  std::vector<char> unusable_;                 // known not usable at q0
+  std::vector<int> g_;                              // G of the current call
+  std::vector<std::uint32_t> in_g_;                 // == stamp_: in G for the current call
+  std::vector<char> unusable_;                      // known not usable at q0
   std::uint32_t stamp_ = 0;
 };
 
