@@ -64,7 +64,9 @@ std::vector<std::pair<int, int>> MultiGraspPlanner::take_rejected() {
 
 void MultiGraspPlanner::collect_all() {
   // A worker collects at the end of its slice; a path found inside one is taken at once (the
-  // planners' own queues are thread-safe), not a slice later.
+  // planners' own queues are thread-safe), not a slice later. Without workers, run_round has
+  // collected everything already.
+  if (!running_) return;
   for (auto& [grasp, e] : entries_) collect(grasp, *e.planner);
 }
 

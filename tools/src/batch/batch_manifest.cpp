@@ -108,6 +108,13 @@ BatchManifest read_batch_manifest(const fs::path& path) {
         read(name, node, where, kind);
       }
     };
+    // Robots and environments both take package:// roots and extra bake flags.
+    auto add_package_path_and_flags = [&](BatchBake& b, const YAML::Node& n, const std::string& where) {
+      if (n["package_path"])
+        b.args.insert(b.args.end(),
+                      {"--package-path", r.existing(n["package_path"], where + ".package_path", true).string()});
+      for (auto& f : r.flags(n["flags"], where + ".flags")) b.args.push_back(f);
+    };
     each("robots", "robot",
          [&](const std::string& name, const YAML::Node& n, const std::string& where, const char* kind) {
            require_known_keys(n, {"urdf", "srdf", "arm", "package_path", "flags"}, r.file, where);
@@ -122,10 +129,7 @@ BatchManifest read_batch_manifest(const fs::path& path) {
            }
            if (!n["arm"]) r.fail(where, "needs arm: BASE_LINK:TIP_LINK");
            b.args.insert(b.args.end(), {"--arm", n["arm"].as<std::string>()});
-           if (n["package_path"])
-             b.args.insert(b.args.end(),
-                           {"--package-path", r.existing(n["package_path"], where + ".package_path", true).string()});
-           for (auto& f : r.flags(n["flags"], where + ".flags")) b.args.push_back(f);
+           add_package_path_and_flags(b, n, where);
            m.bakes.push_back(b);
            defined[kind].insert(name);
          });
@@ -163,10 +167,7 @@ BatchManifest read_batch_manifest(const fs::path& path) {
            std::string volume;
            for (double x : v) volume += (volume.empty() ? "" : ",") + runtime::number_text(x);
            BatchBake b{kind, name, {scene.string(), "--volume", volume}, {scene}};
-           if (n["package_path"])
-             b.args.insert(b.args.end(),
-                           {"--package-path", r.existing(n["package_path"], where + ".package_path", true).string()});
-           for (auto& f : r.flags(n["flags"], where + ".flags")) b.args.push_back(f);
+           add_package_path_and_flags(b, n, where);
            m.bakes.push_back(b);
            defined[kind].insert(name);
          });
