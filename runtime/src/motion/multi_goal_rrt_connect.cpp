@@ -20,15 +20,21 @@ namespace dmgplace::runtime {
 struct MultiGoalRRTConnect::Node {
   std::vector<double> q;
   Node* parent = nullptr;
+  std::size_t index = 0;  // in Tree::nodes and its nn
+  bool checked = true;    // the state and the edge from parent are valid in this planner's space
+  bool dropped = false;   // out of the tree (a seeded ancestor failed)
 };
 
 struct MultiGoalRRTConnect::Tree {
-  std::vector<std::unique_ptr<Node>> nodes;
-  NearestStates nn;  // nodes[i] is point i
-  explicit Tree(std::size_t dim) : nn(dim) {}
-  Node* add(std::vector<double> q, Node* parent) {
+  std::vector<std::unique_ptr<Node>> nodes;  // parents before children
+  NearestStates nn;                          // nodes[i] is point i
+  std::mutex* guard = nullptr;               // the start tree's, held while it changes
+  explicit Tree(std::size_t dim, std::mutex* g = nullptr) : nn(dim), guard(g) {}
+  Node* add(std::vector<double> q, Node* parent, bool checked = true) {
+    std::unique_lock<std::mutex> lock;
+    if (guard) lock = std::unique_lock<std::mutex>(*guard);
     nn.add(q.data());
-    nodes.push_back(std::make_unique<Node>(Node{std::move(q), parent}));
+    nodes.push_back(std::make_unique<Node>(Node{std::move(q), parent, nodes.size(), checked, false}));
     return nodes.back().get();
   }
   Node* nearest(const std::vector<double>& q) const { return nodes[nn.nearest(q.data())].get(); }
@@ -73,7 +79,12 @@ void MultiGoalRRTConnect::setup() {
 void MultiGoalRRTConnect::clear() {
   ob::Planner::clear();
   extensions_ = 0;
-  start_tree_.reset();
+  {
+    std::lock_guard<std::mutex> lock(start_mutex_);
+    start_tree_.reset();
+  }
+  seed_.clear();
+  seeded_checked_ = seeded_dropped_ = 0;
   std::lock_guard<std::mutex> lock(mutex_);
   goal_trees_.clear();
   pending_add_.clear();
@@ -201,6 +212,68 @@ void MultiGoalRRTConnect::shortcut(JointPath& path, bool ends_blocked) {
       }
 }
 
+void MultiGoalRRTConnect::seed_start_tree(std::vector<SeedNode> nodes) { seed_ = std::move(nodes); }
+
+void MultiGoalRRTConnect::make_start_tree(const std::vector<double>& root) {
+  auto tree = std::make_unique<Tree>(si_->getStateDimension(), &start_mutex_);
+  tree->add(root, nullptr);
+  // A seed from another start counts for nothing: its paths would not begin here.
+  if (!seed_.empty() && seed_.front().q == root)
+    for (std::size_t i = 1; i < seed_.size(); ++i)
+      if (seed_[i].parent < i) tree->add(seed_[i].q, tree->nodes[seed_[i].parent].get(), false);
+  seed_.clear();
+  std::lock_guard<std::mutex> lock(start_mutex_);
+  start_tree_ = std::move(tree);
+}
+
+std::vector<MultiGoalRRTConnect::SeedNode> MultiGoalRRTConnect::start_tree_snapshot() const {
+  std::lock_guard<std::mutex> lock(start_mutex_);
+  std::vector<SeedNode> out;
+  if (!start_tree_) return out;
+  std::vector<std::size_t> renumber(start_tree_->nodes.size());
+  for (const auto& n : start_tree_->nodes) {
+    if (n->dropped) continue;
+    renumber[n->index] = out.size();
+    out.push_back({n->q, n->parent ? renumber[n->parent->index] : 0});
+  }
+  return out;
+}
+
+std::size_t MultiGoalRRTConnect::start_tree_size() const {
+  std::lock_guard<std::mutex> lock(start_mutex_);
+  return start_tree_ ? start_tree_->nodes.size() : 0;
+}
+
+bool MultiGoalRRTConnect::check_to_root(Node* n) {
+  std::vector<Node*> unchecked;
+  for (Node* m = n; m; m = m->parent)
+    if (!m->checked) unchecked.push_back(m);
+  for (auto it = unchecked.rbegin(); it != unchecked.rend(); ++it) {
+    Node* m = *it;
+    ++seeded_checked_;
+    // The parent is valid here (checked, or checked just before): OMPL's checkMotion contract.
+    if (!motion_valid(m->parent->q, m->q)) {
+      drop_subtree(m);
+      return false;
+    }
+    m->checked = true;
+  }
+  return true;
+}
+
+void MultiGoalRRTConnect::drop_subtree(Node* n) {
+  // Parents come before children, so one pass from n marks its whole subtree.
+  std::lock_guard<std::mutex> lock(start_mutex_);
+  auto& nodes = start_tree_->nodes;
+  for (std::size_t i = n->index; i < nodes.size(); ++i) {
+    Node* m = nodes[i].get();
+    if (m->dropped || !(m == n || (m->parent && m->parent->dropped))) continue;
+    m->dropped = true;
+    start_tree_->nn.remove(i);
+    ++seeded_dropped_;
+  }
+}
+
 FoundPath MultiGoalRRTConnect::make_path(Node* a, Node* b, int goal_id) {
   FoundPath f;
   f.goal_id = goal_id;
@@ -223,8 +296,7 @@ ob::PlannerStatus MultiGoalRRTConnect::solve(const ob::PlannerTerminationConditi
     std::vector<double> q;
     si_->getStateSpace()->copyToReals(q, st);
     if (!state_valid(q)) return ob::PlannerStatus::INVALID_START;
-    start_tree_ = std::make_unique<Tree>(si_->getStateDimension());
-    start_tree_->add(q, nullptr);
+    make_start_tree(q);
   }
   std::vector<double> q_rand;
   std::size_t turn = 0;
@@ -271,6 +343,7 @@ ob::PlannerStatus MultiGoalRRTConnect::solve(const ob::PlannerTerminationConditi
       from_start = forward ? a : b;
       from_goal = forward ? b : a;
     }
+    if (!check_to_root(from_start)) continue;
     const double connected = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     FoundPath f = make_path(from_start, from_goal, goal_id);
     f.time_connected = connected;
@@ -316,6 +389,7 @@ void MultiGoalRRTConnect::getPlannerData(ob::PlannerData& data) const {
   if (!start_tree_) return;
   ob::State* s = si_->allocState();
   for (const auto& n : start_tree_->nodes) {
+    if (n->dropped) continue;
     si_->getStateSpace()->copyFromReals(s, n->q);
     data.addVertex(ob::PlannerDataVertex(s));
   }

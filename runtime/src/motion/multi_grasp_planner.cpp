@@ -28,6 +28,14 @@ MultiGraspPlanner::Entry& MultiGraspPlanner::entry(int grasp) {
   pdef->addStartState(s);
   auto planner = std::make_shared<MultiGoalRRTConnect>(si);
   planner->setProblemDefinition(pdef);
+  if (share_) {
+    // The largest tree so far (the lowest grasp among equals: deterministic in synchronous mode).
+    const MultiGoalRRTConnect* donor = nullptr;
+    std::size_t most = 1;
+    for (const auto& [g, e] : entries_)
+      if (const std::size_t n = e.planner->start_tree_size(); n > most) most = n, donor = e.planner.get();
+    if (donor) planner->seed_start_tree(donor->start_tree_snapshot());
+  }
   planner->set_seed(seed_ + std::uint64_t(grasp) * 7919);
   planner->set_anytime(true);
   planner->setup();
@@ -48,6 +56,16 @@ void MultiGraspPlanner::remove_goal(int grasp, int goal_id) {
   std::lock_guard<std::mutex> lock(mutex_);
   auto it = entries_.find(grasp);
   if (it != entries_.end()) it->second.planner->remove_goal(goal_id);
+}
+
+std::pair<std::size_t, std::size_t> MultiGraspPlanner::seeded_nodes() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::pair<std::size_t, std::size_t> out{0, 0};
+  for (const auto& [g, e] : entries_) {
+    out.first += e.planner->seeded_nodes_checked();
+    out.second += e.planner->seeded_nodes_dropped();
+  }
+  return out;
 }
 
 std::vector<GraspPath> MultiGraspPlanner::take_paths() {

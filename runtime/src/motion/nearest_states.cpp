@@ -77,6 +77,7 @@ double NearestStates::distance(std::size_t a, std::size_t b) const {
 std::size_t NearestStates::add(const double* q) {
   const std::size_t index = size();
   flat_.insert(flat_.end(), q, q + dim_);
+  removed_.push_back(0);
   if (index % kLanes == 0) blocks_.resize(blocks_.size() + dim_ * kLanes, kEmpty);
   double* block = blocks_.data() + (index / kLanes) * dim_ * kLanes;
   for (std::size_t k = 0; k < dim_; ++k) block[k * kLanes + index % kLanes] = q[k];
@@ -85,18 +86,31 @@ std::size_t NearestStates::add(const double* q) {
   } else if (size() > kScan) {
     gnat_ = std::make_unique<Gnat>();
     gnat_->nn.setDistanceFunction([this](const std::size_t& a, const std::size_t& b) { return distance(a, b); });
-    std::vector<std::size_t> all(size());
-    for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+    std::vector<std::size_t> all;
+    for (std::size_t i = 0; i < size(); ++i)
+      if (!removed_[i]) all.push_back(i);
     gnat_->nn.add(all);
   }
   return index;
 }
 
+void NearestStates::remove(std::size_t i) {
+  if (i >= size()) throw std::out_of_range("NearestStates: remove of an index never added");
+  if (removed_[i]) return;
+  removed_[i] = 1;
+  ++removed_count_;
+  double* block = blocks_.data() + (i / kLanes) * dim_ * kLanes;
+  for (std::size_t k = 0; k < dim_; ++k) block[k * kLanes + i % kLanes] = kEmpty;
+}
+
 std::size_t NearestStates::nearest(const double* q) const {
-  if (flat_.empty()) throw std::logic_error("NearestStates: nearest of an empty set");
+  if (removed_count_ >= size()) throw std::logic_error("NearestStates: nearest of an empty set");
   if (gnat_) {
     query_ = q;
-    return gnat_->nn.nearest(kProbe);
+    // GNAT keeps removed points (its own removal needs distinct points); when it answers with
+    // one, the scan, which never sees them, decides.
+    const std::size_t at = gnat_->nn.nearest(kProbe);
+    if (!removed_[at]) return at;
   }
   return simd_path() == SimdPath::Avx2 ? scan_avx2(blocks_.data(), size(), dim_, q)
                                        : scan_portable(blocks_.data(), size(), dim_, q);

@@ -155,6 +155,11 @@ struct PlacementPlanner::Run {
     c.planner_calls = planner_calls;
     c.paths = paths;
     c.paths_rejected = paths_rejected;
+    if (motion) {
+      const auto [checked, dropped] = motion->seeded_nodes();
+      c.seeded_checked = long(checked);
+      c.seeded_dropped = long(dropped);
+    }
     c.retreat_failures = retreat_failures;
     c.push_failures = push_failures;
     if (pusher) {
@@ -222,6 +227,7 @@ struct PlacementPlanner::Run {
     };
     motion = std::make_unique<MultiGraspPlanner>(factory, std::vector<double>(q.q0.data(), q.q0.data() + q.q0.size()),
                                                  std::max(1, o.threads), q.seed);
+    motion->set_share_start_trees(o.share_start_trees);
     motion->set_path_validator([this](int g, const JointPath& path) {
       const ExactChecker& exact = per_grasp->checker(g)->exact();
       return path_valid(

@@ -66,6 +66,8 @@ const std::vector<PlacementOptionSpec>& placement_option_specs() {
       {"slice_iterations", &O::slice_iterations, 1, 1000000,
        "synchronous mode: planner iterations per round, shared by the grasps with goals"},
       {"max_open_goals", &O::max_open_goals, 1, 100000, "goal sampling pauses while this many wait for a path"},
+      {"share_start_trees", &O::share_start_trees, 0, 0,
+       "a new grasp's planner starts from the largest start tree of another grasp, re-checked where used"},
       {"optimize_locally", &O::optimize_locally, 0, 0, "gradient ascent of the objective after each solution"},
       {"local_step", &O::local_step, 1e-6, 1, "initial local-optimisation step (m; rad for theta)"},
       {"local_min_step", &O::local_min_step, 1e-9, 1, "local optimisation stops below this step"},

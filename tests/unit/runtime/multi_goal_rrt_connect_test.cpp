@@ -203,6 +203,53 @@ TEST(MultiGoalRRTConnect, ValidatorCanRejectAPathAndSingleQueryModeFillsTheProbl
   EXPECT_TRUE(p.planner->take_rejected().empty());
 }
 
+// A start tree grown in a space whose wall has its gap at the bottom, handed to a planner whose
+// wall has it at the top: the recipient's paths are free of its wall everywhere (the seeded edges on the way are checked in its
+// own space), nodes whose edges cross the wall leave with their subtrees, the seeded nodes that
+// held carry connections, and a snapshot of what is left is a tree again (parents first, no
+// dropped node). A seed from another start is ignored.
+TEST(MultiGoalRRTConnect, ASeededStartTreeIsCheckedInTheRecipientsSpaceBeforeItCarriesAPath) {
+  const auto until_connected = [](const MultiGoalRRTConnect& planner, double seconds) {
+    return ob::plannerOrTerminationCondition(
+        ob::timedPlannerTerminationCondition(seconds),
+        ob::PlannerTerminationCondition([&] { return planner.goal_count() == 0; }));
+  };
+  std::size_t checked = 0, dropped = 0;
+  for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+    Problem donor = make(seed, {{4.8, 2, 5.2, 10}});
+    for (int g = 0; g < 6; ++g) ASSERT_TRUE(donor.planner->add_goal(g, {6 + 0.7 * g, g % 2 ? 8.5 : 4.5}));
+    donor.planner->solve(until_connected(*donor.planner, 2.0));
+    const auto seed_nodes = donor.planner->start_tree_snapshot();
+    ASSERT_GT(seed_nodes.size(), 10u);
+    Problem p = make(seed);
+    p.planner->seed_start_tree(seed_nodes);
+    ASSERT_TRUE(p.planner->add_goal(1, {8, 8}));
+    ASSERT_TRUE(p.planner->add_goal(2, {9.5, 5}));
+    ASSERT_TRUE(p.planner->add_goal(3, {2, 8}));
+    p.planner->solve(until_connected(*p.planner, 3.0));
+    EXPECT_GE(p.planner->start_tree_size(), seed_nodes.size());
+    const auto found = p.planner->take_paths();
+    EXPECT_EQ(found.size(), 3u) << "seed " << seed;
+    for (const auto& f : found) expect_valid_path(f, f.path.back()[0], f.path.back()[1]);
+    checked += p.planner->seeded_nodes_checked();
+    dropped += p.planner->seeded_nodes_dropped();
+    const auto left = p.planner->start_tree_snapshot();
+    EXPECT_EQ(left.size() + p.planner->seeded_nodes_dropped(), p.planner->start_tree_size());
+    ASSERT_FALSE(left.empty());
+    EXPECT_EQ(left[0].q, (std::vector<double>{1, 1}));
+    for (std::size_t i = 1; i < left.size(); ++i) EXPECT_LT(left[i].parent, i);
+
+    Problem elsewhere = make(seed);
+    auto moved = seed_nodes;
+    moved[0].q = {1.5, 1};
+    elsewhere.planner->seed_start_tree(moved);
+    elsewhere.planner->solve(ob::timedPlannerTerminationCondition(0.01));
+    EXPECT_EQ(elsewhere.planner->start_tree_size(), 1u) << "a tree from another start";
+  }
+  EXPECT_GT(checked, 0u);
+  EXPECT_GT(dropped, 0u) << "the donor's tree crosses the wall somewhere on the recipient's way";
+}
+
 // Two grasps, two collision spaces: in grasp 1 the gap in the wall is closed, so its goal behind
 // the wall is unreachable; grasp 0's is reachable. Two workers serve both.
 TEST(MultiGraspPlanner, ServesEachGraspInItsOwnSpace) {

@@ -65,3 +65,50 @@ TEST(NearestStates, RefusesAnEmptySetAndNoDimensions) {
   const double q[3] = {0, 0, 0};
   EXPECT_THROW(set.nearest(q), std::logic_error);
 }
+
+// Removed points are never the answer, before and after the switch to GNAT (which keeps them and
+// defers to the scan when it names one); the rest stays the brute-force nearest. Removing every
+// point leaves nothing to ask.
+TEST(NearestStates, RemovedPointsAreNeverTheNearestOnEitherSideOfTheSwitch) {
+  const std::size_t dim = 3;
+  NearestStates set(dim);
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<char> removed;
+  std::vector<double> q(dim);
+  int checked = 0;
+  for (std::size_t n = 1; n <= NearestStates::kScan + 400; ++n) {
+    for (auto& x : q) x = u(rng);
+    set.add(q.data());
+    removed.push_back(0);
+    if (rng() % 3 == 0) {  // a third of the points go, some just added, some long stored
+      const std::size_t i = rng() % 2 ? n - 1 : std::size_t(rng() % n);
+      set.remove(i);
+      removed[i] = 1;
+    }
+    if (n % 1999 != 0 && n != NearestStates::kScan + 400) continue;
+    for (int t = 0; t < 20; ++t) {
+      // Half the queries sit on a removed point: its removal is what decides them.
+      std::size_t on = std::size_t(rng() % n);
+      if (t % 2 == 0)
+        for (std::size_t k = 0; k < n && !removed[on]; ++k) on = (on + 1) % n;
+      for (std::size_t k = 0; k < dim; ++k) q[k] = t % 2 == 0 ? set.point(on)[k] : u(rng);
+      double best = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < n; ++i)
+        if (!removed[i]) best = std::min(best, squared(set.point(i), q.data(), dim));
+      const std::size_t got = set.nearest(q.data());
+      ASSERT_FALSE(removed[got]) << n << " points";
+      ASSERT_EQ(squared(set.point(got), q.data(), dim), best) << n << " points";
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 300);
+  NearestStates two(dim);
+  two.add(q.data());
+  two.add(q.data());
+  two.remove(0);
+  EXPECT_EQ(two.nearest(q.data()), 1u);
+  two.remove(1);
+  EXPECT_THROW(two.nearest(q.data()), std::logic_error);
+  EXPECT_THROW(two.remove(2), std::out_of_range);
+}

@@ -40,6 +40,8 @@ ordered_json counters_json(const PlacementCounters& c) {
           {"planner_calls", c.planner_calls},
           {"paths", c.paths},
           {"paths_rejected", c.paths_rejected},
+          {"seeded_checked", c.seeded_checked},
+          {"seeded_dropped", c.seeded_dropped},
           {"retreat_failures", c.retreat_failures},
           {"push_failures", c.push_failures},
           {"push_plans", c.push_plans}};

@@ -48,6 +48,7 @@ struct PlacementOptions {
   int threads = 0;                  // 0: synchronous and deterministic; N > 0: N planner worker threads
   int slice_iterations = 200;       // synchronous mode: planner iterations per round, shared by the grasps with goals
   int max_open_goals = 64;          // goal sampling pauses while this many wait for a path
+  bool share_start_trees = true;    // a new grasp's planner starts from the start tree another grasp grew
   // Local optimisation (OPTIMIZELOCALLY).
   bool optimize_locally = true;
   double local_step = 0.01;  // initial step of the object along the gradient (m; rad for theta)

@@ -56,6 +56,8 @@ struct PlacementCounters {
   long planner_calls = 0;     // planner rounds (synchronous) or polls (threaded)
   long paths = 0;             // paths the motion planner returned
   long paths_rejected = 0;    // arm paths the exact re-check refused (their goals are dropped)
+  long seeded_checked = 0;    // start-tree nodes shared from another grasp and checked for this one
+  long seeded_dropped = 0;    // ... and the nodes dropped with them (invalid for this grasp)
   long retreat_failures = 0;  // reached placements dropped because the hand could not withdraw
   long push_failures = 0;     // grasps left out because the pusher could not perform an action to them
   long push_plans = 0;        // in-hand actions planned for the pusher (each once per run)

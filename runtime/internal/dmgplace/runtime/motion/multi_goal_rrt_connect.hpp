@@ -6,6 +6,7 @@
 #include <ompl/base/Planner.h>
 #include <ompl/datastructures/NearestNeighbors.h>
 
+#include <atomic>
 #include <chrono>
 #include <functional>
 #include <map>
@@ -53,6 +54,24 @@ class MultiGoalRRTConnect : public ompl::base::Planner {
   // extensions and narrow after (setup()).
   void set_range(double r) { range_ = r; }
   void set_seed(std::uint64_t seed) { rng_.seed(seed); }
+  // Another planner's start tree (same start, same joint space, another collision space: another
+  // grasp), given before the first solve(): this planner's start tree begins as a copy of it, its
+  // nodes unchecked here. A connection through them checks their edges in this planner's space
+  // first, root down; a node that fails leaves the tree with everything grown from it. Paths
+  // therefore stay valid in this space, while the tree's reach is another grasp's work.
+  struct SeedNode {
+    std::vector<double> q;
+    std::size_t parent = 0;  // index of an earlier node; node 0 is the root (the start) and its parent unused
+  };
+  void seed_start_tree(std::vector<SeedNode> nodes);
+  // The live nodes of the start tree, root first, parents before children (thread-safe while
+  // solve() runs); empty before the first solve().
+  std::vector<SeedNode> start_tree_snapshot() const;
+  std::size_t start_tree_size() const;
+  // Inherited nodes checked on the way to a connection, and those that failed (with their subtrees).
+  std::size_t seeded_nodes_checked() const { return seeded_checked_; }
+  std::size_t seeded_nodes_dropped() const { return seeded_dropped_; }
+
   // solve() keeps going after a connection until the condition says stop (anytime mode) or, when
   // false, returns after the first path (single-query mode).
   void set_anytime(bool anytime) { anytime_ = anytime; }
@@ -71,6 +90,11 @@ class MultiGoalRRTConnect : public ompl::base::Planner {
   Grow connect(Tree& tree, const std::vector<double>& target, Node*& added);
   void take_pending();
   FoundPath make_path(Node* from_start, Node* from_goal, int goal_id);
+  void make_start_tree(const std::vector<double>& root);
+  // Checks the unchecked (seeded) nodes between the root and `n`, root down; false when one fails
+  // (it and its subtree are gone from the start tree).
+  bool check_to_root(Node* n);
+  void drop_subtree(Node* n);
   // Validator, callback, problem definition; false when the validator dropped the path.
   bool report(FoundPath f, std::chrono::steady_clock::time_point t0);
   // `ends_blocked`: the straight line from the first to the last waypoint is known to collide.
@@ -82,6 +106,9 @@ class MultiGoalRRTConnect : public ompl::base::Planner {
   double distance(const std::vector<double>& a, const std::vector<double>& b) const;
 
   std::unique_ptr<Tree> start_tree_;
+  mutable std::mutex start_mutex_;  // start_tree_'s nodes, for snapshots from other threads
+  std::vector<SeedNode> seed_;
+  std::atomic<std::size_t> seeded_checked_{0}, seeded_dropped_{0};
   std::map<int, std::unique_ptr<Tree>> goal_trees_;
   std::vector<int> untried_direct_;  // new goals whose straight line from the start is not tried yet
   std::set<int> blocked_direct_;     // goals whose straight line from the start collides

@@ -36,6 +36,12 @@ class MultiGraspPlanner {
   std::vector<GraspPath> take_paths();
   // (grasp, goal id) of goals whose path the validator refused since the last call.
   std::vector<std::pair<int, int>> take_rejected();
+  // A grasp's planner, made at its first goal, starts from the largest start tree grown so far by
+  // another grasp (MultiGoalRRTConnect::seed_start_tree: its nodes re-checked in the new grasp's
+  // space on the way to a connection). On by default; set it before the first goal.
+  void set_share_start_trees(bool share) { share_ = share; }
+  // Over all grasps: seeded nodes checked on the way to a connection, and those dropped.
+  std::pair<std::size_t, std::size_t> seeded_nodes() const;
   // Optional last check of every path of a grasp (e.g. the exact checker); set it before start().
   void set_path_validator(std::function<bool(int grasp, const JointPath&)> v) { validator_ = std::move(v); }
 
@@ -63,8 +69,9 @@ class MultiGraspPlanner {
   int threads_;
   std::uint64_t seed_;
   double slice_;
+  bool share_ = true;
   std::function<bool(int, const JointPath&)> validator_;
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
   std::map<int, Entry> entries_;
   std::size_t turn_ = 0;
   std::vector<GraspPath> found_;

@@ -21,7 +21,9 @@ class NearestStates {
 
   // Stores q (dim values); returns its index (0, 1, ...).
   std::size_t add(const double* q);
-  // Index of the stored point nearest to q; the set must not be empty.
+  // Takes point i out of the search (its index stays taken; point(i) still reads it).
+  void remove(std::size_t i);
+  // Index of the nearest point not removed; at least one must be left.
   std::size_t nearest(const double* q) const;
   std::size_t size() const { return flat_.size() / dim_; }
   const double* point(std::size_t i) const { return flat_.data() + i * dim_; }
@@ -33,6 +35,8 @@ class NearestStates {
   std::vector<double> flat_;    // one row per point
   std::vector<double> blocks_;  // the same points in blocks of kBlock, coordinate by coordinate (the scan's SIMD lanes)
   std::unique_ptr<Gnat> gnat_;
+  std::vector<char> removed_;  // per index; removed points hold kEmpty in blocks_ and stay in GNAT
+  std::size_t removed_count_ = 0;
   mutable const double* query_ = nullptr;  // the point GNAT's probe index stands for
 };
 
