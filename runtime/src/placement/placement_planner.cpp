@@ -110,6 +110,7 @@ struct PlacementPlanner::Run {
   std::map<double, std::unique_ptr<TwoLayerChecker>> retreat_arms;  // the empty-handed arm per release opening
   std::pair<Eigen::Vector3d, double> object_ball = bounding_ball(world.object().mesh);  // object frame
   long retreat_plans = 0;
+  MotionTree retreat_tree;  // rooted at the retreat configuration
 
   PushPlanner* pusher = nullptr;
   std::map<int, bool> pushable;  // per grasp: pushes_possible's answer
@@ -417,7 +418,11 @@ struct PlacementPlanner::Run {
       if (rest.empty()) back.clear();
       else back.insert(back.end(), rest.begin() + 1, rest.end());
     }
-    return back.empty() ? plan_retreat_motion(scene, from, target, budget) : back;
+    if (!back.empty()) return back;
+    // Planned out from the retreat configuration, on the tree earlier retreats grew, and reversed.
+    back = plan_retreat_motion(scene, target, from, budget, &retreat_tree);
+    std::reverse(back.begin(), back.end());
+    return back;
   }
 
   void publish(PlacementSolution sol, const Goal& goal, const Eigen::Isometry3d& pose, double value, JointPath path,

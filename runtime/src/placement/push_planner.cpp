@@ -289,15 +289,22 @@ std::optional<PushPlan> PushPlanner::plan_action(const InHandAction& a) {
       budget.iterations = spec_.plan_iterations;
       budget.seconds = spec_.plan_time;
       budget.seed = rng();
-      auto connect = [&](const Eigen::VectorXd& from, const Eigen::VectorXd& to, const ValidityFn& valid) -> JointPath {
-        if (segment_valid(from, to, resolution_, valid))
-          return {std::vector<double>(from.data(), from.data() + from.size()),
-                  std::vector<double>(to.data(), to.data() + to.size())};
-        return plan_free_motion(kin, valid, from, to, budget);
+      // Between the start and `to`, either way: planned from the start, on the shared tree.
+      auto connect = [&](const Eigen::VectorXd& to, const ValidityFn& valid, bool back) -> JointPath {
+        JointPath p;
+        if (segment_valid(start_, to, resolution_, valid)) {
+          p = {std::vector<double>(start_.data(), start_.data() + start_.size()),
+               std::vector<double>(to.data(), to.data() + to.size())};
+        } else {
+          std::lock_guard<std::mutex> lock(tree_mutex_);
+          p = plan_free_motion(kin, valid, start_, to, budget, &tree_);
+        }
+        if (back) std::reverse(p.begin(), p.end());
+        return p;
       };
-      const JointPath in = connect(start_, vec(cart.front()), free_before);
+      const JointPath in = connect(vec(cart.front()), free_before, false);
       if (in.empty()) continue;
-      const JointPath out = connect(vec(cart.back()), start_, free_after);
+      const JointPath out = connect(vec(cart.back()), free_after, true);
       if (out.empty()) continue;
       PushPlan p;
       p.contact = c.point;

@@ -41,9 +41,9 @@ JointPath retrace_approach(const RetreatScene& s, const Eigen::VectorXd& from, c
 }
 
 JointPath plan_retreat_motion(const RetreatScene& s, const Eigen::VectorXd& from, const Eigen::VectorXd& to,
-                              const RetreatBudget& budget) {
+                              const RetreatBudget& budget, MotionTree* tree) {
   return plan_free_motion(
-      *s.kin, [&s](const Eigen::VectorXd& q) { return retreat_state_free(s, q); }, from, to, budget);
+      *s.kin, [&s](const Eigen::VectorXd& q) { return retreat_state_free(s, q); }, from, to, budget, tree);
 }
 
 }  // namespace dmgplace::runtime

@@ -4,7 +4,9 @@
 // a fixed budget. The retreat after release and the pusher's moves to and from its pushes use it.
 #include <Eigen/Core>
 #include <cstdint>
+#include <vector>
 
+#include "dmgplace/runtime/motion/multi_goal_rrt_connect.hpp"
 #include "dmgplace/runtime/motion/segment_check.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
 #include "dmgplace/runtime/types.hpp"
@@ -18,9 +20,19 @@ struct MotionBudget {
   std::uint64_t seed = 1;
 };
 
+// The start tree motions from one start leave for the next: each begins from it
+// (MultiGoalRRTConnect::seed_start_tree: its edges re-checked under the new motion's validity where
+// a path runs through them) and leaves its own, at most kMaxNodes (the first ones: a tree again).
+// A tree from another start is not used.
+struct MotionTree {
+  static constexpr std::size_t kMaxNodes = 20000;
+  std::vector<MultiGoalRRTConnect::SeedNode> nodes;
+};
+
 // A path from `from` to `to` (both ends included, every segment valid at budget.resolution), or
-// empty when none was found within the budget (or an end is not valid).
+// empty when none was found within the budget (or an end is not valid). `tree` (optional): the
+// start tree of earlier motions from `from`, updated.
 JointPath plan_free_motion(const Kinematics& kin, const ValidityFn& valid, const Eigen::VectorXd& from,
-                           const Eigen::VectorXd& to, const MotionBudget& budget);
+                           const Eigen::VectorXd& to, const MotionBudget& budget, MotionTree* tree = nullptr);
 
 }  // namespace dmgplace::runtime

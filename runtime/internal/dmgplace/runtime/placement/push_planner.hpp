@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "dmgplace/runtime/motion/arm_timing.hpp"
+#include "dmgplace/runtime/motion/free_motion.hpp"
 #include "dmgplace/runtime/placement/placement_query.hpp"
 #include "dmgplace/runtime/placement/placement_result.hpp"
 #include "dmgplace/runtime/placement/placement_world.hpp"
@@ -65,6 +66,10 @@ class PushPlanner {
   std::uint64_t seed_;
   std::unique_ptr<Kinematics> kin_;
   std::unique_ptr<ExactChecker> exact_;
+  // The free motions' tree from the pusher's start, grown on by every action's moves (both are
+  // planned from the start: the move back is planned out and reversed).
+  std::mutex tree_mutex_;
+  MotionTree tree_;
   Eigen::VectorXd start_;
   std::vector<int> tool_;
   double contact_spacing_ = 0;  // m between candidate contacts: a share of the object's size

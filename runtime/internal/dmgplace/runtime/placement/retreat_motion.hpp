@@ -39,8 +39,9 @@ JointPath retrace_approach(const RetreatScene& scene, const Eigen::VectorXd& fro
                            double resolution);
 
 // A path from `from` to `to` (both ends included, every segment free at budget.resolution), or
-// empty when none was found within the budget (or an end is not free).
+// empty when none was found within the budget (or an end is not free). `tree`: as for
+// plan_free_motion, the start tree of earlier retreats from `from`.
 JointPath plan_retreat_motion(const RetreatScene& scene, const Eigen::VectorXd& from, const Eigen::VectorXd& to,
-                              const RetreatBudget& budget);
+                              const RetreatBudget& budget, MotionTree* tree = nullptr);
 
 }  // namespace dmgplace::runtime
