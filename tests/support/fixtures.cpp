@@ -36,7 +36,7 @@ std::vector<formats::SelfDistanceTable> self_distance_tables(const runtime::Kine
 
 SelfTableDefaults self_table_defaults() {
   const tools::SelfTableOptions o;
-  return {o.exact_below, double(o.coarse_stride)};
+  return {o.exact_below, double(o.coarse_stride), o.tolerance};
 }
 
 Scene read_scene(const std::filesystem::path& path) { return tools::load_scene(path); }

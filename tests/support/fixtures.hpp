@@ -21,11 +21,12 @@ std::vector<formats::LinkSphere> robot_spheres(const RobotModel& model);
 // The bake's self-distance tables for the chain of `kin`.
 std::vector<formats::SelfDistanceTable> self_distance_tables(const runtime::Kinematics& kin,
                                                              const std::vector<formats::LinkSphere>& spheres);
-// The table bake's defaults: nodes with a distance below `exact_below` are exact; others may hold
-// the Lipschitz bound of a coarse cell `coarse_stride` nodes wide.
+// The table bake's defaults: nodes with a distance below `exact_below` are within `tolerance` of
+// exact; others may hold the Lipschitz bound of a coarse cell `coarse_stride` nodes wide.
 struct SelfTableDefaults {
   double exact_below;
   double coarse_stride;
+  double tolerance;
 };
 SelfTableDefaults self_table_defaults();
 

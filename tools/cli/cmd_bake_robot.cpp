@@ -43,6 +43,9 @@ OptionTable BakeRobotArgs::options() {
        "Self-distance tables: exact distances every Nth node first, others bounded from them when far from contact"},
       {"--self-table-exact-below", "self_table_exact_below", &self_tables.exact_below, 0, 10, "m",
        "Self-distance tables: nodes bounded below this are computed exactly"},
+      {"--self-table-tolerance", "self_table_tolerance", &self_tables.tolerance, 0, 0.01, "m",
+       "Self-distance tables: a node near contact may store a proven bound this close below its exact distance "
+       "(0: FCL's exact distance at every such node)"},
       {"--threads", "", &threads, 0, 256, "", "Worker threads; 0: every CPU the process may use"},
       {"--out", "", &out, 0, 0, "", "Output artifact"},
       {"--json", "", &json, 0, 0, "",
@@ -73,6 +76,7 @@ int run_bake_robot(const BakeRobotArgs& a_in) {
   o.self_tables.threads = a.threads;
   if (o.self_tables.enabled) o.self_tables.step = a.self_table_step;
   o.allowed = a.allowed;
+  o.allowed.threads = a.threads;
   if (!a.tcp_text.empty()) {
     const auto t = parse_numbers<7>(a.tcp_text, "--tcp");
     o.tcp = formats::pose_from_xyz_quaternion(t, "--tcp", "");

@@ -4,6 +4,7 @@
 
 #include "dmgplace/runtime/motion/segment_check.hpp"
 
+#include <fcl/narrowphase/detail/primitive_shape_algorithm/triangle_distance.h>
 #include <fcl/fcl.h>
 #include <octomap/octomap.h>
 
@@ -554,27 +555,76 @@ std::vector<std::pair<int, int>> ExactChecker::colliding_link_pairs(const std::v
   fcl::CollisionRequestd req;
   ObjectPool::Lease lease(*impl.pool, impl.parts);
   std::vector<std::pair<int, int>> out;
-  for (auto [a, b] : impl.self_pairs) {
-    if (impl.part_is_object[std::size_t(a)] || impl.part_is_object[std::size_t(b)]) continue;
-    const auto& pa = impl.parts[std::size_t(a)];
-    const auto& pb = impl.parts[std::size_t(b)];
-    const std::pair<int, int> links{std::min(pa.link, pb.link), std::max(pa.link, pb.link)};
-    if (std::find(out.begin(), out.end(), links) != out.end()) continue;  // another shape of the pair hit already
-    fcl::CollisionObjectd* oa = lease.place(std::size_t(a), poses[std::size_t(pa.link)] * pa.local);
-    fcl::CollisionObjectd* ob = lease.place(std::size_t(b), poses[std::size_t(pb.link)] * pb.local);
-    fcl::CollisionResultd res;
-    if (may_touch(oa, ob) && fcl::collide(oa, ob, req, res) > 0) out.push_back(links);
-  }
+  const auto& allowed = kin_->model().allowed_pairs;
+  // Every pair, the ones no chain joint moves too (self_pairs leaves those out): the question is
+  // which pairs may ever touch, under any joint, not only under this chain's.
+  for (std::size_t a = 0; a < impl.parts.size(); ++a)
+    for (std::size_t b = a + 1; b < impl.parts.size(); ++b) {
+      if (impl.part_is_object[a] || impl.part_is_object[b]) continue;
+      const auto& pa = impl.parts[a];
+      const auto& pb = impl.parts[b];
+      if (pa.link == pb.link) continue;
+      const std::pair<int, int> links{std::min(pa.link, pb.link), std::max(pa.link, pb.link)};
+      if (std::find(allowed.begin(), allowed.end(), links) != allowed.end() ||
+          std::find(allowed.begin(), allowed.end(), std::make_pair(links.second, links.first)) != allowed.end())
+        continue;
+      if (std::find(out.begin(), out.end(), links) != out.end()) continue;  // another shape of the pair hit already
+      fcl::CollisionObjectd* oa = lease.place(a, poses[std::size_t(pa.link)] * pa.local);
+      fcl::CollisionObjectd* ob = lease.place(b, poses[std::size_t(pb.link)] * pb.local);
+      fcl::CollisionResultd res;
+      if (may_touch(oa, ob) && !hulls_apart(impl, a, b, oa->getTransform(), ob->getTransform()) &&
+          fcl::collide(oa, ob, req, res) > 0)
+        out.push_back(links);
+    }
   return out;
 }
 
-double ExactChecker::link_distance(const Eigen::VectorXd& q, int link_a, int link_b) const {
+namespace {
+const fcl::BVHModel<fcl::OBBRSSd>* as_mesh(const Geometry& g) {
+  return dynamic_cast<const fcl::BVHModel<fcl::OBBRSSd>*>(g.get());
+}
+
+// The two links' convex hulls' gap (GJK's proven bound, less its tolerance; 0 when a part has no
+// hull), each part pair's GJK started afresh: the same value whichever thread asks, as the baked
+// tables must be (link_pair_gap's warm starts can move the bound within GJK's tolerance).
+double hull_gap(const ExactChecker::Impl& impl, const std::vector<Eigen::Isometry3d>& poses, int link_a, int link_b) {
+  double gap = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < impl.parts.size() && gap > 0; ++i) {
+    const Part& pa = impl.parts[i];
+    if (impl.part_is_object[i] || pa.link != link_a) continue;
+    if (!pa.convex) return 0.0;
+    for (std::size_t j = 0; j < impl.parts.size() && gap > 0; ++j) {
+      const Part& pb = impl.parts[j];
+      if (impl.part_is_object[j] || pb.link != link_b) continue;
+      if (!pb.convex) return 0.0;
+      GapHint fresh{};
+      gap = std::min(gap, convex_gap(*pa.convex, poses[std::size_t(link_a)] * pa.local, *pb.convex,
+                                     poses[std::size_t(link_b)] * pb.local, 1e-5,
+                                     std::numeric_limits<double>::infinity(), &fresh) -
+                              kGapTolerance);
+    }
+  }
+  return std::max(gap, 0.0);
+}
+
+// Triangle `tri` of mesh `m` placed at `pose`.
+void world_triangle(const fcl::BVHModel<fcl::OBBRSSd>& m, int tri, const Eigen::Isometry3d& pose,
+                    fcl::Vector3d out[3]) {
+  const fcl::Triangle& t = m.tri_indices[tri];
+  for (int k = 0; k < 3; ++k) out[k] = pose * m.vertices[t[std::size_t(k)]];
+}
+}  // namespace
+
+double ExactChecker::link_distance(const Eigen::VectorXd& q, int link_a, int link_b, LinkWitness* witness) const {
   thread_local std::vector<Eigen::Isometry3d> poses;
   kin_->link_poses(q, poses);
   double best = std::numeric_limits<double>::infinity();
-  for (const auto& pa : impl_->parts) {
+  if (witness) *witness = LinkWitness{};
+  for (std::size_t i = 0; i < impl_->parts.size(); ++i) {
+    const Part& pa = impl_->parts[i];
     if (pa.link != link_a) continue;
-    for (const auto& pb : impl_->parts) {
+    for (std::size_t j = 0; j < impl_->parts.size(); ++j) {
+      const Part& pb = impl_->parts[j];
       if (pb.link != link_b) continue;
       Placed oa(pa.distance->get(), poses[std::size_t(link_a)] * pa.local),
           ob(pb.distance->get(), poses[std::size_t(link_b)] * pb.local);
@@ -584,10 +634,46 @@ double ExactChecker::link_distance(const Eigen::VectorXd& q, int link_a, int lin
       fcl::DistanceRequestd req;
       fcl::DistanceResultd res;
       fcl::distance(oa.get(), ob.get(), req, res);
-      best = std::min(best, std::max(0.0, res.min_distance));
+      if (std::max(0.0, res.min_distance) < best) {
+        best = std::max(0.0, res.min_distance);
+        // For meshes FCL names the two closest triangles (b1, b2).
+        if (witness && as_mesh(pa.distance->get()) && as_mesh(pb.distance->get()))
+          *witness = {int(i), int(res.b1), int(j), int(res.b2)};
+      }
     }
   }
   return best;
+}
+
+double ExactChecker::link_distance_within(const Eigen::VectorXd& q, int link_a, int link_b, double tolerance,
+                                          const std::vector<LinkWitness>& near) const {
+  const Impl& impl = *impl_;
+  if (tolerance > 0 && !near.empty()) {
+    thread_local std::vector<Eigen::Isometry3d> poses;
+    kin_->link_poses(q, poses);
+    // Any two triangles of the meshes are at least the links' distance apart: the closest of the
+    // witnesses' pairs bounds it from above.
+    double upper = std::numeric_limits<double>::infinity();
+    for (const LinkWitness& w : near) {
+      if (w.part_a < 0 || w.part_b < 0 || std::size_t(w.part_a) >= impl.parts.size() ||
+          std::size_t(w.part_b) >= impl.parts.size())
+        continue;
+      const Part &pa = impl.parts[std::size_t(w.part_a)], &pb = impl.parts[std::size_t(w.part_b)];
+      const auto *ma = as_mesh(pa.distance->get()), *mb = as_mesh(pb.distance->get());
+      if (pa.link != link_a || pb.link != link_b || !ma || !mb || w.tri_a < 0 || w.tri_a >= ma->num_tris ||
+          w.tri_b < 0 || w.tri_b >= mb->num_tris)
+        continue;
+      fcl::Vector3d A[3], B[3], on_a, on_b;
+      world_triangle(*ma, w.tri_a, poses[std::size_t(link_a)] * pa.local, A);
+      world_triangle(*mb, w.tri_b, poses[std::size_t(link_b)] * pb.local, B);
+      upper = std::min(upper, fcl::detail::TriangleDistance<double>::triDistance(A, B, on_a, on_b));
+    }
+    if (std::isfinite(upper)) {
+      const double lower = hull_gap(impl, poses, link_a, link_b);
+      if (lower > 0 && upper - lower <= tolerance) return lower;
+    }
+  }
+  return link_distance(q, link_a, link_b);
 }
 
 namespace {

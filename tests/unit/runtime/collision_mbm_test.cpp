@@ -131,17 +131,56 @@ TEST(CollisionMbm, SelfDistanceTablesNeverExceedTheExactDistanceOnThePanda) {
       const double d = exact.link_distance(q, t.link_a, t.link_b);
       ASSERT_LE(bound, d + 1e-9) << model.links[std::size_t(t.link_a)].name << " / "
                                  << model.links[std::size_t(t.link_b)].name << " at q = " << q.transpose();
-      // Near contact every node is exact; farther out a node may hold its coarse cell's bound.
+      // Near contact every node is within the bake's tolerance of exact; farther out a node may
+      // hold its coarse cell's bound.
       const double node_loss = 2 * (t.slope[0] + t.slope[1]) * std::max(t.step[0], t.step[1]);
       if (d < test::self_table_defaults().exact_below - node_loss) worst_gap = std::max(worst_gap, d - bound);
       else far_gap = std::max(far_gap, d - bound);
     }
     // Loss is at most slope * step / 2 per joint, plus the nearest node's own change...
-    EXPECT_LT(worst_gap, 2 * (t.slope[0] + t.slope[1]) * std::max(t.step[0], t.step[1]) + 1e-6);
+    EXPECT_LT(worst_gap, 2 * (t.slope[0] + t.slope[1]) * std::max(t.step[0], t.step[1]) +
+                             test::self_table_defaults().tolerance + 1e-6);
     // ... and far from contact, what the coarse lattice's Lipschitz bound loses across a cell.
     const double stride = test::self_table_defaults().coarse_stride;
     EXPECT_LT(far_gap, (2 + stride) * (t.slope[0] + t.slope[1]) * std::max(t.step[0], t.step[1]) + 1e-6);
   }
+}
+
+// link_distance_within, from where the links were closest a table step away: never above FCL's
+// exact distance, never more than its tolerance below, and on some pairs settled by the convex
+// hulls and the two nearby triangles (a cheap answer is the hulls' gap, below exact).
+TEST(CollisionMbm, LinkDistanceWithinIsAProvenBoundWithinItsTolerance) {
+  DMGPLACE_REQUIRE_SHARED();
+  const PandaArm& panda = panda_arm();
+  const runtime::Kinematics& kin = *panda.kin;
+  runtime::ExactChecker exact(kin, Scene{});
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0, 1);
+  const double tolerance = 2e-4;
+  int cheap = 0, asked = 0;
+  for (const auto& t : panda.tables)
+    for (int i = 0; i < 150; ++i) {
+      Eigen::VectorXd q(7);
+      for (int j = 0; j < 7; ++j) q[j] = kin.lower()[j] + u(rng) * (kin.upper()[j] - kin.lower()[j]);
+      runtime::LinkWitness near;
+      exact.link_distance(q, t.link_a, t.link_b, &near);
+      Eigen::VectorXd step = q;
+      for (int k = 0; k < 2; ++k)
+        if (t.joints[std::size_t(k)] >= 0) {
+          const int slot = kin.chain_slot(t.joints[std::size_t(k)]);
+          step[slot] = std::clamp(q[slot] + (u(rng) < 0.5 ? -1 : 1) * t.step[std::size_t(k)], kin.lower()[slot],
+                                  kin.upper()[slot]);
+        }
+      const double d = exact.link_distance(step, t.link_a, t.link_b);
+      const double within = exact.link_distance_within(step, t.link_a, t.link_b, tolerance, {near});
+      ASSERT_LE(within, d + 1e-12) << "at q = " << step.transpose();
+      ASSERT_GE(within, d - tolerance - 1e-12) << "at q = " << step.transpose();
+      cheap += within < d - 1e-9;
+      ++asked;
+    }
+  EXPECT_GT(cheap, 0) << "no answer from the hulls in " << asked;
+  RecordProperty("settled_by_hulls", cheap);
+  RecordProperty("asked", asked);
 }
 
 // The tables' slopes bound how fast the pair's exact distance changes with the table's joints:

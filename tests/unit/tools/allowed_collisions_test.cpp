@@ -122,3 +122,29 @@ TEST(AllowedCollisions, PandaWithoutItsSrdfGetsItsPairsAndAFreeReadyPose) {
                "panda_hand"},
               ready);
 }
+
+// dmgdual without its SRDF, planned for its grasping arm: the pusher arm (dmgarm's links and joints
+// again, named pusher_*) is sampled too, so a pair of its links that collides as often as the same
+// pair of the grasping arm is checked as that one is (sampling only the planning chain left every
+// pusher pair "never colliding", and so unchecked, whatever the pusher later did).
+TEST(AllowedCollisions, EveryArmIsSampledNotOnlyThePlanningChain) {
+  const fs::path d = test::source_dir() / "datasets/robots/dmgdual";
+  const RobotModel m = model_without_srdf({d / "dmgdual.urdf", d / "dmgdual.srdf", {}, "dmgarm_link0", "dmgarm_tcp"});
+  const tools::AllowedCollisions decided = tools::compute_allowed_collisions(m);
+  auto checked = [&](const std::string& a, const std::string& b) -> int {
+    const int la = m.link_index(a), lb = m.link_index(b);
+    for (const auto& c : decided.checked)
+      if ((c.a == la && c.b == lb) || (c.a == lb && c.b == la)) return c.collisions;
+    return 0;
+  };
+  int compared = 0;
+  for (int x = 0; x <= 7; ++x)
+    for (int y = x + 2; y <= 7; ++y) {
+      const std::string gx = "dmgarm_link" + std::to_string(x), gy = "dmgarm_link" + std::to_string(y);
+      if (m.link_index(gx) < 0 || m.link_index(gy) < 0 || checked(gx, gy) < decided.samples / 100) continue;
+      ++compared;
+      EXPECT_GT(checked("pusher_link" + std::to_string(x), "pusher_link" + std::to_string(y)), 0)
+          << gx << "/" << gy << " collided in " << checked(gx, gy) << " of " << decided.samples;
+    }
+  EXPECT_GT(compared, 0) << "no pair of the grasping arm collides often enough to compare";
+}

@@ -5,6 +5,7 @@
 #include <random>
 #include <sstream>
 
+#include "../env/parallel_for.hpp"
 #include "dmgplace/runtime/collision/exact_checker.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
 
@@ -52,17 +53,44 @@ AllowedCollisions compute_allowed_collisions(const RobotModel& input, const Allo
   kin.link_poses(Eigen::VectorXd::Zero(kin.dof()).cwiseMax(kin.lower()).cwiseMin(kin.upper()), poses);
   for (const auto& pair : checker.colliding_link_pairs(poses)) decided.emplace(pair, DisableReason::Default);
 
-  // Random configurations: how often each pair collides.
-  std::map<std::pair<int, int>, int> hits;
+  // Random configurations of every joint that moves, the chain's and the others' (another arm may
+  // plan later, as a pusher), as MoveIt's setup assistant samples them: how often each pair collides.
+  std::vector<int> others;
+  for (std::size_t j = 0; j < model.joints.size(); ++j) {
+    const Joint& jt = model.joints[j];
+    if (jt.type != JointType::Fixed && jt.mimic < 0 && kin.chain_slot(int(j)) < 0) others.push_back(int(j));
+  }
+  // The configurations drawn in order, then checked in parallel (each thread its own kinematics).
   std::mt19937_64 rng(o.seed);
-  Eigen::VectorXd q(kin.dof());
   const int samples = std::max(1, o.samples);
+  std::vector<Eigen::VectorXd> chain(static_cast<std::size_t>(samples), Eigen::VectorXd(kin.dof()));
+  std::vector<std::vector<double>> rest(static_cast<std::size_t>(samples));
   for (int s = 0; s < samples; ++s) {
     for (int i = 0; i < kin.dof(); ++i)
-      q[i] = std::uniform_real_distribution<double>(kin.lower()[i], kin.upper()[i])(rng);
-    kin.link_poses(q, poses);
-    for (const auto& pair : checker.colliding_link_pairs(poses)) ++hits[pair];
+      chain[std::size_t(s)][i] = std::uniform_real_distribution<double>(kin.lower()[i], kin.upper()[i])(rng);
+    for (int j : others) {
+      const Joint& jt = model.joints[std::size_t(j)];
+      const bool turns = jt.type == JointType::Continuous;
+      rest[std::size_t(s)].push_back(
+          std::uniform_real_distribution<double>(turns ? -M_PI : jt.lower, turns ? M_PI : jt.upper)(rng));
+    }
   }
+  std::vector<std::vector<std::pair<int, int>>> colliding(static_cast<std::size_t>(samples));
+  const std::size_t parts =
+      std::size_t(std::max(1, o.threads > 0 ? o.threads : runtime::available_cpus())), n = chain.size();
+  detail::parallel_for(parts, int(parts), [&](std::size_t part) {
+    runtime::Kinematics sampled(kin);  // other joints set per sample: one copy per part
+    std::vector<Eigen::Isometry3d> at;
+    for (std::size_t s = part * n / parts; s < (part + 1) * n / parts; ++s) {
+      for (std::size_t k = 0; k < others.size(); ++k)
+        sampled.set_joint_value(model.joints[std::size_t(others[k])].name, rest[s][k]);
+      sampled.link_poses(chain[s], at);
+      colliding[s] = checker.colliding_link_pairs(at);
+    }
+  });
+  std::map<std::pair<int, int>, int> hits;
+  for (const auto& pairs : colliding)
+    for (const auto& pair : pairs) ++hits[pair];
   AllowedCollisions out;
   out.samples = samples;
   for (int a = 0; a < int(nl); ++a)

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "../env/parallel_for.hpp"
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
 #include "dmgplace/tools/io/joint_limits_reader.hpp"
@@ -81,15 +82,17 @@ formats::RobotArtifact bake_robot(const RobotBakeOptions& o, AllowedCollisions* 
     for (const auto& p : allowed.disabled) robot.model.allowed_pairs.emplace_back(p.a, p.b);
     if (decided) *decided = allowed;
   }
-  for (std::size_t l = 0; l < robot.model.links.size(); ++l) {
-    std::vector<Sphere> cover;
+  // Each link's cover on its own (the links in parallel), then in link order.
+  std::vector<std::vector<Sphere>> covers(robot.model.links.size());
+  detail::parallel_for(covers.size(), o.self_tables.threads, [&](std::size_t l) {
     try {
-      cover = cover_with_spheres(robot.model.links[l].collision, o.spheres);
+      covers[l] = cover_with_spheres(robot.model.links[l].collision, o.spheres);
     } catch (const Error& e) {
       throw Error(o.urdf.string(), "link '" + robot.model.links[l].name + "'", e.what());
     }
-    for (const auto& s : cover) robot.spheres.push_back({int(l), s.center, s.radius});
-  }
+  });
+  for (std::size_t l = 0; l < covers.size(); ++l)
+    for (const auto& s : covers[l]) robot.spheres.push_back({int(l), s.center, s.radius});
   const runtime::Kinematics kin(robot.model, robot.model.arm_base, robot.model.arm_tip);
   robot.self_tables = build_self_distance_tables(kin, robot.spheres, o.self_tables);
   return robot;

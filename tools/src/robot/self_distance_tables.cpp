@@ -101,11 +101,16 @@ void fill_table(formats::SelfDistanceTable& t, const runtime::Kinematics& kin, c
   const std::size_t c0 = std::size_t(t.count[0]), c1 = std::size_t(t.count[1]);
   t.distance.assign(c0 * c1, 0.0f);
   progress.add_total(c0 * c1);
-  auto exact_at = [&](std::size_t i0, std::size_t i1) {
+  auto at = [&](std::size_t i0, std::size_t i1) {
     Eigen::VectorXd qn = mid;
     qn[kin.chain_slot(t.joints[0])] = t.lower[0] + double(i0) * t.step[0];
     if (t.joints[1] >= 0) qn[kin.chain_slot(t.joints[1])] = t.lower[1] + double(i1) * t.step[1];
-    t.distance[i0 * c1 + i1] = round_down(exact.link_distance(qn, a, b));
+    return qn;
+  };
+  // Lattice nodes keep where their links were closest, for the nodes of their cells.
+  std::vector<runtime::LinkWitness> witness(c0 * c1);
+  auto exact_at = [&](std::size_t i0, std::size_t i1) {
+    t.distance[i0 * c1 + i1] = round_down(exact.link_distance(at(i0, i1), a, b, &witness[i0 * c1 + i1]));
   };
   const std::size_t s = std::size_t(o.coarse_stride);
   auto lattice = [&](std::size_t count) {
@@ -151,8 +156,14 @@ void fill_table(formats::SelfDistanceTable& t, const runtime::Kinematics& kin, c
       }
     }
   progress.done(bounded);
+  // Each from its cell's lattice corners' witnesses: the same value whichever thread computes it.
   detail::parallel_for(refine.size(), o.threads, [&](std::size_t k) {
-    exact_at(refine[k] / c1, refine[k] % c1);
+    const std::size_t i0 = refine[k] / c1, i1 = refine[k] % c1;
+    const auto [a0, b0] = cell(l0, i0);
+    const auto [a1, b1] = cell(l1, i1);
+    const std::vector<runtime::LinkWitness> near{witness[a0 * c1 + a1], witness[a0 * c1 + b1], witness[b0 * c1 + a1],
+                                                 witness[b0 * c1 + b1]};
+    t.distance[refine[k]] = round_down(exact.link_distance_within(at(i0, i1), a, b, o.tolerance, near));
     progress.done(1);
   });
 }
@@ -163,8 +174,8 @@ std::vector<formats::SelfDistanceTable> build_self_distance_tables(const runtime
                                                                    const SelfTableOptions& o) {
   std::vector<formats::SelfDistanceTable> out;
   if (!o.enabled) return out;
-  if (o.coarse_stride < 1 || !(o.exact_below >= 0))
-    throw Error("self-distance tables", "options", "coarse stride >= 1, exact_below >= 0");
+  if (o.coarse_stride < 1 || !(o.exact_below >= 0) || !(o.tolerance >= 0))
+    throw Error("self-distance tables", "options", "coarse stride >= 1, exact_below >= 0, tolerance >= 0");
   ProgressReporter progress(o.progress, "self-distance tables");
   const RobotModel& m = kin.model();
   runtime::ExactChecker exact(kin, Scene{});

@@ -30,6 +30,11 @@ struct ExactCheck {
   bool free() const { return environment_free && self_free; }
 };
 
+// Where two links' meshes were closest: their parts and a triangle of each (-1: not meshes).
+struct LinkWitness {
+  int part_a = -1, tri_a = -1, part_b = -1, tri_b = -1;
+};
+
 class ExactChecker {
  public:
   // Scene geometry in the kinematics' base frame. `scan_resolution` sizes the octree cells. Mesh
@@ -71,10 +76,17 @@ class ExactChecker {
   bool link_pairs_free(const std::vector<Eigen::Isometry3d>& poses, const std::pair<int, int>* pairs, int count) const;
   bool is_free(const Eigen::VectorXd& q) const { return check(q).free(); }
   // Every pair of links (smaller index first) whose geometry collides at `poses`, among the pairs
-  // the model does not allow to touch and that move against each other.
+  // the model does not allow to touch, whether this chain moves them or not.
   std::vector<std::pair<int, int>> colliding_link_pairs(const std::vector<Eigen::Isometry3d>& poses) const;
-  // Smallest distance between two links' collision geometry at q (0 when they touch).
-  double link_distance(const Eigen::VectorXd& q, int link_a, int link_b) const;
+  // Smallest distance between two links' collision geometry at q (0 when they touch). `witness`
+  // (optional): where it was found, for link_distance_within at nearby configurations.
+  double link_distance(const Eigen::VectorXd& q, int link_a, int link_b, LinkWitness* witness = nullptr) const;
+  // A proven lower bound of link_distance(q, ...) at most `tolerance` below it. Cheap where the
+  // closest triangles of nearby configurations (`near`, from link_distance) bound the distance
+  // from above within `tolerance` of the links' convex hulls' gap (GJK, from below); FCL's exact
+  // distance otherwise.
+  double link_distance_within(const Eigen::VectorXd& q, int link_a, int link_b, double tolerance,
+                              const std::vector<LinkWitness>& near) const;
   // Proven clearances at `poses` for certificates (convex_gap: GJK's dual bound on primitives and
   // on link meshes' convex hulls, Shape::hull): of `link` to every scene shape (a certificate must
   // hold against all of them), and between two links. Lower bounds of the true clearances; a value

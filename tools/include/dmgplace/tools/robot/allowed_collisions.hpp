@@ -15,6 +15,7 @@ namespace dmgplace::tools {
 struct AllowedCollisionOptions {
   int samples = 2000;  // random configurations (MoveIt's default is 10000; 2000 settles the Panda)
   std::uint64_t seed = 1;
+  int threads = 0;  // <= 0: every CPU the process may use (the result does not depend on it)
 };
 
 enum class DisableReason { Adjacent, Default, Always, Never };

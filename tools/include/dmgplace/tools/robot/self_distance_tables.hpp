@@ -7,7 +7,9 @@
 // Bound first, refine near contact: the exact distance is computed on every `coarse_stride`-th
 // node; any other node whose Lipschitz bound from the corners of its coarse cell (distance minus
 // slope x joint offset) is at least `exact_below` stores that bound, which is a lower bound as
-// every stored value must be; the rest, near contact, are computed exactly.
+// every stored value must be; the rest, near contact, are computed within `tolerance` of exact:
+// the links' convex hulls' gap where the two triangles closest at the cell's nearest lattice node
+// prove it that close (ExactChecker::link_distance_within), FCL's exact distance otherwise.
 #include <cstddef>
 #include <vector>
 
@@ -24,6 +26,7 @@ struct SelfTableOptions {
   bool enabled = true;
   int coarse_stride = 4;      // 1: every node exact
   double exact_below = 0.05;  // m: nodes bounded below this are computed exactly
+  double tolerance = 2e-4;    // m: how far below exact such a node may be (0: FCL at each)
   // Nodes settled of all nodes so far known (the tables are found one by one).
   ProgressFn progress;
 };
