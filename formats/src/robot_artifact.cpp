@@ -168,38 +168,39 @@ RobotArtifact read_robot_unchecked(const std::filesystem::path& path) {
   return a;
 }
 
-std::vector<std::string> check_robot(const RobotArtifact& a) {
-  const RobotModel& m = a.model;
-  std::vector<std::string> p;
+namespace {
+// One joint's indices, pose, axis, limits and mimic; records it as its child's parent joint.
+void check_joint(const RobotModel& m, std::size_t i, std::vector<int>& parent_joint, std::vector<std::string>& p) {
   const int nl = int(m.links.size());
-  if (nl == 0) p.push_back("links: robot has no links");
-  std::vector<int> parent_joint(std::size_t(std::max(nl, 0)), -1);
-  for (std::size_t i = 0; i < m.joints.size(); ++i) {
-    const Joint& j = m.joints[i];
-    const std::string el = "joints[" + std::to_string(i) + "] '" + j.name + "'";
-    if (j.parent < 0 || j.parent >= nl || j.child < 0 || j.child >= nl) {
-      p.push_back(el + ": link index out of range");
-      continue;
-    }
-    if (parent_joint[std::size_t(j.child)] >= 0)
-      p.push_back(el + ": link '" + m.links[std::size_t(j.child)].name + "' has two parent joints");
-    parent_joint[std::size_t(j.child)] = int(i);
-    if (!j.origin.matrix().allFinite() || !detail::is_rotation(j.origin.linear()))
-      p.push_back(el + ": origin not a finite rigid pose");
-    if (j.type != JointType::Fixed && !(std::abs(j.axis.norm() - 1) <= 1e-6))
-      p.push_back(el + ": axis is not a finite unit vector");
-    if (j.type == JointType::Revolute || j.type == JointType::Prismatic) {
-      if (!std::isfinite(j.lower) || !std::isfinite(j.upper) || j.lower > j.upper)
-        p.push_back(el + ": joint limits invalid (lower > upper or not finite)");
-    }
-    if (!std::isfinite(j.velocity) || j.velocity < 0) p.push_back(el + ": velocity limit must be finite and >= 0");
-    if (!std::isfinite(j.acceleration) || j.acceleration < 0)
-      p.push_back(el + ": acceleration limit must be finite and >= 0");
-    if (j.mimic < -1 || j.mimic >= int(m.joints.size()) || j.mimic == int(i))
-      p.push_back(el + ": mimic joint index invalid");
-    if (j.mimic >= 0 && (!std::isfinite(j.mimic_multiplier) || !std::isfinite(j.mimic_offset)))
-      p.push_back(el + ": mimic multiplier and offset must be finite");
+  const Joint& j = m.joints[i];
+  const std::string el = "joints[" + std::to_string(i) + "] '" + j.name + "'";
+  if (j.parent < 0 || j.parent >= nl || j.child < 0 || j.child >= nl) {
+    p.push_back(el + ": link index out of range");
+    return;
   }
+  if (parent_joint[std::size_t(j.child)] >= 0)
+    p.push_back(el + ": link '" + m.links[std::size_t(j.child)].name + "' has two parent joints");
+  parent_joint[std::size_t(j.child)] = int(i);
+  if (!j.origin.matrix().allFinite() || !detail::is_rotation(j.origin.linear()))
+    p.push_back(el + ": origin not a finite rigid pose");
+  if (j.type != JointType::Fixed && !(std::abs(j.axis.norm() - 1) <= 1e-6))
+    p.push_back(el + ": axis is not a finite unit vector");
+  if (j.type == JointType::Revolute || j.type == JointType::Prismatic) {
+    if (!std::isfinite(j.lower) || !std::isfinite(j.upper) || j.lower > j.upper)
+      p.push_back(el + ": joint limits invalid (lower > upper or not finite)");
+  }
+  if (!std::isfinite(j.velocity) || j.velocity < 0) p.push_back(el + ": velocity limit must be finite and >= 0");
+  if (!std::isfinite(j.acceleration) || j.acceleration < 0)
+    p.push_back(el + ": acceleration limit must be finite and >= 0");
+  if (j.mimic < -1 || j.mimic >= int(m.joints.size()) || j.mimic == int(i))
+    p.push_back(el + ": mimic joint index invalid");
+  if (j.mimic >= 0 && (!std::isfinite(j.mimic_multiplier) || !std::isfinite(j.mimic_offset)))
+    p.push_back(el + ": mimic multiplier and offset must be finite");
+}
+
+// Mimic chains end at an independent joint, the links form one tree (one root, no loop).
+void check_tree(const RobotModel& m, const std::vector<int>& parent_joint, std::vector<std::string>& p) {
+  const int nl = int(m.links.size());
   // A mimic chain must end at an independent joint: a loop would make forward kinematics recurse.
   for (std::size_t i = 0; i < m.joints.size(); ++i) {
     int cur = int(i), steps = 0;
@@ -226,13 +227,12 @@ std::vector<std::string> check_robot(const RobotArtifact& a) {
     }
     if (steps > nl) p.push_back("joints: kinematic loop through link '" + m.links[std::size_t(l)].name + "'");
   }
-  std::vector<OwnedShape> shapes;
-  for (std::size_t i = 0; i < m.links.size(); ++i)
-    for (const auto& s : m.links[i].collision) shapes.push_back({int(i), s});
-  detail::append(p, check_shapes(shapes, nl, "links/collision"));
-  for (auto [x, y] : m.allowed_pairs)
-    if (x < 0 || y < 0 || x >= nl || y >= nl || x == y)
-      p.push_back("allowed_pairs: invalid pair (" + std::to_string(x) + ", " + std::to_string(y) + ")");
+}
+
+// Every sphere on a link with a positive finite radius, and every link with geometry covered.
+void check_spheres(const RobotArtifact& a, std::vector<std::string>& p) {
+  const RobotModel& m = a.model;
+  const int nl = int(m.links.size());
   for (std::size_t i = 0; i < a.spheres.size(); ++i) {
     const auto& sp = a.spheres[i];
     if (sp.link < 0 || sp.link >= nl || !sp.center.allFinite() || !(sp.radius > 0) || !std::isfinite(sp.radius))
@@ -245,30 +245,34 @@ std::vector<std::string> check_robot(const RobotArtifact& a) {
     if (!covered)
       p.push_back("links/spheres: link '" + m.links[std::size_t(l)].name + "' has collision geometry but no spheres");
   }
-  for (std::size_t i = 0; i < a.self_tables.size(); ++i) {
-    const auto& t = a.self_tables[i];
-    const std::string el = "self_tables[" + std::to_string(i) + "]";
-    const int nj = int(m.joints.size());
-    if (t.link_a < 0 || t.link_b < 0 || t.link_a >= nl || t.link_b >= nl || t.link_a == t.link_b)
-      p.push_back(el + ": link pair out of range");
-    if (t.joints[0] < 0 || t.joints[0] >= nj || t.joints[1] < -1 || t.joints[1] >= nj || t.joints[0] == t.joints[1])
-      p.push_back(el + ": joint index out of range");
-    if (t.joints[1] < 0 && t.count[1] != 1) p.push_back(el + ": 1-D table with more than one column");
-    bool grid_ok = true;
-    for (int k = 0; k < 2; ++k)
-      grid_ok &= std::isfinite(t.lower[std::size_t(k)]) && t.step[std::size_t(k)] > 0 &&
-                 std::isfinite(t.step[std::size_t(k)]) && t.slope[std::size_t(k)] >= 0 &&
-                 std::isfinite(t.slope[std::size_t(k)]);
-    if (!grid_ok) p.push_back(el + ": grid lower/step/slope not finite or step not positive or slope negative");
-    if (t.distance.size() != std::size_t(std::max(t.count[0], 0)) * std::size_t(std::max(t.count[1], 0)))
-      p.push_back(el + ": distance count does not match the grid");
-    for (float d : t.distance)
-      if (!(d >= 0) || !std::isfinite(d)) {
-        p.push_back(el + ": distance negative or not finite");
-        break;
-      }
-  }
-  int base = m.link_index(m.arm_base), tip = m.link_index(m.arm_tip);
+}
+
+void check_table(const RobotModel& m, const SelfDistanceTable& t, std::size_t i, std::vector<std::string>& p) {
+  const int nl = int(m.links.size()), nj = int(m.joints.size());
+  const std::string el = "self_tables[" + std::to_string(i) + "]";
+  if (t.link_a < 0 || t.link_b < 0 || t.link_a >= nl || t.link_b >= nl || t.link_a == t.link_b)
+    p.push_back(el + ": link pair out of range");
+  if (t.joints[0] < 0 || t.joints[0] >= nj || t.joints[1] < -1 || t.joints[1] >= nj || t.joints[0] == t.joints[1])
+    p.push_back(el + ": joint index out of range");
+  if (t.joints[1] < 0 && t.count[1] != 1) p.push_back(el + ": 1-D table with more than one column");
+  bool grid_ok = true;
+  for (int k = 0; k < 2; ++k)
+    grid_ok &= std::isfinite(t.lower[std::size_t(k)]) && t.step[std::size_t(k)] > 0 &&
+               std::isfinite(t.step[std::size_t(k)]) && t.slope[std::size_t(k)] >= 0 &&
+               std::isfinite(t.slope[std::size_t(k)]);
+  if (!grid_ok) p.push_back(el + ": grid lower/step/slope not finite or step not positive or slope negative");
+  if (t.distance.size() != std::size_t(std::max(t.count[0], 0)) * std::size_t(std::max(t.count[1], 0)))
+    p.push_back(el + ": distance count does not match the grid");
+  for (float d : t.distance)
+    if (!(d >= 0) || !std::isfinite(d)) {
+      p.push_back(el + ": distance negative or not finite");
+      break;
+    }
+}
+
+// The planning chain's ends are links, the tip below the base (asked only of an otherwise sound tree).
+void check_chain(const RobotModel& m, const std::vector<int>& parent_joint, std::vector<std::string>& p) {
+  const int base = m.link_index(m.arm_base), tip = m.link_index(m.arm_tip);
   if (base < 0 || tip < 0) {
     p.push_back("arm chain: base '" + m.arm_base + "' or tip '" + m.arm_tip + "' is not a link");
   } else if (p.empty()) {
@@ -277,6 +281,27 @@ std::vector<std::string> check_robot(const RobotArtifact& a) {
       cur = m.joints[std::size_t(parent_joint[std::size_t(cur)])].parent;
     if (cur != base) p.push_back("arm chain: tip '" + m.arm_tip + "' does not descend from base '" + m.arm_base + "'");
   }
+}
+}  // namespace
+
+std::vector<std::string> check_robot(const RobotArtifact& a) {
+  const RobotModel& m = a.model;
+  std::vector<std::string> p;
+  const int nl = int(m.links.size());
+  if (nl == 0) p.push_back("links: robot has no links");
+  std::vector<int> parent_joint(std::size_t(std::max(nl, 0)), -1);
+  for (std::size_t i = 0; i < m.joints.size(); ++i) check_joint(m, i, parent_joint, p);
+  check_tree(m, parent_joint, p);
+  std::vector<OwnedShape> shapes;
+  for (std::size_t i = 0; i < m.links.size(); ++i)
+    for (const auto& s : m.links[i].collision) shapes.push_back({int(i), s});
+  detail::append(p, check_shapes(shapes, nl, "links/collision"));
+  for (auto [x, y] : m.allowed_pairs)
+    if (x < 0 || y < 0 || x >= nl || y >= nl || x == y)
+      p.push_back("allowed_pairs: invalid pair (" + std::to_string(x) + ", " + std::to_string(y) + ")");
+  check_spheres(a, p);
+  for (std::size_t i = 0; i < a.self_tables.size(); ++i) check_table(m, a.self_tables[i], i, p);
+  check_chain(m, parent_joint, p);
   return p;
 }
 
