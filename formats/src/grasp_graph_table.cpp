@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 #include <map>
+#include <optional>
 #include <set>
 #include <tuple>
 
@@ -103,6 +104,60 @@ GraspGraphTable build_grasp_graph_table(const Dmg& dmg, double rotation_weight) 
   return t;
 }
 
+namespace {
+// The states enumerate the nodes' angle intervals in order, each with its node's TCP and opening
+// (the snap index); the first problem found, or none.
+std::optional<std::string> state_problem(const Dmg& dmg, const GraspGraphTable& t, const std::vector<int>& first) {
+  const int k = dmg.angle_count();
+  for (std::size_t i = 0; i < dmg.nodes.size(); ++i)
+    for (int j = 0; j < dmg.nodes[i].angle_count; ++j) {
+      const int s = first[i] + j;
+      if (t.state_node[s] != int(i) || t.state_angle[s] != (dmg.nodes[i].first_angle + j) % k)
+        return "state " + std::to_string(s) + " is not angle " + std::to_string(j) + " of node " + std::to_string(i) +
+               "'s interval";
+    }
+  const double step = step_rad(dmg);
+  for (int s = 0; s < first.back(); ++s) {
+    const auto& n = dmg.nodes[t.state_node[s]];
+    const Eigen::Isometry3d e = tcp_of(n, t.state_angle[s] * step);
+    const double* c = &t.tcp[7 * std::size_t(s)];
+    const Eigen::Quaterniond q(c[6], c[3], c[4], c[5]);
+    const bool pose_ok = (Eigen::Vector3d(c[0], c[1], c[2]) - e.translation()).norm() <= 1e-9 &&
+                         std::abs(q.norm() - 1) <= 1e-9 && q.angularDistance(Eigen::Quaterniond(e.linear())) <= 1e-6;
+    if (!pose_ok || !(std::abs(t.opening[s] - (n.position - n.opposite_point).norm()) <= 1e-9))
+      return "snap index: state " + std::to_string(s) + "'s TCP pose or opening is not its node's";
+  }
+  return std::nullopt;
+}
+
+// Edge e (from state s): a target in range, a rotation to a neighbouring angle of the same node or
+// a translation along a DMG edge at the same angle, and its move's cost; empty when sound.
+std::string edge_problem(const Dmg& dmg, const GraspGraphTable& t, int s, int e,
+                         const std::set<std::pair<int, int>>& dmg_edges) {
+  const int states = int(t.state_node.size()), k = dmg.angle_count();
+  const int u = t.targets[e];
+  const std::string edge = "edge " + std::to_string(s) + " -> " + std::to_string(u);
+  if (u < 0 || u >= states || u == s) return edge + ": target out of range or a self loop";
+  if (!(t.costs[e] > 0) || !std::isfinite(t.costs[e])) return edge + ": cost is not positive and finite";
+  const int a = t.state_node[s], b = t.state_node[u];
+  double expected = 0;
+  if (t.moves[e] == GraspMoveKind::Rotation) {
+    const int d = ((t.state_angle[u] - t.state_angle[s]) % k + k) % k;
+    if (a != b || (d != 1 && d != k - 1))
+      return edge + ": a rotation that does not turn to a neighbouring angle of the same node";
+    expected = step_rad(dmg) * t.rotation_weight;
+  } else if (t.moves[e] == GraspMoveKind::Translation) {
+    if (t.state_angle[s] != t.state_angle[u] || !dmg_edges.contains({a, b}))
+      return edge + ": a translation that does not keep the angle along a DMG edge";
+    expected = (dmg.nodes[a].position - dmg.nodes[b].position).norm();
+  } else {
+    return edge + ": unknown move type " + std::to_string(int(t.moves[e]));
+  }
+  if (std::abs(t.costs[e] - expected) > 1e-9 * (1 + expected)) return edge + ": cost differs from its move's cost";
+  return {};
+}
+}  // namespace
+
 std::vector<std::string> check_grasp_graph_table(const Dmg& dmg, const GraspGraphTable& t) {
   std::vector<std::string> p;
   const std::string w = "grasp_graph: ";
@@ -116,29 +171,10 @@ std::vector<std::string> check_grasp_graph_table(const Dmg& dmg, const GraspGrap
                 " states (or tables of other lengths), the DMG's angle intervals give " + std::to_string(states));
     return p;
   }
-  const int k = dmg.angle_count();
-  for (std::size_t i = 0; i < dmg.nodes.size() && p.empty(); ++i)
-    for (int j = 0; j < dmg.nodes[i].angle_count; ++j) {
-      const int s = first[i] + j;
-      if (t.state_node[s] != int(i) || t.state_angle[s] != (dmg.nodes[i].first_angle + j) % k) {
-        p.push_back(w + "state " + std::to_string(s) + " is not angle " + std::to_string(j) + " of node " +
-                    std::to_string(i) + "'s interval");
-        break;
-      }
-    }
   if (!p.empty()) return p;
-  const double step = step_rad(dmg);
-  for (int s = 0; s < states; ++s) {
-    const auto& n = dmg.nodes[t.state_node[s]];
-    const Eigen::Isometry3d e = tcp_of(n, t.state_angle[s] * step);
-    const double* c = &t.tcp[7 * std::size_t(s)];
-    const Eigen::Quaterniond q(c[6], c[3], c[4], c[5]);
-    const bool pose_ok = (Eigen::Vector3d(c[0], c[1], c[2]) - e.translation()).norm() <= 1e-9 &&
-                         std::abs(q.norm() - 1) <= 1e-9 && q.angularDistance(Eigen::Quaterniond(e.linear())) <= 1e-6;
-    if (!pose_ok || !(std::abs(t.opening[s] - (n.position - n.opposite_point).norm()) <= 1e-9)) {
-      p.push_back(w + "snap index: state " + std::to_string(s) + "'s TCP pose or opening is not its node's");
-      break;
-    }
+  if (const auto why = state_problem(dmg, t, first)) {
+    p.push_back(w + *why);
+    if (why->rfind("snap index", 0) != 0) return p;  // the edges' checks read the states
   }
   if (t.offsets.size() != std::size_t(states) + 1 || t.offsets.front() != 0 ||
       std::size_t(t.offsets.back()) != t.targets.size() || !std::is_sorted(t.offsets.begin(), t.offsets.end()) ||
@@ -150,45 +186,13 @@ std::vector<std::string> check_grasp_graph_table(const Dmg& dmg, const GraspGrap
   for (auto [a, b] : dmg.edges) dmg_edges.insert({a, b});
   std::map<std::pair<int, int>, std::pair<double, GraspMoveKind>> edges;
   std::size_t bad = 0;
-  auto report = [&](const std::string& m) {
-    if (bad++ == 0) p.push_back(w + m);
-  };
   for (int s = 0; s < states; ++s)
     for (int e = t.offsets[s]; e < t.offsets[s + 1]; ++e) {
-      const int u = t.targets[e];
-      const std::string edge = "edge " + std::to_string(s) + " -> " + std::to_string(u);
-      if (u < 0 || u >= states || u == s) {
-        report(edge + ": target out of range or a self loop");
+      if (const std::string why = edge_problem(dmg, t, s, e, dmg_edges); !why.empty()) {
+        if (bad++ == 0) p.push_back(w + why);
         continue;
       }
-      if (!(t.costs[e] > 0) || !std::isfinite(t.costs[e])) {
-        report(edge + ": cost is not positive and finite");
-        continue;
-      }
-      const int a = t.state_node[s], b = t.state_node[u];
-      double expected = 0;
-      if (t.moves[e] == GraspMoveKind::Rotation) {
-        const int d = ((t.state_angle[u] - t.state_angle[s]) % k + k) % k;
-        if (a != b || (d != 1 && d != k - 1)) {
-          report(edge + ": a rotation that does not turn to a neighbouring angle of the same node");
-          continue;
-        }
-        expected = step * t.rotation_weight;
-      } else if (t.moves[e] == GraspMoveKind::Translation) {
-        if (t.state_angle[s] != t.state_angle[u] || !dmg_edges.contains({a, b})) {
-          report(edge + ": a translation that does not keep the angle along a DMG edge");
-          continue;
-        }
-        expected = (dmg.nodes[a].position - dmg.nodes[b].position).norm();
-      } else {
-        report(edge + ": unknown move type " + std::to_string(int(t.moves[e])));
-        continue;
-      }
-      if (std::abs(t.costs[e] - expected) > 1e-9 * (1 + expected)) {
-        report(edge + ": cost differs from its move's cost");
-        continue;
-      }
-      edges[{s, u}] = {t.costs[e], t.moves[e]};
+      edges[{s, t.targets[e]}] = {t.costs[e], t.moves[e]};
     }
   if (bad > 1) p.push_back(w + std::to_string(bad) + " bad edges in all");
   for (const auto& [e, v] : edges) {
