@@ -630,7 +630,10 @@ double ExactChecker::link_distance(const Eigen::VectorXd& q, int link_a, int lin
           ob(pb.distance->get(), poses[std::size_t(link_b)] * pb.local);
       fcl::CollisionRequestd creq;
       fcl::CollisionResultd cres;
-      if (fcl::collide(oa.get(), ob.get(), creq, cres) > 0) return 0.0;  // FCL's distance is unsigned inside
+      // FCL's distance between primitives is unsigned inside, so they are tested for contact first.
+      // Two meshes need not be: a triangle pair that crosses is 0 apart, which ends the search.
+      const bool meshes = as_mesh(pa.distance->get()) && as_mesh(pb.distance->get());
+      if (!meshes && fcl::collide(oa.get(), ob.get(), creq, cres) > 0) return 0.0;
       fcl::DistanceRequestd req;
       fcl::DistanceResultd res;
       fcl::distance(oa.get(), ob.get(), req, res);
