@@ -41,6 +41,55 @@ void print(const std::string& name, const Stats& s) {
             << " ms, median length " << quantile(s.lengths, 0.5) << "; to the first path (before shortcutting): median "
             << quantile(s.first_times, 0.5) * 1e3 << " ms\n";
 }
+
+// A folder's requestNNNN.yaml files, sorted, at most `limit` (0: all).
+std::vector<fs::path> list_requests(const std::string& dir, int limit) {
+  std::vector<fs::path> requests;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().filename().string().rfind("request", 0) == 0 && e.path().extension() == ".yaml")
+      requests.push_back(e.path());
+  std::sort(requests.begin(), requests.end());
+  if (limit > 0 && int(requests.size()) > limit) requests.resize(std::size_t(limit));
+  if (requests.empty()) throw Error(dir, "", "no requestNNNN.yaml files");
+  return requests;
+}
+
+// Every run's figures, pooled over the sets.
+struct Totals {
+  Stats ours, stock;
+  Stats planning_alone;  // ours without its space and planner setup (as VAMP's timers count)
+  // Ours builds per scene its checkers, and a distance field unless the scene is a few primitives
+  // (in dmgplace proper, bake-env does that offline): reported apart from planning, then with it.
+  std::vector<double> field_seconds, setup_seconds, setup_and_first;
+};
+
+// After the per-set lines: the setup apart, planning alone, a new scene to its first path, the ratio.
+void print_totals(const Totals& t, const BenchMbmArgs& a, bool run_ours, bool run_stock) {
+  print("all ours", t.ours);
+  print("all OMPL RRTConnect+FCL " + a.stock_bvh, t.stock);
+  std::cout << "ours' scene setup (checkers; a distance field in " << t.field_seconds.size() << " of "
+            << t.setup_seconds.size() << " scenes), not in the planning times above: median "
+            << quantile(t.setup_seconds, 0.5) * 1e3 << " ms, p95 " << quantile(t.setup_seconds, 0.95) * 1e3 << " ms";
+  if (!t.field_seconds.empty())
+    std::cout << " (the field alone: median " << quantile(t.field_seconds, 0.5) * 1e3 << " ms at " << a.sdf_resolution
+              << " m)";
+  std::cout << "\n";
+  if (run_ours) {
+    print("all ours, planning alone (no space/planner setup)", t.planning_alone);
+    std::vector<double> planner_setup;
+    for (std::size_t i = 0; i < t.ours.times.size(); ++i)
+      planner_setup.push_back(t.ours.times[i] - t.planning_alone.times[i]);
+    std::cout << "ours' space and planner setup per run (in the times above, not in planning alone): median "
+              << quantile(planner_setup, 0.5) * 1e3 << " ms\n";
+    std::cout << "ours from a new scene to its first path (setup + planning): median "
+              << quantile(t.setup_and_first, 0.5) * 1e3 << " ms, p95 " << quantile(t.setup_and_first, 0.95) * 1e3
+              << " ms\n";
+  }
+  if (run_ours && run_stock)
+    std::cout << "ratio of medians (stock / ours): " << quantile(t.stock.times, 0.5) / quantile(t.ours.times, 0.5)
+              << " with our shortcutting, " << quantile(t.stock.first_times, 0.5) / quantile(t.ours.first_times, 0.5)
+              << " to the first path (neither shortened)\n";
+}
 }  // namespace
 
 int run_bench_mbm(const BenchMbmArgs& a) {
@@ -51,21 +100,11 @@ int run_bench_mbm(const BenchMbmArgs& a) {
     csv << "set,problem,planner,run,solved,valid,seconds,length,first_path_seconds,setup_seconds,planner_setup_"
            "seconds\n";
   }
-  Stats ours_all, stock_all;
+  Totals all;
   const bool run_ours = a.planners != "stock", run_stock = a.planners != "ours";
-  // Ours builds per scene its checkers, and a distance field unless the scene is a few primitives
-  // (in dmgplace proper, bake-env does that offline): reported apart from planning, then with it.
-  std::vector<double> field_seconds, setup_seconds, setup_and_first;
-  Stats planning_alone;  // ours without its space and planner setup (as VAMP's timers count)
   const auto robot = tools::load_arm_robot(a.robot);  // once: every scene shares its checkers' robot part
   for (const auto& dir : a.dirs) {
-    std::vector<fs::path> requests;
-    for (const auto& e : fs::directory_iterator(dir))
-      if (e.path().filename().string().rfind("request", 0) == 0 && e.path().extension() == ".yaml")
-        requests.push_back(e.path());
-    std::sort(requests.begin(), requests.end());
-    if (a.limit > 0 && int(requests.size()) > a.limit) requests.resize(std::size_t(a.limit));
-    if (requests.empty()) throw Error(dir, "", "no requestNNNN.yaml files");
+    const std::vector<fs::path> requests = list_requests(dir, a.limit);
     Stats ours, stock;
     const std::string set = fs::path(dir).filename().string();
     for (std::size_t i = 0; i < requests.size(); ++i) {
@@ -79,11 +118,11 @@ int run_bench_mbm(const BenchMbmArgs& a) {
       if (run_stock)
         stock_checker.emplace(*problem.kin, problem.scene,
                               a.stock_bvh == "obb" ? runtime::FclMeshNodes::Obb : runtime::FclMeshNodes::Obbrss);
-      if (problem.sdf) field_seconds.push_back(problem.bake_seconds);
-      setup_seconds.push_back(problem.setup_seconds);
-      auto record = [&](const char* planner, int r, const tools::PlanOutcome& o, Stats& set_stats, Stats& all) {
+      if (problem.sdf) all.field_seconds.push_back(problem.bake_seconds);
+      all.setup_seconds.push_back(problem.setup_seconds);
+      auto record = [&](const char* planner, int r, const tools::PlanOutcome& o, Stats& set_stats, Stats& pooled) {
         add(set_stats, o);
-        add(all, o);
+        add(pooled, o);
         if (csv)
           csv << set << "," << id << "," << planner << "," << r << "," << o.solved << "," << o.valid << "," << o.seconds
               << "," << o.length << "," << o.first_path_seconds << ","
@@ -94,16 +133,16 @@ int run_bench_mbm(const BenchMbmArgs& a) {
         const auto seed = std::uint64_t(r + 1);
         if (run_ours) {
           const auto o = tools::plan_ours(problem, a.time_limit, a.resolution, seed);
-          setup_and_first.push_back(problem.setup_seconds + o.first_path_seconds);
+          all.setup_and_first.push_back(problem.setup_seconds + o.first_path_seconds);
           tools::PlanOutcome alone = o;
           alone.seconds -= o.planner_setup_seconds;
           alone.first_path_seconds -= o.planner_setup_seconds;
-          add(planning_alone, alone);
-          record("ours", r, o, ours, ours_all);
+          add(all.planning_alone, alone);
+          record("ours", r, o, ours, all.ours);
         }
         if (run_stock)
           record("ompl_rrtconnect_fcl", r, bench::plan_stock(problem, *stock_checker, a.time_limit, a.resolution),
-                 stock, stock_all);
+                 stock, all.stock);
       }
       if (show_progress()) std::cerr << "\r" << set << ": " << (i + 1) << "/" << requests.size() << std::flush;
     }
@@ -111,32 +150,7 @@ int run_bench_mbm(const BenchMbmArgs& a) {
     print(set + " ours", ours);
     print(set + " OMPL RRTConnect+FCL " + a.stock_bvh, stock);
   }
-  print("all ours", ours_all);
-  print("all OMPL RRTConnect+FCL " + a.stock_bvh, stock_all);
-  std::cout << "ours' scene setup (checkers; a distance field in " << field_seconds.size() << " of "
-            << setup_seconds.size() << " scenes), not in the planning times above: median "
-            << quantile(setup_seconds, 0.5) * 1e3 << " ms, p95 " << quantile(setup_seconds, 0.95) * 1e3 << " ms";
-  if (!field_seconds.empty())
-    std::cout << " (the field alone: median " << quantile(field_seconds, 0.5) * 1e3 << " ms at " << a.sdf_resolution
-              << " m)";
-  std::cout << "\n";
-  if (run_ours) {
-    print("all ours, planning alone (no space/planner setup)", planning_alone);
-    std::vector<double> planner_setup;
-    for (std::size_t i = 0; i < ours_all.times.size(); ++i)
-      planner_setup.push_back(ours_all.times[i] - planning_alone.times[i]);
-    std::cout << "ours' space and planner setup per run (in the times above, not in planning alone): median "
-              << quantile(planner_setup, 0.5) * 1e3 << " ms\n";
-  }
-  if (run_ours)
-    std::cout << "ours from a new scene to its first path (setup + planning): median "
-              << quantile(setup_and_first, 0.5) * 1e3 << " ms, p95 " << quantile(setup_and_first, 0.95) * 1e3
-              << " ms\n";
-  if (run_ours && run_stock)
-    std::cout << "ratio of medians (stock / ours): " << quantile(stock_all.times, 0.5) / quantile(ours_all.times, 0.5)
-              << " with our shortcutting, "
-              << quantile(stock_all.first_times, 0.5) / quantile(ours_all.first_times, 0.5)
-              << " to the first path (neither shortened)\n";
+  print_totals(all, a, run_ours, run_stock);
   return 0;
 }
 
