@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <numbers>
 #include <random>
 #include <sstream>
 
@@ -71,13 +72,13 @@ AllowedCollisions compute_allowed_collisions(const RobotModel& input, const Allo
     for (int j : others) {
       const Joint& jt = model.joints[std::size_t(j)];
       const bool turns = jt.type == JointType::Continuous;
-      rest[std::size_t(s)].push_back(
-          std::uniform_real_distribution<double>(turns ? -M_PI : jt.lower, turns ? M_PI : jt.upper)(rng));
+      rest[std::size_t(s)].push_back(std::uniform_real_distribution<double>(turns ? -std::numbers::pi : jt.lower,
+                                                                            turns ? std::numbers::pi : jt.upper)(rng));
     }
   }
   std::vector<std::vector<std::pair<int, int>>> colliding(static_cast<std::size_t>(samples));
-  const std::size_t parts =
-      std::size_t(std::max(1, o.threads > 0 ? o.threads : runtime::available_cpus())), n = chain.size();
+  const std::size_t parts = std::size_t(std::max(1, o.threads > 0 ? o.threads : runtime::available_cpus())),
+                    n = chain.size();
   detail::parallel_for(parts, int(parts), [&](std::size_t part) {
     runtime::Kinematics sampled(kin);  // other joints set per sample: one copy per part
     std::vector<Eigen::Isometry3d> at;

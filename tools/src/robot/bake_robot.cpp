@@ -82,17 +82,21 @@ formats::RobotArtifact bake_robot(const RobotBakeOptions& o, AllowedCollisions* 
     for (const auto& p : allowed.disabled) robot.model.allowed_pairs.emplace_back(p.a, p.b);
     if (decided) *decided = allowed;
   }
-  // Each link's cover on its own (the links in parallel), then in link order.
+  // Each link's cover on its own (the links in parallel), then in link order; a failure names the
+  // first link that failed, whichever thread saw it first.
   std::vector<std::vector<Sphere>> covers(robot.model.links.size());
+  std::vector<std::string> failed(covers.size());
   detail::parallel_for(covers.size(), o.self_tables.threads, [&](std::size_t l) {
     try {
       covers[l] = cover_with_spheres(robot.model.links[l].collision, o.spheres);
     } catch (const Error& e) {
-      throw Error(o.urdf.string(), "link '" + robot.model.links[l].name + "'", e.what());
+      failed[l] = e.what();
     }
   });
-  for (std::size_t l = 0; l < covers.size(); ++l)
+  for (std::size_t l = 0; l < covers.size(); ++l) {
+    if (!failed[l].empty()) throw Error(o.urdf.string(), "link '" + robot.model.links[l].name + "'", failed[l]);
     for (const auto& s : covers[l]) robot.spheres.push_back({int(l), s.center, s.radius});
+  }
   const runtime::Kinematics kin(robot.model, robot.model.arm_base, robot.model.arm_tip);
   robot.self_tables = build_self_distance_tables(kin, robot.spheres, o.self_tables);
   return robot;
