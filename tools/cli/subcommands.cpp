@@ -193,7 +193,7 @@ void define_bench_mbm(CLI::App& c, BenchMbmArgs& a) {
 
 void define_batch(CLI::App& c, BatchArgs& a) {
   c.add_option("manifest", a.manifest, "MANIFEST.yaml (robots, objects, environments, query templates)")->required();
-  c.add_option("--out", a.out, "Batch folder (artifacts/, runs/, state/, a.json)")->required();
+  c.add_option("--out", a.out, "Batch folder (artifacts/, runs/, state/, batch.json)")->required();
   c.add_option("--jobs", a.jobs, "Tasks at a time")->check(CLI::Range(1, 256));
   c.add_option("--shard", a.shard, "Run shard I of N (I/N): N shards partition the tasks");
   c.add_option("--phase", a.phase, "all, bakes or queries")->check(CLI::IsMember({"all", "bakes", "queries"}));

@@ -447,10 +447,12 @@ GapHint* thread_gap_hints(const void* owner, std::size_t n) {
 // Parts a and b whose convex hulls GJK proves apart: their meshes are apart too (a hull holds its
 // mesh). Where two meshes are near (two arms side by side, a pusher at the held object) FCL's
 // mesh-mesh descent visits many node pairs; the hulls settle most such pairs at a fraction of it.
+// Two primitives are not asked: FCL's own test of them is already a convex one.
 bool hulls_apart(const ExactChecker::Impl& impl, std::size_t a, std::size_t b, const Eigen::Isometry3d& pose_a,
                  const Eigen::Isometry3d& pose_b) {
   const Part &pa = impl.parts[a], &pb = impl.parts[b];
   if (!pa.convex || !pb.convex) return false;
+  if (pa.geometry->getObjectType() != fcl::OT_BVH && pb.geometry->getObjectType() != fcl::OT_BVH) return false;
   const std::size_t np = impl.parts.size(), ne = impl.env_convex ? impl.env_convex->size() : 0;
   GapHint* hints = thread_gap_hints(&impl, np * ne + np * np) + np * ne;
   return convex_gap(*pa.convex, pose_a, *pb.convex, pose_b, 1e-5, kGapTolerance, &hints[a * np + b]) > kGapTolerance;
@@ -555,7 +557,11 @@ std::vector<std::pair<int, int>> ExactChecker::colliding_link_pairs(const std::v
   fcl::CollisionRequestd req;
   ObjectPool::Lease lease(*impl.pool, impl.parts);
   std::vector<std::pair<int, int>> out;
-  const auto& allowed = kin_->model().allowed_pairs;
+  const std::size_t nl = kin_->model().links.size();
+  std::vector<char> allowed(nl * nl, 0);
+  for (auto [x, y] : kin_->model().allowed_pairs)
+    if (x >= 0 && y >= 0 && std::size_t(x) < nl && std::size_t(y) < nl)
+      allowed[std::size_t(x) * nl + std::size_t(y)] = allowed[std::size_t(y) * nl + std::size_t(x)] = 1;
   // Every pair, the ones no chain joint moves too (self_pairs leaves those out): the question is
   // which pairs may ever touch, under any joint, not only under this chain's.
   for (std::size_t a = 0; a < impl.parts.size(); ++a)
@@ -565,9 +571,7 @@ std::vector<std::pair<int, int>> ExactChecker::colliding_link_pairs(const std::v
       const auto& pb = impl.parts[b];
       if (pa.link == pb.link) continue;
       const std::pair<int, int> links{std::min(pa.link, pb.link), std::max(pa.link, pb.link)};
-      if (std::find(allowed.begin(), allowed.end(), links) != allowed.end() ||
-          std::find(allowed.begin(), allowed.end(), std::make_pair(links.second, links.first)) != allowed.end())
-        continue;
+      if (allowed[std::size_t(pa.link) * nl + std::size_t(pb.link)]) continue;
       if (std::find(out.begin(), out.end(), links) != out.end()) continue;  // another shape of the pair hit already
       fcl::CollisionObjectd* oa = lease.place(a, poses[std::size_t(pa.link)] * pa.local);
       fcl::CollisionObjectd* ob = lease.place(b, poses[std::size_t(pb.link)] * pb.local);

@@ -10,6 +10,7 @@
 
 #include <random>
 
+#include "planar_3r.hpp"
 #include "dmgplace/runtime/motion/arm_space.hpp"
 
 namespace ob = ompl::base;
@@ -18,30 +19,13 @@ using namespace dmgplace;
 using namespace dmgplace::runtime;
 
 namespace {
-// A planar 3R arm; its configurations are "valid" outside a slab of the first joint's range that
+// The planar 3R arm's configurations are "valid" outside a slab of the first joint's range that
 // the second joint must be folded to cross (a joint-space wall with one gap).
-RobotModel planar_3r() {
-  RobotModel m;
-  m.name = "planar3";
-  for (auto n : {"base", "l1", "l2", "l3"}) m.links.push_back({n, {}});
-  for (int j = 0; j < 3; ++j) {
-    Joint jt;
-    jt.name = "j" + std::to_string(j + 1);
-    jt.type = JointType::Revolute;
-    jt.parent = j;
-    jt.child = j + 1;
-    jt.lower = -2.5;
-    jt.upper = 2.5;
-    if (j > 0) jt.origin.translation() = Eigen::Vector3d(0.4, 0, 0);
-    m.joints.push_back(jt);
-  }
-  return m;
-}
 bool outside_wall(const Eigen::VectorXd& q) { return std::abs(q[0]) > 0.2 || q[1] > 1.5; }
 }  // namespace
 
 TEST(ArmSpace, DefaultProjectionIsTheFirstTwoJointsAndProjectionPlannersSolve) {
-  const Kinematics kin(planar_3r(), "base", "l3");
+  const Kinematics kin(test::planar_3r(), "base", "l3");
   auto si = make_arm_space(kin, outside_wall, 0.01);
   const auto proj = si->getStateSpace()->getDefaultProjection();
   ASSERT_TRUE(proj);

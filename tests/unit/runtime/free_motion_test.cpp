@@ -4,30 +4,13 @@
 
 #include <cmath>
 
+#include "planar_3r.hpp"
 #include "dmgplace/runtime/motion/free_motion.hpp"
 
 using namespace dmgplace;
 using namespace dmgplace::runtime;
 
 namespace {
-// A planar 3R arm (joint space only matters here).
-RobotModel planar_3r() {
-  RobotModel m;
-  m.name = "planar3";
-  for (auto n : {"base", "l1", "l2", "l3"}) m.links.push_back({n, {}});
-  for (int j = 0; j < 3; ++j) {
-    Joint jt;
-    jt.name = "j" + std::to_string(j + 1);
-    jt.type = JointType::Revolute;
-    jt.parent = j;
-    jt.child = j + 1;
-    jt.lower = -2.5;
-    jt.upper = 2.5;
-    if (j > 0) jt.origin.translation() = Eigen::Vector3d(0.4, 0, 0);
-    m.joints.push_back(jt);
-  }
-  return m;
-}
 
 // A joint-space wall across the first joint (|q0| <= 0.2) with its one gap where side * q1 > 1.5.
 // The planners check a wall grown by `margin`, so a path they accept at their resolution is clear
@@ -52,7 +35,7 @@ void expect_clear(const JointPath& path, double side) {
 // own gap, the seeded edges through the top one refused (without the re-check, that path would
 // cross this wall).
 TEST(FreeMotion, ATreeFromEarlierMotionsCarriesLaterOnesOnlyWhereTheirOwnChecksHold) {
-  const Kinematics kin(planar_3r(), "base", "l3");
+  const Kinematics kin(test::planar_3r(), "base", "l3");
   MotionBudget budget;
   budget.resolution = 0.01;
   budget.iterations = 50000;
