@@ -620,9 +620,14 @@ void world_triangle(const fcl::BVHModel<fcl::OBBRSSd>& m, int tri, const Eigen::
 }  // namespace
 
 double ExactChecker::link_distance(const Eigen::VectorXd& q, int link_a, int link_b, LinkWitness* witness) const {
+  return link_distance_below(q, link_a, link_b, std::numeric_limits<double>::infinity(), witness);
+}
+
+double ExactChecker::link_distance_below(const Eigen::VectorXd& q, int link_a, int link_b, double attained,
+                                         LinkWitness* witness) const {
   thread_local std::vector<Eigen::Isometry3d> poses;
   kin_->link_poses(q, poses);
-  double best = std::numeric_limits<double>::infinity();
+  double best = attained;
   if (witness) *witness = LinkWitness{};
   for (std::size_t i = 0; i < impl_->parts.size(); ++i) {
     const Part& pa = impl_->parts[i];
@@ -640,6 +645,9 @@ double ExactChecker::link_distance(const Eigen::VectorXd& q, int link_a, int lin
       if (!meshes && fcl::collide(oa.get(), ob.get(), creq, cres) > 0) return 0.0;
       fcl::DistanceRequestd req;
       fcl::DistanceResultd res;
+      // FCL prunes every node pair no closer than what it holds: starting it from the closest
+      // distance known (attained, so the minimum is unchanged) skips most of the traversal.
+      if (meshes) res.min_distance = best;
       fcl::distance(oa.get(), ob.get(), req, res);
       if (std::max(0.0, res.min_distance) < best) {
         best = std::max(0.0, res.min_distance);
@@ -653,34 +661,38 @@ double ExactChecker::link_distance(const Eigen::VectorXd& q, int link_a, int lin
 }
 
 double ExactChecker::link_distance_within(const Eigen::VectorXd& q, int link_a, int link_b, double tolerance,
-                                          const std::vector<LinkWitness>& near) const {
+                                          const std::vector<LinkWitness>& near, LinkWitness* witness) const {
   const Impl& impl = *impl_;
-  if (tolerance > 0 && !near.empty()) {
-    thread_local std::vector<Eigen::Isometry3d> poses;
-    kin_->link_poses(q, poses);
-    // Any two triangles of the meshes are at least the links' distance apart: the closest of the
-    // witnesses' pairs bounds it from above.
-    double upper = std::numeric_limits<double>::infinity();
-    for (const LinkWitness& w : near) {
-      if (w.part_a < 0 || w.part_b < 0 || std::size_t(w.part_a) >= impl.parts.size() ||
-          std::size_t(w.part_b) >= impl.parts.size())
-        continue;
-      const Part &pa = impl.parts[std::size_t(w.part_a)], &pb = impl.parts[std::size_t(w.part_b)];
-      const auto *ma = as_mesh(pa.distance->get()), *mb = as_mesh(pb.distance->get());
-      if (pa.link != link_a || pb.link != link_b || !ma || !mb || w.tri_a < 0 || w.tri_a >= ma->num_tris ||
-          w.tri_b < 0 || w.tri_b >= mb->num_tris)
-        continue;
-      fcl::Vector3d A[3], B[3], on_a, on_b;
-      world_triangle(*ma, w.tri_a, poses[std::size_t(link_a)] * pa.local, A);
-      world_triangle(*mb, w.tri_b, poses[std::size_t(link_b)] * pb.local, B);
-      upper = std::min(upper, fcl::detail::TriangleDistance<double>::triDistance(A, B, on_a, on_b));
-    }
-    if (std::isfinite(upper)) {
-      const double lower = hull_gap(impl, poses, link_a, link_b);
-      if (lower > 0 && upper - lower <= tolerance) return lower;
-    }
+  thread_local std::vector<Eigen::Isometry3d> poses;
+  kin_->link_poses(q, poses);
+  // Any two triangles of the meshes are at least the links' distance apart: the closest of the
+  // witnesses' pairs bounds it from above.
+  double upper = std::numeric_limits<double>::infinity();
+  LinkWitness closest;
+  for (const LinkWitness& w : near) {
+    if (w.part_a < 0 || w.part_b < 0 || std::size_t(w.part_a) >= impl.parts.size() ||
+        std::size_t(w.part_b) >= impl.parts.size())
+      continue;
+    const Part &pa = impl.parts[std::size_t(w.part_a)], &pb = impl.parts[std::size_t(w.part_b)];
+    const auto *ma = as_mesh(pa.distance->get()), *mb = as_mesh(pb.distance->get());
+    if (pa.link != link_a || pb.link != link_b || !ma || !mb || w.tri_a < 0 || w.tri_a >= ma->num_tris || w.tri_b < 0 ||
+        w.tri_b >= mb->num_tris)
+      continue;
+    fcl::Vector3d A[3], B[3], on_a, on_b;
+    world_triangle(*ma, w.tri_a, poses[std::size_t(link_a)] * pa.local, A);
+    world_triangle(*mb, w.tri_b, poses[std::size_t(link_b)] * pb.local, B);
+    const double d = fcl::detail::TriangleDistance<double>::triDistance(A, B, on_a, on_b);
+    if (d < upper) upper = d, closest = w;
   }
-  return link_distance(q, link_a, link_b);
+  if (witness) *witness = closest;  // it attains `upper`: the pair to start from next door
+  if (tolerance > 0 && std::isfinite(upper)) {
+    const double lower = hull_gap(impl, poses, link_a, link_b);
+    if (lower > 0 && upper - lower <= tolerance) return lower;
+  }
+  LinkWitness found;
+  const double d = link_distance_below(q, link_a, link_b, upper, &found);
+  if (witness && found.part_a >= 0) *witness = found;
+  return d;
 }
 
 namespace {

@@ -183,6 +183,42 @@ TEST(CollisionMbm, LinkDistanceWithinIsAProvenBoundWithinItsTolerance) {
   RecordProperty("asked", asked);
 }
 
+// With no tolerance, link_distance_within is FCL's exact distance, however far the nearby
+// witness is (FCL only starts from the pair it names), and the witness it hands on names two
+// triangles exactly that far apart at q: the pair the next node along a table's row starts from.
+TEST(CollisionMbm, LinkDistanceStartedFromANearbyPairIsTheExactDistance) {
+  DMGPLACE_REQUIRE_SHARED();
+  const PandaArm& panda = panda_arm();
+  const runtime::Kinematics& kin = *panda.kin;
+  runtime::ExactChecker exact(kin, Scene{});
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> u(0, 1);
+  int started = 0;
+  for (const auto& t : panda.tables)
+    for (int i = 0; i < 100; ++i) {
+      Eigen::VectorXd q(7), far(7);
+      for (int j = 0; j < 7; ++j) {
+        q[j] = kin.lower()[j] + u(rng) * (kin.upper()[j] - kin.lower()[j]);
+        far[j] = std::clamp(q[j] + (u(rng) - 0.5) * (i % 2 ? 0.05 : 1.0), kin.lower()[j], kin.upper()[j]);
+      }
+      runtime::LinkWitness near, handed;
+      exact.link_distance(far, t.link_a, t.link_b, &near);
+      const double d = exact.link_distance(q, t.link_a, t.link_b);
+      const double from_near = exact.link_distance_within(q, t.link_a, t.link_b, 0.0, {near}, &handed);
+      ASSERT_NEAR(from_near, d, 1e-12) << "at q = " << q.transpose();
+      started += near.part_a >= 0;
+      if (d > 0) {
+        ASSERT_GE(handed.part_a, 0);
+        runtime::LinkWitness again;
+        // The handed pair alone, as the only witness: it is at d, so FCL finds nothing closer.
+        EXPECT_NEAR(exact.link_distance_within(q, t.link_a, t.link_b, 0.0, {handed}, &again), d, 1e-12);
+        EXPECT_EQ(again.tri_a, handed.tri_a);
+        EXPECT_EQ(again.tri_b, handed.tri_b);
+      }
+    }
+  EXPECT_GT(started, 0);
+}
+
 // The tables' slopes bound how fast the pair's exact distance changes with the table's joints:
 // the Lipschitz bound certified checks (the self pass's table limit) and span batches
 // (LaneMotion::table_travel) widen a table's bound by. And not loosely everywhere: on some table

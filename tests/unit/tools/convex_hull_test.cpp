@@ -72,3 +72,45 @@ TEST(ConvexHull, ClimbsOverAStoredHullFindTheMeshsFarthestVertex) {
     }
   }
 }
+
+// A box's points with grids over its faces, in a shuffled order: the hull keeps the corners only,
+// two triangles per face, each face split through its corner listed first. CGAL on its own splits
+// flat faces however its internals met them (which varied with the command line's length) and
+// keeps grid points it met first.
+TEST(ConvexHull, FlatFacetsAreSplitFromTheirFirstListedCornerAndOnlyCornersRemain) {
+  std::mt19937_64 rng(8);
+  const Eigen::Vector3d half(0.1, 0.07, 0.05);
+  std::vector<Eigen::Vector3d> pts;
+  for (int i = 0; i <= 4; ++i)
+    for (int j = 0; j <= 4; ++j)
+      for (int k = 0; k <= 4; ++k) {
+        const Eigen::Vector3d u(i / 2.0 - 1, j / 2.0 - 1, k / 2.0 - 1);
+        if (u.cwiseAbs().maxCoeff() == 1) pts.push_back(u.cwiseProduct(half));  // on the surface only
+      }
+  for (int trial = 0; trial < 10; ++trial) {
+    std::shuffle(pts.begin(), pts.end(), rng);
+    TriMesh m;
+    m.vertices.resize(long(pts.size()), 3);
+    for (std::size_t i = 0; i < pts.size(); ++i) m.vertices.row(long(i)) = pts[i].transpose();
+    m.triangles.resize(1, 3);
+    m.triangles << 0, 1, 2;
+    const RowMatrixX3i hull = tools::convex_hull_triangles(m);
+    ASSERT_EQ(hull.rows(), 12) << trial;
+    EXPECT_FALSE(formats::hull_problem(m, hull).has_value());
+    for (Eigen::Index f = 0; f < hull.rows(); ++f) {
+      const Eigen::Vector3d a = m.vertices.row(hull(f, 0)), b = m.vertices.row(hull(f, 1)),
+                            c = m.vertices.row(hull(f, 2));
+      for (const Eigen::Vector3d& p : {a, b, c}) EXPECT_TRUE(p.cwiseAbs().isApprox(half)) << "not a corner";
+      // The face's plane: the axis on which all three sit at the same extreme.
+      const Eigen::Vector3d n = (b - a).cross(c - a);
+      int axis = 0;
+      n.cwiseAbs().maxCoeff(&axis);
+      int first = int(m.vertices.rows());
+      for (Eigen::Index i = 0; i < m.vertices.rows(); ++i)
+        if (m.vertices(i, axis) == a[axis] && m.vertices.row(i).cwiseAbs().isApprox(half.transpose()))
+          first = std::min(first, int(i));
+      EXPECT_TRUE(hull(f, 0) == first || hull(f, 1) == first || hull(f, 2) == first) << "face " << f;
+      EXPECT_GT(n.dot(a), 0) << "inward";
+    }
+  }
+}

@@ -107,11 +107,9 @@ void fill_table(formats::SelfDistanceTable& t, const runtime::Kinematics& kin, c
     if (t.joints[1] >= 0) qn[kin.chain_slot(t.joints[1])] = t.lower[1] + double(i1) * t.step[1];
     return qn;
   };
-  // Lattice nodes keep where their links were closest, for the nodes of their cells.
+  // Every node computed keeps where its links were closest: the next node along its row starts
+  // FCL from that pair, and the lattice's witnesses serve the nodes of their cells.
   std::vector<runtime::LinkWitness> witness(c0 * c1);
-  auto exact_at = [&](std::size_t i0, std::size_t i1) {
-    t.distance[i0 * c1 + i1] = round_down(exact.link_distance(at(i0, i1), a, b, &witness[i0 * c1 + i1]));
-  };
   const std::size_t s = std::size_t(o.coarse_stride);
   auto lattice = [&](std::size_t count) {
     std::vector<std::size_t> v;
@@ -120,9 +118,16 @@ void fill_table(formats::SelfDistanceTable& t, const runtime::Kinematics& kin, c
     return v;
   };
   const auto l0 = lattice(c0), l1 = lattice(c1);
-  detail::parallel_for(l0.size() * l1.size(), o.threads, [&](std::size_t n) {
-    exact_at(l0[n / l1.size()], l1[n % l1.size()]);
-    progress.done(1);
+  // Rows in parallel, each in order from its own first node: the same values on any thread count.
+  detail::parallel_for(l0.size(), o.threads, [&](std::size_t r) {
+    const std::size_t i0 = l0[r];
+    for (std::size_t k = 0; k < l1.size(); ++k) {
+      const std::size_t n = i0 * c1 + l1[k];
+      const std::vector<runtime::LinkWitness> near =
+          k == 0 ? std::vector<runtime::LinkWitness>{} : std::vector{witness[i0 * c1 + l1[k - 1]]};
+      t.distance[n] = round_down(exact.link_distance_within(at(i0, l1[k]), a, b, 0.0, near, &witness[n]));
+      progress.done(1);
+    }
   });
   std::vector<char> coarse(c0 * c1, 0);
   for (auto i0 : l0)
@@ -156,15 +161,22 @@ void fill_table(formats::SelfDistanceTable& t, const runtime::Kinematics& kin, c
       }
     }
   progress.done(bounded);
-  // Each from its cell's lattice corners' witnesses: the same value whichever thread computes it.
-  detail::parallel_for(refine.size(), o.threads, [&](std::size_t k) {
-    const std::size_t i0 = refine[k] / c1, i1 = refine[k] % c1;
-    const auto [a0, b0] = cell(l0, i0);
-    const auto [a1, b1] = cell(l1, i1);
-    const std::vector<runtime::LinkWitness> near{witness[a0 * c1 + a1], witness[a0 * c1 + b1], witness[b0 * c1 + a1],
-                                                 witness[b0 * c1 + b1]};
-    t.distance[refine[k]] = round_down(exact.link_distance_within(at(i0, i1), a, b, o.tolerance, near));
-    progress.done(1);
+  // Each from its cell's lattice corners' witnesses and the node before it in its row; rows in
+  // parallel, each in order: the same values whichever thread computes them.
+  std::vector<std::size_t> row_start{0};
+  for (std::size_t k = 1; k <= refine.size(); ++k)
+    if (k == refine.size() || refine[k] / c1 != refine[k - 1] / c1) row_start.push_back(k);
+  detail::parallel_for(row_start.size() - 1, o.threads, [&](std::size_t r) {
+    for (std::size_t k = row_start[r]; k < row_start[r + 1]; ++k) {
+      const std::size_t n = refine[k], i0 = n / c1, i1 = n % c1;
+      const auto [a0, b0] = cell(l0, i0);
+      const auto [a1, b1] = cell(l1, i1);
+      std::vector<runtime::LinkWitness> near{witness[a0 * c1 + a1], witness[a0 * c1 + b1], witness[b0 * c1 + a1],
+                                             witness[b0 * c1 + b1]};
+      if (i1 > 0) near.push_back(witness[n - 1]);  // computed before (or empty where bounded)
+      t.distance[n] = round_down(exact.link_distance_within(at(i0, i1), a, b, o.tolerance, near, &witness[n]));
+      progress.done(1);
+    }
   });
 }
 }  // namespace

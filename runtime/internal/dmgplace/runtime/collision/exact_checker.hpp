@@ -81,12 +81,18 @@ class ExactChecker {
   // Smallest distance between two links' collision geometry at q (0 when they touch). `witness`
   // (optional): where it was found, for link_distance_within at nearby configurations.
   double link_distance(const Eigen::VectorXd& q, int link_a, int link_b, LinkWitness* witness = nullptr) const;
-  // A proven lower bound of link_distance(q, ...) at most `tolerance` below it. Cheap where the
-  // closest triangles of nearby configurations (`near`, from link_distance) bound the distance
-  // from above within `tolerance` of the links' convex hulls' gap (GJK, from below); FCL's exact
-  // distance otherwise.
+  // min(link_distance(q, ...), attained), where `attained` is a distance two points of the links
+  // are known to have at q (an upper bound); cheaper the tighter it is. The witness is set only
+  // where a pair closer than `attained` was found.
+  double link_distance_below(const Eigen::VectorXd& q, int link_a, int link_b, double attained,
+                             LinkWitness* witness = nullptr) const;
+  // A proven lower bound of link_distance(q, ...) at most `tolerance` below it (0: exactly it).
+  // The closest triangles of nearby configurations (`near`, from link_distance) bound the distance
+  // from above: within `tolerance` of the links' convex hulls' gap (GJK, from below) that gap is
+  // returned; otherwise FCL's exact distance, started from that bound. `witness` (optional): the
+  // closest pair seen, for the configurations next to q.
   double link_distance_within(const Eigen::VectorXd& q, int link_a, int link_b, double tolerance,
-                              const std::vector<LinkWitness>& near) const;
+                              const std::vector<LinkWitness>& near, LinkWitness* witness = nullptr) const;
   // Proven clearances at `poses` for certificates (convex_gap: GJK's dual bound on primitives and
   // on link meshes' convex hulls, Shape::hull): of `link` to every scene shape (a certificate must
   // hold against all of them), and between two links. Lower bounds of the true clearances; a value
