@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <queue>
 
 #include "dmgplace/formats/error.hpp"
@@ -101,40 +102,34 @@ Eigen::Quaterniond rotation_to_down(const Eigen::Vector3d& n) {
   return Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, (x - x.dot(n) * n).normalized()));
 }
 
-}  // namespace
+// A key of each facet's geometry alone (normal, centroid), rounded so that last-bit noise cannot
+// reorder it: CGAL numbers the hull's facets in an order that follows heap addresses (it changed
+// with the length of the input's path), and the same mesh must always give the same faces.
+using FacetKey = std::array<long long, 6>;
+long long quantise(double v, double unit) { return std::llround(v / unit); }
 
-formats::PlacementFaces compute_placement_faces(const TriMesh& mesh, const Eigen::Vector3d& com, const FaceOptions& o,
-                                                const std::string& file) {
-  if (!(o.merge_angle >= 0 && o.merge_angle < M_PI / 2) || !(o.margin >= 0) || !(o.margin_fraction >= 0))
-    throw Error(file, "placement", "merge angle must be in [0, pi/2) and margins non-negative");
-  std::vector<K::Point_3> points;
-  for (Eigen::Index i = 0; i < mesh.vertices.rows(); ++i)
-    points.emplace_back(mesh.vertices(i, 0), mesh.vertices(i, 1), mesh.vertices(i, 2));
-  Hull hull;
-  CGAL::convex_hull_3(points.begin(), points.end(), hull);
-  if (hull.number_of_faces() < 4) throw Error(file, "placement", "the mesh is flat: no 3-D convex hull");
-  const auto facets = hull_facets(hull);
-
-  // Region growing against the seed facet's normal (a finely tessellated curve does not chain
-  // into one face as it would with pairwise merging, and a region grows symmetrically about its
-  // seed). Greedy: the seed whose region would have the largest area goes first, so a fan-
-  // triangulated disk becomes one face and a polygonal cylinder's sides are cut into the widest
-  // strips. Ties (a symmetric mesh has many) are broken by a key of the geometry alone, rounded
-  // so that last-bit noise cannot reorder it: CGAL numbers the hull's facets in an order that
-  // follows heap addresses (it changed with the length of the input's path), and the same mesh
-  // must always give the same faces.
-  double max_area = 0;
-  for (const auto& f : facets) max_area = std::max(max_area, f.area);
-  const auto quantise = [](double v, double unit) { return std::llround(v / unit); };
-  const double area_unit = max_area * 1e-9 + 1e-300;
-  std::vector<std::array<long long, 6>> keys(facets.size());
+std::vector<FacetKey> facet_keys(const std::vector<HullFacet>& facets) {
+  std::vector<FacetKey> keys(facets.size());
   for (std::size_t f = 0; f < facets.size(); ++f) {
     const Eigen::Vector3d& n = facets[f].normal;
     const Eigen::Vector3d& c = facets[f].centroid;
     keys[f] = {quantise(n.x(), 1e-9), quantise(n.y(), 1e-9), quantise(n.z(), 1e-9),
                quantise(c.x(), 1e-9), quantise(c.y(), 1e-9), quantise(c.z(), 1e-9)};
   }
-  const double cos_merge = std::cos(o.merge_angle);
+  return keys;
+}
+
+// Region growing against the seed facet's normal (a finely tessellated curve does not chain into
+// one face as it would with pairwise merging, and a region grows symmetrically about its seed).
+// Greedy: the seed whose region would have the largest area goes first, so a fan-triangulated
+// disk becomes one face and a polygonal cylinder's sides are cut into the widest strips. Ties (a
+// symmetric mesh has many) are broken by the facets' keys.
+std::vector<std::vector<int>> grow_regions(const std::vector<HullFacet>& facets, const std::vector<FacetKey>& keys,
+                                           double merge_angle) {
+  double max_area = 0;
+  for (const auto& f : facets) max_area = std::max(max_area, f.area);
+  const double area_unit = max_area * 1e-9 + 1e-300;
+  const double cos_merge = std::cos(merge_angle);
   std::vector<int> region(facets.size(), -1), mark(facets.size(), -1);
   // The unclaimed facets a region seeded at `seed` would take, and their area.
   const auto grow = [&](int seed, std::vector<int>& members) {
@@ -177,15 +172,20 @@ formats::PlacementFaces compute_placement_faces(const TriMesh& mesh, const Eigen
     for (int m : members) region[m] = int(regions.size());
     regions.push_back(members);
   }
+  return regions;
+}
 
-  // One candidate face per region; the required margin shrinks for thin objects.
-  struct Candidate {
-    Eigen::Vector3d n;
-    double support, width;
-    std::vector<int> verts;
-  };
+// One candidate face per region: its area-weighted normal, the mesh's support along it and its
+// width across it.
+struct Candidate {
+  Eigen::Vector3d n;
+  double support, width;
+  std::vector<int> verts;
+};
+
+std::vector<Candidate> region_candidates(std::vector<std::vector<int>>& regions, const std::vector<HullFacet>& facets,
+                                         const std::vector<FacetKey>& keys, const TriMesh& mesh) {
   std::vector<Candidate> cands;
-  double min_width = std::numeric_limits<double>::infinity();
   for (auto& reg : regions) {
     // Sum in the canonical order too: a floating-point sum depends on its order.
     std::sort(reg.begin(), reg.end(), [&](int a, int b) { return keys[a] < keys[b] || (keys[a] == keys[b] && a < b); });
@@ -210,30 +210,57 @@ formats::PlacementFaces compute_placement_faces(const TriMesh& mesh, const Eigen
     }
     c.support = hi;
     c.width = hi - lo;
-    min_width = std::min(min_width, c.width);
     cands.push_back(std::move(c));
   }
+  return cands;
+}
+
+// The candidate's face: the 2-D hull of its vertices in its plane, kept where the centre of mass
+// projects at least `required_margin` inside it.
+std::optional<formats::PlacementFace> candidate_face(const Candidate& c, const Hull& hull, const Eigen::Vector3d& com,
+                                                     double required_margin) {
+  const Eigen::Vector3d u = c.n.unitOrthogonal(), w = c.n.cross(u);  // u x w = n: CCW about n
+  std::vector<Eigen::Vector2d> flat;
+  for (int v : c.verts) {
+    const Eigen::Vector3d p = eig(hull.point(Hull::Vertex_index(v)));
+    flat.emplace_back(u.dot(p), w.dot(p));
+  }
+  const auto ring = convex_hull_2d(flat);
+  if (ring.size() < 3) return std::nullopt;
+  formats::PlacementFace face;
+  face.normal = c.n;
+  for (int i : ring) face.polygon.push_back(flat[i].x() * u + flat[i].y() * w + c.support * c.n);
+  face.margin = inside_distance(face.polygon, c.n, com);
+  if (face.margin < required_margin) return std::nullopt;
+  face.rotation = rotation_to_down(c.n);
+  face.height = c.support;
+  return face;
+}
+
+}  // namespace
+
+formats::PlacementFaces compute_placement_faces(const TriMesh& mesh, const Eigen::Vector3d& com, const FaceOptions& o,
+                                                const std::string& file) {
+  if (!(o.merge_angle >= 0 && o.merge_angle < M_PI / 2) || !(o.margin >= 0) || !(o.margin_fraction >= 0))
+    throw Error(file, "placement", "merge angle must be in [0, pi/2) and margins non-negative");
+  std::vector<K::Point_3> points;
+  for (Eigen::Index i = 0; i < mesh.vertices.rows(); ++i)
+    points.emplace_back(mesh.vertices(i, 0), mesh.vertices(i, 1), mesh.vertices(i, 2));
+  Hull hull;
+  CGAL::convex_hull_3(points.begin(), points.end(), hull);
+  if (hull.number_of_faces() < 4) throw Error(file, "placement", "the mesh is flat: no 3-D convex hull");
+  const auto facets = hull_facets(hull);
+  const auto keys = facet_keys(facets);
+  auto regions = grow_regions(facets, keys, o.merge_angle);
+  const auto cands = region_candidates(regions, facets, keys, mesh);
+  // The required margin shrinks for thin objects.
+  double min_width = std::numeric_limits<double>::infinity();
+  for (const auto& c : cands) min_width = std::min(min_width, c.width);
   formats::PlacementFaces out;
   out.merge_angle = o.merge_angle;
   out.required_margin = std::min(o.margin, o.margin_fraction * min_width);
-  for (const auto& c : cands) {
-    const Eigen::Vector3d u = c.n.unitOrthogonal(), w = c.n.cross(u);  // u x w = n: CCW about n
-    std::vector<Eigen::Vector2d> flat;
-    for (int v : c.verts) {
-      const Eigen::Vector3d p = eig(hull.point(Hull::Vertex_index(v)));
-      flat.emplace_back(u.dot(p), w.dot(p));
-    }
-    const auto ring = convex_hull_2d(flat);
-    if (ring.size() < 3) continue;
-    formats::PlacementFace face;
-    face.normal = c.n;
-    for (int i : ring) face.polygon.push_back(flat[i].x() * u + flat[i].y() * w + c.support * c.n);
-    face.margin = inside_distance(face.polygon, c.n, com);
-    if (face.margin < out.required_margin) continue;
-    face.rotation = rotation_to_down(c.n);
-    face.height = c.support;
-    out.faces.push_back(std::move(face));
-  }
+  for (const auto& c : cands)
+    if (auto face = candidate_face(c, hull, com, out.required_margin)) out.faces.push_back(std::move(*face));
   return out;
 }
 
