@@ -118,6 +118,53 @@ OptionTable BakeObjectArgs::options() {
   };
 }
 
+namespace {
+// The scans' options from the command line (crop, cluster choice, reconstruction), each recorded
+// in the header's parameters.
+tools::ScanObjectOptions scan_options(const BakeObjectArgs& a, nlohmann::ordered_json& params) {
+  tools::ScanObjectOptions so;
+  so.scale = a.scale;
+  so.segment = a.segment;
+  so.segment.support_plane = a.support_plane == "remove" ? tools::SupportPlane::Remove
+                             : a.support_plane == "keep" ? tools::SupportPlane::Keep
+                                                         : tools::SupportPlane::Auto;
+  if (!a.crop_text.empty()) {
+    const auto c = parse_numbers<6>(a.crop_text, "--crop");
+    so.segment.crop = Eigen::AlignedBox3d(Eigen::Vector3d(c[0], c[1], c[2]), Eigen::Vector3d(c[3], c[4], c[5]));
+    if (so.segment.crop->isEmpty()) throw Error("--crop", "", "min corner must not exceed the max corner");
+    params["crop"] = c;
+  }
+  if (!a.near_text.empty()) {
+    const auto p = parse_numbers<3>(a.near_text, "--cluster-near");
+    so.segment.cluster_near = Eigen::Vector3d(p[0], p[1], p[2]);
+    params["cluster_near"] = p;
+  }
+  if (a.segment.whole_crop && !so.segment.crop) throw Error("--whole-crop", "", "needs --crop");
+  so.reconstruct = a.reconstruct;
+  so.reconstruct.method = a.reconstruct_method == "hull" ? tools::Reconstruction::Hull : tools::Reconstruction::Poisson;
+  return so;
+}
+
+// The object from its scans, what segmentation and reconstruction decided logged.
+tools::ScanObject object_from_scans(const BakeObjectArgs& a, nlohmann::ordered_json& params,
+                                    nlohmann::ordered_json& extra) {
+  const std::string& name = a.inputs.front();
+  tools::ScanObject scan = tools::object_from_scans({a.inputs.begin(), a.inputs.end()}, scan_options(a, params));
+  params["object_origin_in_scan"] = {scan.origin_in_scan.x(), scan.origin_in_scan.y(), scan.origin_in_scan.z()};
+  extra["scan"] = scan_report(scan);
+  for (const auto& w : scan.reconstruction.warnings) log_warning(name + ": " + w);
+  for (const auto& n : scan.segmented.notes) log_info(name + ": " + n);
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "%zu object points, surface %.0f%% seen (within %.1f mm of a point), object frame at (%.3f, %.3f, "
+                "%.3f) in the scan",
+                scan.points.size(), 100 * scan.reconstruction.seen_fraction, 1e3 * scan.reconstruction.seen_distance,
+                scan.origin_in_scan.x(), scan.origin_in_scan.y(), scan.origin_in_scan.z());
+  log_info(name + ": " + line);
+  return scan;
+}
+}  // namespace
+
 int run_bake_object(const BakeObjectArgs& a_in) {
   const auto t0 = std::chrono::steady_clock::now();
   BakeObjectArgs a = a_in;
@@ -136,41 +183,8 @@ int run_bake_object(const BakeObjectArgs& a_in) {
   nlohmann::ordered_json extra = nlohmann::ordered_json::object();
   std::optional<tools::ScanObject> scan;
   if (scans) {
-    tools::ScanObjectOptions so;
-    so.scale = a.scale;
-    so.segment = a.segment;
-    so.segment.support_plane = a.support_plane == "remove" ? tools::SupportPlane::Remove
-                               : a.support_plane == "keep" ? tools::SupportPlane::Keep
-                                                           : tools::SupportPlane::Auto;
-    if (!a.crop_text.empty()) {
-      const auto c = parse_numbers<6>(a.crop_text, "--crop");
-      so.segment.crop = Eigen::AlignedBox3d(Eigen::Vector3d(c[0], c[1], c[2]), Eigen::Vector3d(c[3], c[4], c[5]));
-      if (so.segment.crop->isEmpty()) throw Error("--crop", "", "min corner must not exceed the max corner");
-      params["crop"] = c;
-    }
-    if (!a.near_text.empty()) {
-      const auto p = parse_numbers<3>(a.near_text, "--cluster-near");
-      so.segment.cluster_near = Eigen::Vector3d(p[0], p[1], p[2]);
-      params["cluster_near"] = p;
-    }
-    if (a.segment.whole_crop && !so.segment.crop) throw Error("--whole-crop", "", "needs --crop");
-    so.reconstruct = a.reconstruct;
-    so.reconstruct.method =
-        a.reconstruct_method == "hull" ? tools::Reconstruction::Hull : tools::Reconstruction::Poisson;
-    scan = tools::object_from_scans({a.inputs.begin(), a.inputs.end()}, so);
+    scan = object_from_scans(a, params, extra);
     obj.mesh = scan->mesh;
-    params["object_origin_in_scan"] = {scan->origin_in_scan.x(), scan->origin_in_scan.y(), scan->origin_in_scan.z()};
-    extra["scan"] = scan_report(*scan);
-    for (const auto& w : scan->reconstruction.warnings) log_warning(name + ": " + w);
-    for (const auto& n : scan->segmented.notes) log_info(name + ": " + n);
-    char line[256];
-    std::snprintf(line, sizeof line,
-                  "%zu object points, surface %.0f%% seen (within %.1f mm of a point), object frame at (%.3f, %.3f, "
-                  "%.3f) in the scan",
-                  scan->points.size(), 100 * scan->reconstruction.seen_fraction,
-                  1e3 * scan->reconstruction.seen_distance, scan->origin_in_scan.x(), scan->origin_in_scan.y(),
-                  scan->origin_in_scan.z());
-    log_info(name + ": " + line);
   } else {
     if (a.dmg_from == "points") throw Error("--dmg-from", "", "points needs PCD scans");
     tools::MeshReadOptions opts;

@@ -254,23 +254,17 @@ double signed_volume(const TriMesh& m) {
   return vol / 6.0;
 }
 
-TriMesh clean_mesh(const TriMesh& in, const std::string& file, MeshReport& report, bool repair) {
-  report = MeshReport{};
-  if (in.vertices.rows() == 0) throw Error(file, "mesh", "no vertices");
-  if (in.triangles.rows() == 0) throw Error(file, "mesh", "no triangles");
-  for (Eigen::Index i = 0; i < in.vertices.rows(); ++i)
-    if (!in.vertices.row(i).allFinite())
-      throw Error(file, "vertex " + std::to_string(i), "coordinate is NaN or infinite");
-  check_indices(in, file);
+namespace {
 
+// Duplicate vertices merged, degenerate and duplicate faces dropped (a duplicate with either
+// winding is one face), counted in `report`.
+TriMesh merge_and_drop_faces(const TriMesh& in, const std::string& file, MeshReport& report) {
   TriMesh merged;
   const std::vector<int> remap = merge_duplicates(in.vertices, merged.vertices);
   report.merged_vertices = std::size_t(in.vertices.rows() - merged.vertices.rows());
   merged.triangles.resize(in.triangles.rows(), 3);
   for (Eigen::Index f = 0; f < in.triangles.rows(); ++f)
     for (int j = 0; j < 3; ++j) merged.triangles(f, j) = remap[std::size_t(in.triangles(f, j))];
-
-  // Drop degenerate and duplicate faces (a duplicate with either winding is one face).
   const double tol = 1e-12 * bbox_diagonal2(merged.vertices);
   std::set<std::array<int, 3>> seen;
   std::vector<std::array<int, 3>> faces;
@@ -293,8 +287,12 @@ TriMesh clean_mesh(const TriMesh& in, const std::string& file, MeshReport& repor
     report.warnings.push_back("dropped " + std::to_string(report.degenerate_faces) + " degenerate faces");
   if (report.duplicate_faces)
     report.warnings.push_back("dropped " + std::to_string(report.duplicate_faces) + " duplicate faces");
+  return compact(merged.vertices, faces);
+}
 
-  TriMesh out = compact(merged.vertices, faces);
+// Faces turned consistently outward where they are not (or, with `repair`, wherever CGAL turns
+// a closed mesh); the edge report of the result.
+MeshReport orient_outward(TriMesh& out, const std::string& file, MeshReport& report, bool repair) {
   MeshReport edges = check_mesh(out);
   const double diag = std::sqrt(bbox_diagonal2(out.vertices));
   // Per piece, so one inside-out body next to a good one is caught; the tolerance ignores the
@@ -302,29 +300,43 @@ TriMesh clean_mesh(const TriMesh& in, const std::string& file, MeshReport& repor
   const bool inside_out = has_inside_out_piece(out, 1e-9 * diag * diag * diag);
   const bool suspect = edges.inconsistent_edges > 0 || inside_out;
   // A closed mesh is always run through CGAL: it alone sees a cavity whose faces point outwards.
-  if (suspect || (repair && edges.closed_manifold())) {
-    const std::string why = edges.inconsistent_edges > 0
-                                ? std::to_string(edges.inconsistent_edges) + " edges with inconsistent orientation"
-                            : inside_out ? "faces point inwards (signed volume " + num(signed_volume(out)) + " m^3)"
-                                         : "a shell was turned inside out";
-    if (repair) {
-      TriMesh fixed;
-      try {
-        fixed = reorient(out);
-      } catch (const std::exception& e) {  // CGAL preconditions throw when enabled
-        throw Error(file, "mesh", "orientation repair failed: " + std::string(e.what()));
-      }
-      // A hollow body's inner shell rightly points inwards: only a changed winding is a repair.
-      if (oriented_faces(fixed) != oriented_faces(out)) {
-        report.repaired_orientation = true;
-        report.warnings.push_back("repaired orientation: " + why);
-      }
-      out = std::move(fixed);
-      edges = check_mesh(out);
-    } else {
-      report.warnings.push_back(why + " (not repaired)");
-    }
+  if (!suspect && !(repair && edges.closed_manifold())) return edges;
+  const std::string why = edges.inconsistent_edges > 0
+                              ? std::to_string(edges.inconsistent_edges) + " edges with inconsistent orientation"
+                          : inside_out ? "faces point inwards (signed volume " + num(signed_volume(out)) + " m^3)"
+                                       : "a shell was turned inside out";
+  if (!repair) {
+    report.warnings.push_back(why + " (not repaired)");
+    return edges;
   }
+  TriMesh fixed;
+  try {
+    fixed = reorient(out);
+  } catch (const std::exception& e) {  // CGAL preconditions throw when enabled
+    throw Error(file, "mesh", "orientation repair failed: " + std::string(e.what()));
+  }
+  // A hollow body's inner shell rightly points inwards: only a changed winding is a repair.
+  if (oriented_faces(fixed) != oriented_faces(out)) {
+    report.repaired_orientation = true;
+    report.warnings.push_back("repaired orientation: " + why);
+  }
+  out = std::move(fixed);
+  return check_mesh(out);
+}
+
+}  // namespace
+
+TriMesh clean_mesh(const TriMesh& in, const std::string& file, MeshReport& report, bool repair) {
+  report = MeshReport{};
+  if (in.vertices.rows() == 0) throw Error(file, "mesh", "no vertices");
+  if (in.triangles.rows() == 0) throw Error(file, "mesh", "no triangles");
+  for (Eigen::Index i = 0; i < in.vertices.rows(); ++i)
+    if (!in.vertices.row(i).allFinite())
+      throw Error(file, "vertex " + std::to_string(i), "coordinate is NaN or infinite");
+  check_indices(in, file);
+
+  TriMesh out = merge_and_drop_faces(in, file, report);
+  const MeshReport edges = orient_outward(out, file, report, repair);
   report.boundary_edges = edges.boundary_edges;
   report.nonmanifold_edges = edges.nonmanifold_edges;
   report.inconsistent_edges = edges.inconsistent_edges;
@@ -336,6 +348,7 @@ TriMesh clean_mesh(const TriMesh& in, const std::string& file, MeshReport& repor
   if (edges.inconsistent_edges)
     report.warnings.push_back(std::to_string(edges.inconsistent_edges) + " edges still inconsistently oriented");
 
+  const double diag = std::sqrt(bbox_diagonal2(out.vertices));
   if (diag > 5.0)
     report.warnings.push_back("bounding-box diagonal " + num(diag) +
                               " m is implausibly large for an object (millimetres? use --scale 0.001)");

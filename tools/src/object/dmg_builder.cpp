@@ -97,10 +97,53 @@ formats::Dmg build_dmg_from_points(const TriMesh& mesh, const std::vector<Eigen:
 
 namespace {
 
+// Opposite contact per patch: the other finger's ray through the object along -n, kept where the
+// two contacts are antipodal enough to hold.
+std::vector<Opposite> opposite_contacts(const detail::EmbreeMesh& embree, const formats::GripperModel& gripper,
+                                        const detail::SampleGrid& grid, const detail::Patches& patches, double spacing,
+                                        double inset, double cos_friction) {
+  std::vector<Opposite> opposite(patches.size.size());
+  for (std::size_t i = 0; i < opposite.size(); ++i) {
+    const Eigen::Vector3d& p = patches.position[i];
+    const Eigen::Vector3d& n = patches.normal[i];
+    const auto hit = embree.cast(p - inset * n, -n, gripper.max_opening);
+    if (!hit) continue;
+    const Eigen::Vector3d q = p - (inset + hit->distance) * n;
+    if ((p - q).norm() > gripper.max_opening) continue;
+    const int s = grid.nearest(q, 4 * spacing);
+    if (s < 0) continue;
+    const int op = patches.of_sample[s];
+    if (-patches.normal[op].dot(n) < cos_friction) continue;  // not antipodal enough to hold
+    opposite[i] = {q, op};
+  }
+  return opposite;
+}
+
+// Edges: both fingers can slide. Adjacent patches of one facet with a common valid angle, whose
+// opposite contacts lie on the same or adjacent patches of one facet.
+void add_edges(formats::Dmg& dmg, const detail::Patches& patches, const detail::Facets& facets,
+               const std::vector<Opposite>& opposite, const std::vector<std::vector<int>>& nodes_of_patch) {
+  const int k = dmg.angle_count();
+  auto adjacent = [&](int a, int b) {
+    return a == b || std::binary_search(patches.neighbours[a].begin(), patches.neighbours[a].end(), b);
+  };
+  for (std::size_t i = 0; i < nodes_of_patch.size(); ++i)
+    for (int j : patches.neighbours[i]) {
+      if (j <= int(i) || facets.of_patch[i] != facets.of_patch[j]) continue;
+      const int oi = opposite[i].patch, oj = opposite[j].patch;
+      if (oi < 0 || oj < 0 || facets.of_patch[oi] != facets.of_patch[oj] || !adjacent(oi, oj)) continue;
+      for (int a : nodes_of_patch[i])
+        for (int b : nodes_of_patch[j])
+          if (intervals_meet(dmg.nodes[a], dmg.nodes[b], k)) {
+            dmg.edges.push_back({a, b});
+            dmg.edges.push_back({b, a});
+          }
+    }
+}
+
 formats::Dmg assemble(const TriMesh& mesh, const formats::GripperModel& gripper, const DmgOptions& o,
                       const detail::SurfaceSamples& samples, const detail::SampleGrid& grid,
                       const detail::Patches& patches) {
-  const double spacing = samples.spacing;
   formats::Dmg dmg;
   dmg.angle_step_deg = o.angle_step_deg;
   dmg.seed_resolution = o.seed_resolution;
@@ -118,24 +161,9 @@ formats::Dmg assemble(const TriMesh& mesh, const formats::GripperModel& gripper,
   const detail::EmbreeMesh embree(mesh);
   const detail::GripperCheck check(embree, box, gripper);
   const double inset = 1e-5 * std::max(box.diagonal().norm(), 0.01);  // start rays just inside the surface
-  const double cos_friction = std::cos(o.friction_angle);
   const double step = o.angle_step_deg * std::numbers::pi / 180;
-
-  // Opposite contact per patch: the other finger's ray through the object along -n.
-  std::vector<Opposite> opposite(patches.size.size());
-  for (std::size_t i = 0; i < opposite.size(); ++i) {
-    const Eigen::Vector3d& p = patches.position[i];
-    const Eigen::Vector3d& n = patches.normal[i];
-    const auto hit = embree.cast(p - inset * n, -n, gripper.max_opening);
-    if (!hit) continue;
-    const Eigen::Vector3d q = p - (inset + hit->distance) * n;
-    if ((p - q).norm() > gripper.max_opening) continue;
-    const int s = grid.nearest(q, 4 * spacing);
-    if (s < 0) continue;
-    const int op = patches.of_sample[s];
-    if (-patches.normal[op].dot(n) < cos_friction) continue;  // not antipodal enough to hold
-    opposite[i] = {q, op};
-  }
+  const auto opposite =
+      opposite_contacts(embree, gripper, grid, patches, samples.spacing, inset, std::cos(o.friction_angle));
 
   std::vector<std::vector<int>> nodes_of_patch(patches.size.size());
   ProgressReporter report(o.progress, "DMG finger angles");
@@ -169,24 +197,7 @@ formats::Dmg assemble(const TriMesh& mesh, const formats::GripperModel& gripper,
       dmg.nodes.push_back(node);
     }
   }
-
-  // Edges: both fingers can slide. Adjacent patches of one facet with a common valid angle, whose
-  // opposite contacts lie on the same or adjacent patches of one facet.
-  auto adjacent = [&](int a, int b) {
-    return a == b || std::binary_search(patches.neighbours[a].begin(), patches.neighbours[a].end(), b);
-  };
-  for (std::size_t i = 0; i < nodes_of_patch.size(); ++i)
-    for (int j : patches.neighbours[i]) {
-      if (j <= int(i) || facets.of_patch[i] != facets.of_patch[j]) continue;
-      const int oi = opposite[i].patch, oj = opposite[j].patch;
-      if (oi < 0 || oj < 0 || facets.of_patch[oi] != facets.of_patch[oj] || !adjacent(oi, oj)) continue;
-      for (int a : nodes_of_patch[i])
-        for (int b : nodes_of_patch[j])
-          if (intervals_meet(dmg.nodes[a], dmg.nodes[b], k)) {
-            dmg.edges.push_back({a, b});
-            dmg.edges.push_back({b, a});
-          }
-    }
+  add_edges(dmg, patches, facets, opposite, nodes_of_patch);
   return dmg;
 }
 

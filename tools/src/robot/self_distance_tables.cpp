@@ -94,91 +94,122 @@ float round_down(double d) {
   return std::max(f, 0.0f);
 }
 
-// The distances of table t (grid already sized): exact on the coarse lattice, then each other node
-// from its coarse cell's Lipschitz bound when that is far from contact, exactly otherwise.
-void fill_table(formats::SelfDistanceTable& t, const runtime::Kinematics& kin, const runtime::ExactChecker& exact,
-                int a, int b, const Eigen::VectorXd& mid, const SelfTableOptions& o, ProgressReporter& progress) {
-  const std::size_t c0 = std::size_t(t.count[0]), c1 = std::size_t(t.count[1]);
-  t.distance.assign(c0 * c1, 0.0f);
-  progress.add_total(c0 * c1);
-  auto at = [&](std::size_t i0, std::size_t i1) {
-    Eigen::VectorXd qn = mid;
-    qn[kin.chain_slot(t.joints[0])] = t.lower[0] + double(i0) * t.step[0];
-    if (t.joints[1] >= 0) qn[kin.chain_slot(t.joints[1])] = t.lower[1] + double(i1) * t.step[1];
+// Lattice nodes: every `stride`-th index, and the last.
+std::vector<std::size_t> lattice(std::size_t count, std::size_t stride) {
+  std::vector<std::size_t> v;
+  for (std::size_t i = 0; i < count; i += stride) v.push_back(i);
+  if (v.back() != count - 1) v.push_back(count - 1);
+  return v;
+}
+
+// The lattice cell holding index i: its two lattice indices (the same one on a lattice node).
+std::pair<std::size_t, std::size_t> cell(const std::vector<std::size_t>& l, std::size_t i) {
+  const auto hi = std::lower_bound(l.begin(), l.end(), i);
+  return {*hi == i || hi == l.begin() ? *hi : *(hi - 1), *hi};
+}
+
+// Fills table t (grid already sized): exact on the coarse lattice, then each other node from its
+// coarse cell's Lipschitz bound when that is far from contact, exactly otherwise. Every node
+// computed keeps where its links were closest: the next node along its row starts FCL from that
+// pair, and the lattice's witnesses serve the nodes of their cells. Rows go in parallel, each in
+// order from its own first node, so the values are the same on any thread count.
+class TableFill {
+ public:
+  TableFill(formats::SelfDistanceTable& t, const runtime::Kinematics& kin, const runtime::ExactChecker& exact, int a,
+            int b, const Eigen::VectorXd& mid, const SelfTableOptions& o, ProgressReporter& progress)
+      : t_(t), kin_(kin), exact_(exact), a_(a), b_(b), mid_(mid), o_(o), progress_(progress),
+        c1_(std::size_t(t.count[1])), l0_(lattice(std::size_t(t.count[0]), std::size_t(o.coarse_stride))),
+        l1_(lattice(c1_, std::size_t(o.coarse_stride))), witness_(std::size_t(t.count[0]) * c1_) {}
+
+  void run() {
+    t_.distance.assign(witness_.size(), 0.0f);
+    progress_.add_total(witness_.size());
+    lattice_pass();
+    refine_pass(bound_pass());
+  }
+
+ private:
+  Eigen::VectorXd at(std::size_t i0, std::size_t i1) const {
+    Eigen::VectorXd qn = mid_;
+    qn[kin_.chain_slot(t_.joints[0])] = t_.lower[0] + double(i0) * t_.step[0];
+    if (t_.joints[1] >= 0) qn[kin_.chain_slot(t_.joints[1])] = t_.lower[1] + double(i1) * t_.step[1];
     return qn;
-  };
-  // Every node computed keeps where its links were closest: the next node along its row starts
-  // FCL from that pair, and the lattice's witnesses serve the nodes of their cells.
-  std::vector<runtime::LinkWitness> witness(c0 * c1);
-  const std::size_t s = std::size_t(o.coarse_stride);
-  auto lattice = [&](std::size_t count) {
-    std::vector<std::size_t> v;
-    for (std::size_t i = 0; i < count; i += s) v.push_back(i);
-    if (v.back() != count - 1) v.push_back(count - 1);
-    return v;
-  };
-  const auto l0 = lattice(c0), l1 = lattice(c1);
-  // Rows in parallel, each in order from its own first node: the same values on any thread count.
-  detail::parallel_for(l0.size(), o.threads, [&](std::size_t r) {
-    const std::size_t i0 = l0[r];
-    for (std::size_t k = 0; k < l1.size(); ++k) {
-      const std::size_t n = i0 * c1 + l1[k];
-      const std::vector<runtime::LinkWitness> near =
-          k == 0 ? std::vector<runtime::LinkWitness>{} : std::vector{witness[i0 * c1 + l1[k - 1]]};
-      t.distance[n] = round_down(exact.link_distance_within(at(i0, l1[k]), a, b, 0.0, near, &witness[n]));
-      progress.done(1);
-    }
-  });
-  std::vector<char> coarse(c0 * c1, 0);
-  for (auto i0 : l0)
-    for (auto i1 : l1) coarse[i0 * c1 + i1] = 1;
-  // Per node: the enclosing lattice cell's corners bound it (each corner's distance minus what the
-  // joints can change it by on the way).
-  std::vector<std::size_t> refine;
-  std::size_t bounded = 0;
-  const auto cell = [](const std::vector<std::size_t>& l, std::size_t i) {
-    const auto hi = std::lower_bound(l.begin(), l.end(), i);
-    return std::pair<std::size_t, std::size_t>(*hi == i || hi == l.begin() ? *hi : *(hi - 1), *hi);
-  };
-  for (std::size_t i0 = 0; i0 < c0; ++i0)
-    for (std::size_t i1 = 0; i1 < c1; ++i1) {
-      const std::size_t n = i0 * c1 + i1;
+  }
+
+  void lattice_pass() {
+    detail::parallel_for(l0_.size(), o_.threads, [&](std::size_t r) {
+      const std::size_t i0 = l0_[r];
+      for (std::size_t k = 0; k < l1_.size(); ++k) {
+        const std::size_t n = i0 * c1_ + l1_[k];
+        const std::vector<runtime::LinkWitness> near =
+            k == 0 ? std::vector<runtime::LinkWitness>{} : std::vector{witness_[i0 * c1_ + l1_[k - 1]]};
+        t_.distance[n] = round_down(exact_.link_distance_within(at(i0, l1_[k]), a_, b_, 0.0, near, &witness_[n]));
+        progress_.done(1);
+      }
+    });
+  }
+
+  // Per node: the enclosing lattice cell's corners bound it (each corner's distance minus what
+  // the joints can change it by on the way). Stores the bounds far from contact; the other nodes.
+  std::vector<std::size_t> bound_pass() {
+    std::vector<char> coarse(witness_.size(), 0);
+    for (auto i0 : l0_)
+      for (auto i1 : l1_) coarse[i0 * c1_ + i1] = 1;
+    std::vector<std::size_t> refine;
+    std::size_t bounded = 0;
+    for (std::size_t n = 0; n < witness_.size(); ++n) {
       if (coarse[n]) continue;
-      const auto [a0, b0] = cell(l0, i0);
-      const auto [a1, b1] = cell(l1, i1);
+      const std::size_t i0 = n / c1_, i1 = n % c1_;
+      const auto [a0, b0] = cell(l0_, i0);
+      const auto [a1, b1] = cell(l1_, i1);
       double lb = -std::numeric_limits<double>::infinity();
       for (auto k0 : {a0, b0})
         for (auto k1 : {a1, b1}) {
-          const double loss = t.slope[0] * t.step[0] * std::abs(double(k0) - double(i0)) +
-                              (t.joints[1] >= 0 ? t.slope[1] * t.step[1] * std::abs(double(k1) - double(i1)) : 0.0);
-          lb = std::max(lb, double(t.distance[k0 * c1 + k1]) - loss);
+          const double loss = t_.slope[0] * t_.step[0] * std::abs(double(k0) - double(i0)) +
+                              (t_.joints[1] >= 0 ? t_.slope[1] * t_.step[1] * std::abs(double(k1) - double(i1)) : 0.0);
+          lb = std::max(lb, double(t_.distance[k0 * c1_ + k1]) - loss);
         }
-      if (lb >= o.exact_below) {
-        t.distance[n] = round_down(lb);
+      if (lb >= o_.exact_below) {
+        t_.distance[n] = round_down(lb);
         ++bounded;
       } else {
         refine.push_back(n);
       }
     }
-  progress.done(bounded);
-  // Each from its cell's lattice corners' witnesses and the node before it in its row; rows in
-  // parallel, each in order: the same values whichever thread computes them.
-  std::vector<std::size_t> row_start{0};
-  for (std::size_t k = 1; k <= refine.size(); ++k)
-    if (k == refine.size() || refine[k] / c1 != refine[k - 1] / c1) row_start.push_back(k);
-  detail::parallel_for(row_start.size() - 1, o.threads, [&](std::size_t r) {
-    for (std::size_t k = row_start[r]; k < row_start[r + 1]; ++k) {
-      const std::size_t n = refine[k], i0 = n / c1, i1 = n % c1;
-      const auto [a0, b0] = cell(l0, i0);
-      const auto [a1, b1] = cell(l1, i1);
-      std::vector<runtime::LinkWitness> near{witness[a0 * c1 + a1], witness[a0 * c1 + b1], witness[b0 * c1 + a1],
-                                             witness[b0 * c1 + b1]};
-      if (i1 > 0) near.push_back(witness[n - 1]);  // computed before (or empty where bounded)
-      t.distance[n] = round_down(exact.link_distance_within(at(i0, i1), a, b, o.tolerance, near, &witness[n]));
-      progress.done(1);
-    }
-  });
-}
+    progress_.done(bounded);
+    return refine;
+  }
+
+  // Each node from its cell's lattice corners' witnesses and the node's before it in its row.
+  void refine_pass(const std::vector<std::size_t>& refine) {
+    std::vector<std::size_t> row_start{0};
+    for (std::size_t k = 1; k <= refine.size(); ++k)
+      if (k == refine.size() || refine[k] / c1_ != refine[k - 1] / c1_) row_start.push_back(k);
+    detail::parallel_for(row_start.size() - 1, o_.threads, [&](std::size_t r) {
+      for (std::size_t k = row_start[r]; k < row_start[r + 1]; ++k) {
+        const std::size_t n = refine[k], i0 = n / c1_, i1 = n % c1_;
+        const auto [a0, b0] = cell(l0_, i0);
+        const auto [a1, b1] = cell(l1_, i1);
+        std::vector<runtime::LinkWitness> near{witness_[a0 * c1_ + a1], witness_[a0 * c1_ + b1],
+                                               witness_[b0 * c1_ + a1], witness_[b0 * c1_ + b1]};
+        if (i1 > 0) near.push_back(witness_[n - 1]);  // computed before (or empty where bounded)
+        t_.distance[n] = round_down(exact_.link_distance_within(at(i0, i1), a_, b_, o_.tolerance, near, &witness_[n]));
+        progress_.done(1);
+      }
+    });
+  }
+
+  formats::SelfDistanceTable& t_;
+  const runtime::Kinematics& kin_;
+  const runtime::ExactChecker& exact_;
+  const int a_, b_;
+  const Eigen::VectorXd& mid_;
+  const SelfTableOptions& o_;
+  ProgressReporter& progress_;
+  const std::size_t c1_;
+  const std::vector<std::size_t> l0_, l1_;
+  std::vector<runtime::LinkWitness> witness_;
+};
 }  // namespace
 
 std::vector<formats::SelfDistanceTable> build_self_distance_tables(const runtime::Kinematics& kin,
@@ -250,7 +281,7 @@ std::vector<formats::SelfDistanceTable> build_self_distance_tables(const runtime
         t.slope[k] =
             slope_bound(m, parent_joint, moves_a[k] ? a : b, joints[k], by_link[std::size_t(moves_a[k] ? a : b)]);
       }
-      fill_table(t, kin, exact, a, b, mid, o, progress);
+      TableFill(t, kin, exact, a, b, mid, o, progress).run();
       out.push_back(std::move(t));
     }
   return out;

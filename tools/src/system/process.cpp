@@ -133,23 +133,12 @@ bool is_executable_file(const std::filesystem::path& p) {
   return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::access(p.c_str(), X_OK) == 0;
 }
 
-}  // namespace
-
-ProcessResult run_process(const std::vector<std::string>& argv, const ProcessOptions& options) {
-  if (argv.empty() || argv[0].empty()) throw Error("run_process", "argv", "no program to run");
-  const std::string& program = argv[0];
-  std::string file = program;
-  // posix_spawnp resolves a relative path after the child's chdir: make it mean what it says here.
-  if (file.find('/') != std::string::npos && !options.cwd.empty()) file = std::filesystem::absolute(file).string();
-  std::error_code ec;
-  if (!options.cwd.empty() && !std::filesystem::is_directory(options.cwd, ec))
-    throw Error(program, "", "cannot run in " + options.cwd.string() + ": not a folder");
-
-  FileActions actions;
+// The child's stdin, stdout and stderr as `options` ask, through pipes made here.
+void plan_child_io(FileActions& actions, const ProcessOptions& options, const std::string& program, Pipe& in, Pipe& out,
+                   Pipe& err) {
   auto check = [&](int rc, const char* what) {
     if (rc != 0) throw Error(program, "", std::string("cannot run: ") + what + ": " + errno_text(rc));
   };
-  Pipe in, out, err;
   if (options.input) {
     in = make_pipe(program);
     check(::posix_spawn_file_actions_adddup2(&actions.a, in.read.get(), STDIN_FILENO), "stdin");
@@ -175,7 +164,64 @@ ProcessResult run_process(const std::vector<std::string>& argv, const ProcessOpt
   }
   if (!options.cwd.empty())
     check(::posix_spawn_file_actions_addchdir_np(&actions.a, options.cwd.c_str()), "working folder");
+}
 
+// Feeds the child its input and reads what it writes until every pipe is closed; errno of a
+// failed poll, or 0.
+int exchange(const ProcessOptions& options, Pipe& in, Pipe& out, Pipe& err, ProcessResult& r) {
+  std::optional<SigpipeBlocked> sigpipe;
+  std::size_t written = 0;
+  if (options.input) {
+    sigpipe.emplace();
+    // Non-blocking: a child that writes a lot before reading must not deadlock with us.
+    ::fcntl(in.write.get(), F_SETFL, ::fcntl(in.write.get(), F_GETFL) | O_NONBLOCK);
+    if (options.input->empty()) in.write.reset();
+  }
+  while (in.write || out.read || err.read) {
+    pollfd fds[3];
+    nfds_t n = 0;
+    if (in.write) fds[n++] = {in.write.get(), POLLOUT, 0};
+    if (out.read) fds[n++] = {out.read.get(), POLLIN, 0};
+    if (err.read) fds[n++] = {err.read.get(), POLLIN, 0};
+    if (::poll(fds, n, -1) < 0) {
+      if (errno == EINTR) continue;
+      return errno;
+    }
+    for (nfds_t i = 0; i < n; ++i) {
+      if (!fds[i].revents) continue;
+      if (in.write && fds[i].fd == in.write.get()) {
+        const ssize_t w = ::write(in.write.get(), options.input->data() + written, options.input->size() - written);
+        if (w > 0) written += std::size_t(w);
+        // EPIPE: the child stopped reading; what it did is in its exit code and output.
+        if ((w < 0 && errno != EAGAIN && errno != EINTR) || written == options.input->size()) in.write.reset();
+        continue;
+      }
+      Fd& from = out.read && fds[i].fd == out.read.get() ? out.read : err.read;
+      std::string& to = &from == &out.read ? r.output : r.error_output;
+      char buf[65536];
+      const ssize_t got = ::read(from.get(), buf, sizeof buf);
+      if (got > 0) to.append(buf, std::size_t(got));
+      else if (got == 0 || (errno != EINTR && errno != EAGAIN)) from.reset();
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+ProcessResult run_process(const std::vector<std::string>& argv, const ProcessOptions& options) {
+  if (argv.empty() || argv[0].empty()) throw Error("run_process", "argv", "no program to run");
+  const std::string& program = argv[0];
+  std::string file = program;
+  // posix_spawnp resolves a relative path after the child's chdir: make it mean what it says here.
+  if (file.find('/') != std::string::npos && !options.cwd.empty()) file = std::filesystem::absolute(file).string();
+  std::error_code ec;
+  if (!options.cwd.empty() && !std::filesystem::is_directory(options.cwd, ec))
+    throw Error(program, "", "cannot run in " + options.cwd.string() + ": not a folder");
+
+  FileActions actions;
+  Pipe in, out, err;
+  plan_child_io(actions, options, program, in, out, err);
   std::vector<std::string> args = argv;
   std::vector<char*> c_args = c_array(args);
   std::vector<std::string> env;
@@ -199,43 +245,7 @@ ProcessResult run_process(const std::vector<std::string>& argv, const ProcessOpt
   err.write.reset();
 
   ProcessResult r;
-  std::optional<SigpipeBlocked> sigpipe;
-  std::size_t written = 0;
-  if (options.input) {
-    sigpipe.emplace();
-    // Non-blocking: a child that writes a lot before reading must not deadlock with us.
-    ::fcntl(in.write.get(), F_SETFL, ::fcntl(in.write.get(), F_GETFL) | O_NONBLOCK);
-    if (options.input->empty()) in.write.reset();
-  }
-  int poll_error = 0;
-  while (in.write || out.read || err.read) {
-    pollfd fds[3];
-    nfds_t n = 0;
-    if (in.write) fds[n++] = {in.write.get(), POLLOUT, 0};
-    if (out.read) fds[n++] = {out.read.get(), POLLIN, 0};
-    if (err.read) fds[n++] = {err.read.get(), POLLIN, 0};
-    if (::poll(fds, n, -1) < 0) {
-      if (errno == EINTR) continue;
-      poll_error = errno;
-      break;
-    }
-    for (nfds_t i = 0; i < n; ++i) {
-      if (!fds[i].revents) continue;
-      if (in.write && fds[i].fd == in.write.get()) {
-        const ssize_t w = ::write(in.write.get(), options.input->data() + written, options.input->size() - written);
-        if (w > 0) written += std::size_t(w);
-        // EPIPE: the child stopped reading; what it did is in its exit code and output.
-        if ((w < 0 && errno != EAGAIN && errno != EINTR) || written == options.input->size()) in.write.reset();
-        continue;
-      }
-      Fd& from = out.read && fds[i].fd == out.read.get() ? out.read : err.read;
-      std::string& to = &from == &out.read ? r.output : r.error_output;
-      char buf[65536];
-      const ssize_t got = ::read(from.get(), buf, sizeof buf);
-      if (got > 0) to.append(buf, std::size_t(got));
-      else if (got == 0 || (errno != EINTR && errno != EAGAIN)) from.reset();
-    }
-  }
+  const int poll_error = exchange(options, in, out, err, r);
   // Closing our ends first lets a child still writing end (EPIPE) instead of waiting forever.
   in.write.reset();
   out.read.reset();
