@@ -6,6 +6,7 @@
 
 #include "dmgplace/formats/error.hpp"
 #include "format_util.hpp"
+#include "points_above_plane.hpp"
 
 namespace dmgplace::formats {
 
@@ -135,6 +136,7 @@ std::optional<std::string> hull_problem(const TriMesh& mesh, const RowMatrixX3i&
   // Every vertex on the inner side of every hull face: the gaps measured against the hull are
   // then lower bounds of the mesh's. The tolerance covers rounding in the planes only.
   const double tol = 1e-9 * std::max(1.0, mesh.vertices.cwiseAbs().maxCoeff());
+  const detail::PointsAbovePlane vertices(mesh.vertices);
   int faces = 0;  // with an area: a solid has at least four
   for (Eigen::Index f = 0; f < hull.rows(); ++f) {
     const Eigen::Vector3d a = mesh.vertices.row(hull(f, 0)), b = mesh.vertices.row(hull(f, 1)),
@@ -143,6 +145,7 @@ std::optional<std::string> hull_problem(const TriMesh& mesh, const RowMatrixX3i&
     const double len = n.norm();
     if (!(len > 0)) continue;  // a sliver: its neighbours bound the same side
     ++faces;
+    if (!vertices.any_above(a, n / len, tol)) continue;
     const double worst = ((mesh.vertices.rowwise() - a.transpose()) * (n / len)).maxCoeff();
     if (worst > tol)
       return "mesh vertex " + std::to_string(worst) + " m outside convex hull face " + std::to_string(f) +

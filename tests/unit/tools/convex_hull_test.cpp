@@ -114,3 +114,49 @@ TEST(ConvexHull, FlatFacetsAreSplitFromTheirFirstListedCornerAndOnlyCornersRemai
     }
   }
 }
+
+// The artifact check's "every vertex inside every face", against a scan of every vertex: a hull of
+// part of the points leaves some outside, and a point of the whole hull's inside moved onto a
+// face's plane and then out by twice the tolerance or in by half of it is told apart as the scan
+// tells it.
+TEST(ConvexHull, TheArtifactCheckFindsVerticesOutsideAsAScanOfAllOfThemDoes) {
+  std::mt19937_64 rng(9);
+  std::uniform_int_distribution<int> part(4, 60);
+  int outside = 0, inside = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    TriMesh m = cloud(rng, 400);
+    RowMatrixX3i hull;
+    if (trial % 2 == 0) {
+      TriMesh first = m;
+      first.vertices.conservativeResize(part(rng), 3);
+      hull = tools::convex_hull_triangles(first);
+    } else {
+      hull = tools::convex_hull_triangles(m);
+      std::vector<char> on_hull(std::size_t(m.vertices.rows()), 0);
+      for (Eigen::Index i = 0; i < hull.size(); ++i) on_hull[std::size_t(hull.data()[i])] = 1;
+      const Eigen::Index moved = Eigen::Index(std::find(on_hull.begin(), on_hull.end(), 0) - on_hull.begin());
+      const Eigen::Index f = Eigen::Index(rng() % std::uint64_t(hull.rows()));
+      const Eigen::Vector3d a = m.vertices.row(hull(f, 0)), b = m.vertices.row(hull(f, 1)),
+                            c = m.vertices.row(hull(f, 2));
+      const Eigen::Vector3d u = (b - a).cross(c - a).normalized();
+      const double tol = 1e-9 * std::max(1.0, m.vertices.cwiseAbs().maxCoeff());
+      m.vertices.row(moved) = ((a + b + c) / 3 + (trial % 4 == 1 ? 2.0 : -0.5) * tol * u).transpose();
+    }
+    if (hull.rows() < 4) continue;
+    const double tol = 1e-9 * std::max(1.0, m.vertices.cwiseAbs().maxCoeff());
+    bool scan_outside = false;
+    for (Eigen::Index f = 0; f < hull.rows(); ++f) {
+      const Eigen::Vector3d a = m.vertices.row(hull(f, 0)), b = m.vertices.row(hull(f, 1)),
+                            c = m.vertices.row(hull(f, 2));
+      const Eigen::Vector3d n = (b - a).cross(c - a);
+      if (!(n.norm() > 0)) continue;
+      scan_outside |= ((m.vertices.rowwise() - a.transpose()) * (n / n.norm())).maxCoeff() > tol;
+    }
+    const auto problem = formats::hull_problem(m, hull);
+    const bool said_outside = problem && problem->find("outside convex hull face") != std::string::npos;
+    EXPECT_EQ(said_outside, scan_outside) << "trial " << trial << ": " << problem.value_or("no problem");
+    (scan_outside ? outside : inside)++;
+  }
+  EXPECT_GT(outside, 50);
+  EXPECT_GT(inside, 20);
+}
