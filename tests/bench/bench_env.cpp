@@ -7,8 +7,8 @@
 #include <random>
 
 #include "dmgplace/runtime/environment/environment_model.hpp"
-#include "dmgplace/tools/env/distance_field.hpp"
-#include "dmgplace/tools/env/geometry_regions.hpp"
+#include "dmgplace/tools/environment/distance_field.hpp"
+#include "dmgplace/tools/environment/geometry_regions.hpp"
 #include "dmgplace/tools/io/scene_loader.hpp"
 #include "test_support.hpp"
 
@@ -37,7 +37,7 @@ Scene ten_k_scene() {
 const Eigen::AlignedBox3d kCube(Eigen::Vector3d::Constant(-1.0), Eigen::Vector3d::Constant(1.0));
 
 void BM_DistanceGrid_10kTriangles_2mCube_1cm(benchmark::State& state) {
-  const tools::EnvGeometry geo = tools::make_env_geometry(ten_k_scene(), 32);
+  const tools::EnvironmentGeometry geo = tools::make_environment_geometry(ten_k_scene(), 32);
   std::size_t triangles = 0;
   for (const auto& m : geo.meshes) triangles += std::size_t(m.triangles.rows());
   const tools::EmbreeScene scene(geo);
@@ -64,7 +64,7 @@ void BM_Regions_MbmKitchen(benchmark::State& state) {
   std::size_t regions = 0;
   for (auto _ : state) {
     // Everything regions need: tessellation, BVH, one ray per 1 cm cell, levels, components, splits.
-    const tools::EnvGeometry geo = tools::make_env_geometry(kitchen, 32);
+    const tools::EnvironmentGeometry geo = tools::make_environment_geometry(kitchen, 32);
     const tools::EmbreeScene scene(geo);
     tools::RegionOptions o;
     const tools::CellGrid grid = tools::cell_grid(v, o.resolution);

@@ -5,7 +5,7 @@
 #include "dmgplace/formats/robot_artifact.hpp"
 #include "dmgplace/formats/sha256.hpp"
 #include "dmgplace/tools/geometry/procedural_meshes.hpp"
-#include "dmgplace/tools/env/bake_environment.hpp"
+#include "dmgplace/tools/environment/bake_environment.hpp"
 #include "dmgplace/tools/io/scene_loader.hpp"
 #include "dmgplace/tools/object/dmg_builder.hpp"
 #include "dmgplace/tools/object/gripper_model.hpp"
@@ -40,7 +40,7 @@ std::unique_ptr<SoundArtifacts> bake_sound_artifacts() {
   formats::EnvironmentArtifact env;
   env.scene = tools::load_scene(data / "scenes/table.yaml");
   env.volume = Eigen::AlignedBox3d(Eigen::Vector3d(0.3, -0.3, 0.4), Eigen::Vector3d(0.8, 0.3, 0.7));
-  tools::EnvBakeOptions eo;
+  tools::EnvironmentBakeOptions eo;
   eo.resolution = 0.02;
   eo.margin = 0.9;
   eo.sdf_resolution = 0.04;

@@ -1,7 +1,7 @@
 #include "fixtures.hpp"
 
 #include "dmgplace/tools/geometry/procedural_meshes.hpp"
-#include "dmgplace/tools/env/bake_environment.hpp"
+#include "dmgplace/tools/environment/bake_environment.hpp"
 #include "dmgplace/tools/io/scene_loader.hpp"
 #include "dmgplace/tools/io/urdf_reader.hpp"
 #include "dmgplace/tools/object/dmg_builder.hpp"
@@ -41,7 +41,7 @@ SelfTableDefaults self_table_defaults() {
 
 Scene read_scene(const std::filesystem::path& path) { return tools::load_scene(path); }
 
-void bake_environment(formats::EnvironmentArtifact& env) { tools::bake_environment(env, tools::EnvBakeOptions{}); }
+void bake_environment(formats::EnvironmentArtifact& env) { tools::bake_environment(env, tools::EnvironmentBakeOptions{}); }
 
 TriMesh box_mesh(const Eigen::Vector3d& extents) { return tools::make_box_mesh(extents); }
 TriMesh bottle_mesh() { return tools::make_bottle_mesh(); }

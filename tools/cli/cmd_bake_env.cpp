@@ -8,7 +8,7 @@
 #include "dmgplace/tools/io/input_log.hpp"
 #include "dmgplace/formats/environment_artifact.hpp"
 #include "dmgplace/formats/error.hpp"
-#include "dmgplace/tools/env/bake_environment.hpp"
+#include "dmgplace/tools/environment/bake_environment.hpp"
 #include "dmgplace/tools/io/scene_loader.hpp"
 
 namespace dmgplace::cli {

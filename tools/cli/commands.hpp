@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "dmgplace/tools/env/bake_environment.hpp"
+#include "dmgplace/tools/environment/bake_environment.hpp"
 #include "dmgplace/tools/object/dmg_builder.hpp"
 #include "dmgplace/tools/robot/allowed_collisions.hpp"
 #include "dmgplace/tools/robot/self_distance_tables.hpp"
@@ -68,7 +68,7 @@ struct BakeEnvArgs {
   bool json = false;
   std::string volume_text, frame_text;  // "xmin,...,zmax" / "x,y,z,roll,pitch,yaw"
   std::vector<std::string> package_paths;
-  tools::EnvBakeOptions bake;
+  tools::EnvironmentBakeOptions bake;
   OptionTable options();  // every option as a row (option_table.hpp)
 };
 int run_bake_env(const BakeEnvArgs& a);

@@ -10,9 +10,9 @@
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/runtime/environment/environment_model.hpp"
 #include "dmgplace/runtime/motion/arm_space.hpp"
-#include "dmgplace/tools/env/distance_field.hpp"
-#include "dmgplace/tools/env/embree_scene.hpp"
-#include "dmgplace/tools/env/env_geometry.hpp"
+#include "dmgplace/tools/environment/distance_field.hpp"
+#include "dmgplace/tools/environment/embree_scene.hpp"
+#include "dmgplace/tools/environment/environment_geometry.hpp"
 #include "dmgplace/tools/io/motion_request_reader.hpp"
 #include "dmgplace/tools/io/scene_loader.hpp"
 
@@ -89,7 +89,7 @@ ArmProblem load_arm_problem(std::shared_ptr<const ArmRobot> robot, const std::fi
     fast.emplace(p.robot->fast->with_kinematics(*p.kin));
     fast->set_exact_obstacles(primitives);
   } else {
-    const EnvGeometry geometry = make_env_geometry(p.scene);
+    const EnvironmentGeometry geometry = make_environment_geometry(p.scene);
     const EmbreeScene embree(geometry);
     const Eigen::AlignedBox3d box(Eigen::Vector3d(-o.reach, -o.reach, -0.3),
                                   Eigen::Vector3d(o.reach, o.reach, o.reach + 0.5));

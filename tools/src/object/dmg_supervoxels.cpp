@@ -8,7 +8,7 @@
 
 #include "../scan/scan_smoothing.hpp"
 #include "dmg_internal.hpp"
-#include "dmgplace/tools/env/closest_point.hpp"
+#include "dmgplace/tools/environment/closest_point.hpp"
 
 namespace dmgplace::tools::detail {
 namespace {

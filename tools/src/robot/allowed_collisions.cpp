@@ -6,7 +6,7 @@
 #include <random>
 #include <sstream>
 
-#include "../env/parallel_for.hpp"
+#include "../system/parallel_for.hpp"
 #include "dmgplace/runtime/collision/exact_checker.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
 

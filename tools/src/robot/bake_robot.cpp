@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "../env/parallel_for.hpp"
+#include "../system/parallel_for.hpp"
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/runtime/robot/kinematics.hpp"
 #include "dmgplace/tools/io/joint_limits_reader.hpp"

@@ -8,7 +8,7 @@
 #include <mutex>
 #include <random>
 
-#include "../env/parallel_for.hpp"
+#include "../system/parallel_for.hpp"
 #include "dmgplace/formats/error.hpp"
 #include "dmgplace/tools/system/progress.hpp"
 #include "dmgplace/runtime/collision/exact_checker.hpp"

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <random>
 
-#include "../env/parallel_for.hpp"
-#include "dmgplace/tools/env/bake_environment.hpp"
-#include "dmgplace/tools/env/env_geometry.hpp"
+#include "../system/parallel_for.hpp"
+#include "dmgplace/tools/environment/bake_environment.hpp"
+#include "dmgplace/tools/environment/environment_geometry.hpp"
 #include "dmgplace/tools/validate/deep_checks.hpp"
 #include "dmgplace/tools/validate/exact_scene_distance.hpp"
 
@@ -34,7 +34,7 @@ std::size_t nearest_node(const formats::FieldGrid& g, const Eigen::Vector3d& p) 
 
 // Random points on the obstacles' triangles (area-weighted), moved off them by up to `offset`
 // along the triangle's normal: where a field is most easily wrong.
-std::vector<Eigen::Vector3d> near_surface_points(const EnvGeometry& g, int count, double offset, std::mt19937_64& rng) {
+std::vector<Eigen::Vector3d> near_surface_points(const EnvironmentGeometry& g, int count, double offset, std::mt19937_64& rng) {
   std::vector<Eigen::Vector3d> a, b, c;
   std::vector<double> area;
   for (const auto& m : g.meshes)
@@ -93,7 +93,7 @@ std::vector<std::size_t> random_nodes(const formats::FieldGrid& g, int count, st
 
 // Nodes the stored field puts within two cells of a surface, plus nodes nearest to points on the
 // geometry's own surface (which a field wrong everywhere near it cannot hide).
-std::vector<std::size_t> surface_nodes(const formats::FieldGrid& g, const EnvGeometry& geometry, int count,
+std::vector<std::size_t> surface_nodes(const formats::FieldGrid& g, const EnvironmentGeometry& geometry, int count,
                                        std::mt19937_64& rng) {
   std::vector<std::size_t> near;
   for (std::size_t i = 0; i < g.values.size(); ++i)
@@ -149,7 +149,7 @@ DeepCheck regions_on_surface(const formats::EnvironmentArtifact& a, const ExactS
 
 void deep_environment(const formats::EnvironmentArtifact& a, const DeepOptions& o, DeepReport& report) {
   // The bake's own tessellation of the primitives: its field is exact for that surface.
-  const EnvGeometry geometry = make_env_geometry(a.scene, EnvBakeOptions{}.segments);
+  const EnvironmentGeometry geometry = make_environment_geometry(a.scene, EnvironmentBakeOptions{}.segments);
   const ExactSceneDistance exact(geometry);
   std::mt19937_64 rng(o.seed);
   if (!a.sdf.empty()) {

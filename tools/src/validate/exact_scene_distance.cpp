@@ -4,11 +4,11 @@
 #include <cmath>
 
 #include "dmgplace/formats/winding_number.hpp"
-#include "dmgplace/tools/env/closest_point.hpp"
+#include "dmgplace/tools/environment/closest_point.hpp"
 
 namespace dmgplace::tools {
 
-ExactSceneDistance::ExactSceneDistance(const EnvGeometry& geometry) : geometry_(&geometry) {
+ExactSceneDistance::ExactSceneDistance(const EnvironmentGeometry& geometry) : geometry_(&geometry) {
   for (std::size_t m = 0; m < geometry.meshes.size(); ++m) {
     const TriMesh& mesh = geometry.meshes[m];
     Eigen::AlignedBox3d box;

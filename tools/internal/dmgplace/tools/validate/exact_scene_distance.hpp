@@ -6,14 +6,14 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "dmgplace/tools/env/env_geometry.hpp"
+#include "dmgplace/tools/environment/environment_geometry.hpp"
 
 namespace dmgplace::tools {
 
 class ExactSceneDistance {
  public:
   // Keeps a pointer to `geometry`, which must outlive this object.
-  explicit ExactSceneDistance(const EnvGeometry& geometry);
+  explicit ExactSceneDistance(const EnvironmentGeometry& geometry);
 
   // Distance from p to the nearest triangle or point, at most `cap` (cap when nothing is nearer);
   // negative inside a closed mesh.
@@ -31,7 +31,7 @@ class ExactSceneDistance {
     Eigen::Vector3d a, b, c, center;
     double radius;
   };
-  const EnvGeometry* geometry_;
+  const EnvironmentGeometry* geometry_;
   std::vector<Triangle> triangles_;
   std::vector<Eigen::AlignedBox3d> closed_boxes_;  // per mesh; empty box when the mesh is open
 };

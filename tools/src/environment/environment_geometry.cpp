@@ -1,4 +1,4 @@
-#include "dmgplace/tools/env/env_geometry.hpp"
+#include "dmgplace/tools/environment/environment_geometry.hpp"
 
 #include <algorithm>
 
@@ -7,7 +7,7 @@
 
 namespace dmgplace::tools {
 
-Eigen::AlignedBox3d EnvGeometry::bounds() const {
+Eigen::AlignedBox3d EnvironmentGeometry::bounds() const {
   Eigen::AlignedBox3d b;
   for (const auto& m : meshes)
     for (Eigen::Index i = 0; i < m.vertices.rows(); ++i) b.extend(Eigen::Vector3d(m.vertices.row(i).transpose()));
@@ -15,10 +15,10 @@ Eigen::AlignedBox3d EnvGeometry::bounds() const {
   return b;
 }
 
-bool EnvGeometry::any_closed() const { return std::find(closed.begin(), closed.end(), true) != closed.end(); }
+bool EnvironmentGeometry::any_closed() const { return std::find(closed.begin(), closed.end(), true) != closed.end(); }
 
-EnvGeometry make_env_geometry(const Scene& scene, int segments) {
-  EnvGeometry g;
+EnvironmentGeometry make_environment_geometry(const Scene& scene, int segments) {
+  EnvironmentGeometry g;
   for (const auto& o : scene.objects)
     for (const auto& s : o.shapes) {
       TriMesh m = tessellate(s, segments);

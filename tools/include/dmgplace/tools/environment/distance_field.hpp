@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "dmgplace/formats/environment_artifact.hpp"
-#include "dmgplace/tools/env/embree_scene.hpp"
+#include "dmgplace/tools/environment/embree_scene.hpp"
 #include "dmgplace/tools/system/progress.hpp"
 
 namespace dmgplace::tools {

@@ -1,4 +1,4 @@
-#include "dmgplace/tools/env/region_builder.hpp"
+#include "dmgplace/tools/environment/region_builder.hpp"
 
 #include <algorithm>
 #include <cmath>

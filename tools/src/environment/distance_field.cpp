@@ -1,11 +1,11 @@
-#include "dmgplace/tools/env/distance_field.hpp"
+#include "dmgplace/tools/environment/distance_field.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "dmgplace/formats/error.hpp"
-#include "parallel_for.hpp"
+#include "../system/parallel_for.hpp"
 
 namespace dmgplace::tools {
 namespace {
@@ -84,7 +84,7 @@ GridSpec grid_covering(const Eigen::AlignedBox3d& box, double resolution, std::s
 
 std::vector<std::uint8_t> inside_mask(const EmbreeScene& scene, const GridSpec& g) {
   std::vector<std::uint8_t> inside(g.size(), 0);
-  const EnvGeometry& geo = scene.geometry();
+  const EnvironmentGeometry& geo = scene.geometry();
   if (!geo.any_closed()) return inside;
   const Eigen::AlignedBox3d bounds = geo.bounds();
   const double z0 = std::min(bounds.min().z(), g.origin.z()) - 1.0;

@@ -6,9 +6,9 @@
 #include <set>
 
 #include "analytic_sdf.hpp"
-#include "dmgplace/tools/env/bake_environment.hpp"
-#include "dmgplace/tools/env/geometry_regions.hpp"
-#include "dmgplace/tools/env/scan_regions.hpp"
+#include "dmgplace/tools/environment/bake_environment.hpp"
+#include "dmgplace/tools/environment/geometry_regions.hpp"
+#include "dmgplace/tools/environment/scan_regions.hpp"
 #include "dmgplace/tools/io/scene_reader.hpp"
 #include "test_support.hpp"
 
@@ -21,7 +21,7 @@ namespace {
 Shape box(const Eigen::Vector3d& size, const Eigen::Vector3d& at) { return test::box_shape(size, at); }
 
 std::vector<PlacementRegion> geometry_regions(const Scene& scene, const Eigen::AlignedBox3d& v, RegionOptions o) {
-  const EnvGeometry geo = make_env_geometry(scene);
+  const EnvironmentGeometry geo = make_environment_geometry(scene);
   const EmbreeScene embree(geo);
   const CellGrid grid = cell_grid(v, o.resolution);
   return build_regions(grid, geometry_surface_samples(embree, v, grid, o), o);
@@ -147,7 +147,7 @@ TEST(EnvRegions, BuiltInCabinetHasARegionPerShelfAndTableTopMinusClutter) {
     formats::EnvironmentArtifact env;
     env.scene = read_planning_scene_yaml(data / (name + ".yaml"));
     env.volume = v;
-    bake_environment(env, EnvBakeOptions{});
+    bake_environment(env, EnvironmentBakeOptions{});
     EXPECT_TRUE(formats::check_environment(env).empty()) << name;
     return env;
   };

@@ -1,4 +1,4 @@
-#include "dmgplace/tools/env/closest_point.hpp"
+#include "dmgplace/tools/environment/closest_point.hpp"
 
 #include <algorithm>
 #include <array>

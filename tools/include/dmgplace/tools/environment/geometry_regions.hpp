@@ -3,8 +3,8 @@
 // upward-facing crossing inside V's height range with free space above becomes a sample.
 #include <vector>
 
-#include "dmgplace/tools/env/embree_scene.hpp"
-#include "dmgplace/tools/env/region_builder.hpp"
+#include "dmgplace/tools/environment/embree_scene.hpp"
+#include "dmgplace/tools/environment/region_builder.hpp"
 
 namespace dmgplace::tools {
 

@@ -5,8 +5,8 @@
 
 #include "analytic_sdf.hpp"
 #include "dmgplace/runtime/environment/environment_model.hpp"
-#include "dmgplace/tools/env/closest_point.hpp"
-#include "dmgplace/tools/env/distance_field.hpp"
+#include "dmgplace/tools/environment/closest_point.hpp"
+#include "dmgplace/tools/environment/distance_field.hpp"
 
 using namespace dmgplace;
 using namespace dmgplace::tools;
@@ -32,7 +32,7 @@ Scene primitive_scene() {
   return s;
 }
 
-double brute_force(const EnvGeometry& g, const Eigen::Vector3d& p) {
+double brute_force(const EnvironmentGeometry& g, const Eigen::Vector3d& p) {
   double best = INFINITY;
   for (const auto& m : g.meshes)
     for (Eigen::Index t = 0; t < m.triangles.rows(); ++t)
@@ -51,7 +51,7 @@ constexpr double kRes = 0.02, kBand = 0.12;
 
 TEST(EnvDistanceField, GridSamplesEqualBruteForceDistanceWithSign) {
   const Scene scene = primitive_scene();
-  const EnvGeometry geo = make_env_geometry(scene, 48);
+  const EnvironmentGeometry geo = make_environment_geometry(scene, 48);
   const EmbreeScene embree(geo);
   const GridSpec spec = grid_covering(kBox, kRes);
   const auto f = distance_field(embree, spec, kBand, 2);
@@ -78,7 +78,7 @@ TEST(EnvDistanceField, GridSamplesEqualBruteForceDistanceWithSign) {
 
 TEST(EnvDistanceField, InterpolatedFieldAgreesWithAnalyticSdfWithinHalfACell) {
   const Scene scene = primitive_scene();
-  const EnvGeometry geo = make_env_geometry(scene, 64);
+  const EnvironmentGeometry geo = make_environment_geometry(scene, 64);
   const EmbreeScene embree(geo);
   const runtime::Grid3 grid = runtime::to_grid(distance_field(embree, grid_covering(kBox, kRes), kBand, 2));
   std::mt19937 rng(11);
@@ -114,7 +114,7 @@ TEST(EnvDistanceField, FarCellsTakeTheBandAndOpenMeshesAreUnsigned) {
   sheet.mesh.triangles.resize(2, 3);
   sheet.mesh.triangles << 0, 1, 2, 0, 2, 3;
   scene.objects.push_back({"sheet", {sheet}});
-  const EnvGeometry geo = make_env_geometry(scene);
+  const EnvironmentGeometry geo = make_environment_geometry(scene);
   ASSERT_FALSE(geo.closed.at(0));
   const EmbreeScene embree(geo);
   const GridSpec spec = grid_covering(kBox, kRes);
@@ -132,7 +132,7 @@ TEST(EnvDistanceField, ScanPointsGiveUnsignedDistanceToTheNearestPoint) {
   std::uniform_real_distribution<double> u(-0.3, 0.3);
   scene.points.resize(500, 3);
   for (int i = 0; i < 500; ++i) scene.points.row(i) << u(rng), u(rng), 0.1 + 0.2 * u(rng);
-  const EnvGeometry geo = make_env_geometry(scene);
+  const EnvironmentGeometry geo = make_environment_geometry(scene);
   const EmbreeScene embree(geo);
   const GridSpec spec = grid_covering(kBox, 0.03);
   const auto f = distance_field(embree, spec, kBand, 2);
@@ -151,7 +151,7 @@ TEST(EnvClearanceField, IgnoresTheSupportBelowButSeesWallsAndBoardsAbove) {
   scene.objects.push_back({"floor", {prim(ShapeType::Box, {1, 1, 0.04}, {0, 0, -0.02})}});
   scene.objects.push_back({"wall", {prim(ShapeType::Box, {0.04, 1, 0.6}, {0.3, 0, 0.3})}});
   scene.objects.push_back({"board", {prim(ShapeType::Box, {0.3, 0.3, 0.02}, {-0.2, 0, 0.31})}});
-  const EnvGeometry geo = make_env_geometry(scene);
+  const EnvironmentGeometry geo = make_environment_geometry(scene);
   const EmbreeScene embree(geo);
   const double band = 0.25;
   // Sample heights 0.005, 0.015, ...: none exactly on the floor's top face.

@@ -3,11 +3,11 @@
 // regions for the scene and volume of an environment artifact.
 #include "dmgplace/formats/environment_artifact.hpp"
 #include "dmgplace/tools/system/progress.hpp"
-#include "dmgplace/tools/env/region_builder.hpp"
+#include "dmgplace/tools/environment/region_builder.hpp"
 
 namespace dmgplace::tools {
 
-struct EnvBakeOptions {
+struct EnvironmentBakeOptions {
   double resolution = 0.01;            // distance grid and region cells (m)
   double band = 0.10;                  // distance field clamp (m)
   double margin = 0.05;                // the distance grid covers V grown by this (m)
@@ -23,6 +23,6 @@ struct EnvBakeOptions {
 
 // Fills env.sdf, env.sdf_signed, env.clearance and env.regions from env.scene and env.volume,
 // and voxel-filters env.scene.points. Bad options or volume: dmgplace::Error naming them.
-void bake_environment(formats::EnvironmentArtifact& env, const EnvBakeOptions& options);
+void bake_environment(formats::EnvironmentArtifact& env, const EnvironmentBakeOptions& options);
 
 }  // namespace dmgplace::tools

@@ -1,9 +1,9 @@
-#include "dmgplace/tools/env/geometry_regions.hpp"
+#include "dmgplace/tools/environment/geometry_regions.hpp"
 
 #include <cmath>
 #include <mutex>
 
-#include "parallel_for.hpp"
+#include "../system/parallel_for.hpp"
 
 namespace dmgplace::tools {
 namespace {
@@ -17,7 +17,7 @@ constexpr double kJitterX = 1.3e-6, kJitterY = 0.7e-6;  // keep rays off grid-al
 std::vector<SurfaceSample> geometry_surface_samples(const EmbreeScene& scene, const Eigen::AlignedBox3d& volume,
                                                     const CellGrid& grid, const RegionOptions& o) {
   std::vector<SurfaceSample> out;
-  const EnvGeometry& geo = scene.geometry();
+  const EnvironmentGeometry& geo = scene.geometry();
   if (geo.meshes.empty() || grid.nx <= 0 || grid.ny <= 0) return out;
   const double cos_tilt = std::cos(o.max_tilt_deg * M_PI / 180.0);
   const double z0 = std::min(geo.bounds().min().z(), volume.min().z()) - 1.0;

@@ -3,7 +3,7 @@
 
 #include <map>
 
-#include "dmgplace/tools/env/bake_environment.hpp"
+#include "dmgplace/tools/environment/bake_environment.hpp"
 #include "dmgplace/tools/io/scene_loader.hpp"
 #include "test_support.hpp"
 
@@ -17,7 +17,7 @@ formats::EnvironmentArtifact bake(const std::filesystem::path& file, const Eigen
   formats::EnvironmentArtifact env;
   env.scene = load_scene(file, load);
   env.volume = v;
-  bake_environment(env, EnvBakeOptions{});
+  bake_environment(env, EnvironmentBakeOptions{});
   const auto problems = formats::check_environment(env);
   EXPECT_TRUE(problems.empty()) << file << ": " << (problems.empty() ? "" : problems[0]);
   return env;

@@ -1,29 +1,29 @@
 #pragma once
-// Embree 3 BVHs over an EnvGeometry: closest-distance queries (rtcPointQuery with exact
+// Embree 3 BVHs over an EnvironmentGeometry: closest-distance queries (rtcPointQuery with exact
 // point-triangle / point-point callbacks) and all crossings of a vertical line (for inside tests
 // and support surfaces). Embree stays inside the .cpp; queries are thread-safe.
 #include <memory>
 #include <vector>
 
-#include "dmgplace/tools/env/env_geometry.hpp"
+#include "dmgplace/tools/environment/environment_geometry.hpp"
 
 namespace dmgplace::tools {
 
 struct ColumnHit {
   double z = 0;   // height where the vertical line crosses the triangle
-  int mesh = -1;  // index into EnvGeometry::meshes
+  int mesh = -1;  // index into EnvironmentGeometry::meshes
   double nz = 0;  // z of the triangle's unit normal (> 0: facing up, the line leaves an outward mesh)
 };
 
 class EmbreeScene {
  public:
   // Keeps a pointer to `geometry`, which must outlive the scene.
-  explicit EmbreeScene(const EnvGeometry& geometry);
+  explicit EmbreeScene(const EnvironmentGeometry& geometry);
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;
 
-  const EnvGeometry& geometry() const;
+  const EnvironmentGeometry& geometry() const;
   // Distance from p to the nearest triangle or scan point, searching up to `radius`; +inf if
   // nothing lies within it.
   double distance(const Eigen::Vector3d& p, double radius) const;
@@ -42,7 +42,7 @@ class EmbreeScene {
 // (winding number per mesh, so overlapping parts of one mesh stay inside).
 class InsideTracker {
  public:
-  explicit InsideTracker(const EnvGeometry& g) : closed_(g.closed), winding_(g.meshes.size(), 0) {}
+  explicit InsideTracker(const EnvironmentGeometry& g) : closed_(g.closed), winding_(g.meshes.size(), 0) {}
   void cross(const ColumnHit& h);
   bool inside() const { return inside_count_ > 0; }
   void reset();

@@ -1,4 +1,4 @@
-#include "dmgplace/tools/env/scan_regions.hpp"
+#include "dmgplace/tools/environment/scan_regions.hpp"
 
 #include <pcl/ModelCoefficients.h>
 #include <pcl/features/normal_3d.h>

@@ -4,7 +4,7 @@
 
 #include "dmgplace/formats/environment_artifact.hpp"
 #include "dmgplace/formats/error.hpp"
-#include "dmgplace/tools/env/bake_environment.hpp"
+#include "dmgplace/tools/environment/bake_environment.hpp"
 #include "test_support.hpp"
 
 using namespace dmgplace;
@@ -17,7 +17,7 @@ formats::EnvironmentArtifact baked_box_on_floor() {
   env.scene.objects.push_back({"floor", {box({1, 1, 0.02}, {0, 0, -0.01})}});
   env.scene.objects.push_back({"box", {box({0.1, 0.1, 0.1}, {0, 0, 0.05})}});
   env.volume = Eigen::AlignedBox3d(Eigen::Vector3d(-0.2, -0.2, 0), Eigen::Vector3d(0.2, 0.2, 0.3));
-  tools::EnvBakeOptions o;
+  tools::EnvironmentBakeOptions o;
   o.resolution = 0.02;
   o.regions.split_size = 1.0;  // the floor stays one region
   tools::bake_environment(env, o);
@@ -80,7 +80,7 @@ TEST(EnvArtifact, ValidationReportsBrokenGridsAndRegions) {
 
 TEST(EnvArtifact, BadBakeOptionsNameTheOption) {
   formats::EnvironmentArtifact env = baked_box_on_floor();
-  tools::EnvBakeOptions o;
+  tools::EnvironmentBakeOptions o;
   o.resolution = -1;
   try {
     tools::bake_environment(env, o);
@@ -88,7 +88,7 @@ TEST(EnvArtifact, BadBakeOptionsNameTheOption) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("--resolution"), std::string::npos) << e.what();
   }
-  o = tools::EnvBakeOptions{};
+  o = tools::EnvironmentBakeOptions{};
   o.resolution = 1e-5;  // 10 um over 0.5 m^3: far too many samples
   EXPECT_THROW(tools::bake_environment(env, o), Error);
 }
@@ -101,7 +101,7 @@ TEST(EnvArtifact, ClearanceKeepsRisingAcrossTheWholeVolume) {
   env.scene.objects.push_back({"floor", {box({3.2, 1, 0.02}, {0, 0, -0.01})}});
   env.scene.objects.push_back({"wall", {box({0.02, 1, 1}, {-1.5, 0, 0.5})}});  // its face at x = -1.49
   env.volume = Eigen::AlignedBox3d(Eigen::Vector3d(-1.45, -0.4, 0), Eigen::Vector3d(1.45, 0.4, 0.5));
-  tools::EnvBakeOptions o;
+  tools::EnvironmentBakeOptions o;
   o.resolution = 0.02;
   tools::bake_environment(env, o);
   const auto& f = env.clearance;

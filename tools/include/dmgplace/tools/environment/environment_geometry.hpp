@@ -7,7 +7,7 @@
 
 namespace dmgplace::tools {
 
-struct EnvGeometry {
+struct EnvironmentGeometry {
   std::vector<TriMesh> meshes;         // world frame, one per shape
   std::vector<bool> closed;            // per mesh: closed manifold, so its inside is well defined
   RowMatrixX3d points;                 // scan points, world frame
@@ -16,6 +16,6 @@ struct EnvGeometry {
 };
 
 // Tessellates every shape (primitives circumscribed with `segments` around).
-EnvGeometry make_env_geometry(const Scene& scene, int segments = 32);
+EnvironmentGeometry make_environment_geometry(const Scene& scene, int segments = 32);
 
 }  // namespace dmgplace::tools

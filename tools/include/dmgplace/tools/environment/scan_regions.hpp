@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "dmgplace/formats/geometry_types.hpp"
-#include "dmgplace/tools/env/region_builder.hpp"
+#include "dmgplace/tools/environment/region_builder.hpp"
 
 namespace dmgplace::tools {
 

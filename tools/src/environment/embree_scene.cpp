@@ -1,4 +1,4 @@
-#include "dmgplace/tools/env/embree_scene.hpp"
+#include "dmgplace/tools/environment/embree_scene.hpp"
 
 #include <embree3/rtcore.h>
 
@@ -8,12 +8,12 @@
 #include <string>
 
 #include "dmgplace/formats/error.hpp"
-#include "dmgplace/tools/env/closest_point.hpp"
+#include "dmgplace/tools/environment/closest_point.hpp"
 
 namespace dmgplace::tools {
 
 struct EmbreeScene::Impl {
-  const EnvGeometry* g = nullptr;
+  const EnvironmentGeometry* g = nullptr;
   RTCDevice device = nullptr;
   RTCScene triangles = nullptr;  // geometry ID = mesh index
   RTCScene points = nullptr;     // one user geometry, primitive ID = point row
@@ -50,7 +50,7 @@ void no_intersect(const RTCIntersectFunctionNArguments*) {}
 void no_occluded(const RTCOccludedFunctionNArguments*) {}
 
 struct QueryState {
-  const EnvGeometry* g;
+  const EnvironmentGeometry* g;
   Eigen::Vector3d p;
   double best2;
   bool above;  // count only geometry strictly above z_min
@@ -113,7 +113,7 @@ double run_query(RTCScene scene, QueryState& s, double radius, RTCPointQueryFunc
 
 }  // namespace
 
-EmbreeScene::EmbreeScene(const EnvGeometry& g) : impl_(std::make_unique<Impl>()) {
+EmbreeScene::EmbreeScene(const EnvironmentGeometry& g) : impl_(std::make_unique<Impl>()) {
   impl_->g = &g;
   impl_->device = rtcNewDevice(nullptr);
   if (!impl_->device) throw Error("embree", "rtcNewDevice", "cannot create a device");
@@ -154,7 +154,7 @@ EmbreeScene::EmbreeScene(const EnvGeometry& g) : impl_(std::make_unique<Impl>())
 
 EmbreeScene::~EmbreeScene() = default;
 
-const EnvGeometry& EmbreeScene::geometry() const { return *impl_->g; }
+const EnvironmentGeometry& EmbreeScene::geometry() const { return *impl_->g; }
 
 double EmbreeScene::distance(const Eigen::Vector3d& p, double radius) const {
   QueryState s{impl_->g, p, radius * radius, false, 0};

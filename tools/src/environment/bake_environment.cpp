@@ -1,14 +1,14 @@
-#include "dmgplace/tools/env/bake_environment.hpp"
+#include "dmgplace/tools/environment/bake_environment.hpp"
 
 #include <cmath>
 #include <string>
 
 #include "dmgplace/formats/error.hpp"
-#include "dmgplace/tools/env/distance_field.hpp"
-#include "dmgplace/tools/env/embree_scene.hpp"
-#include "dmgplace/tools/env/env_geometry.hpp"
-#include "dmgplace/tools/env/geometry_regions.hpp"
-#include "dmgplace/tools/env/scan_regions.hpp"
+#include "dmgplace/tools/environment/distance_field.hpp"
+#include "dmgplace/tools/environment/embree_scene.hpp"
+#include "dmgplace/tools/environment/environment_geometry.hpp"
+#include "dmgplace/tools/environment/geometry_regions.hpp"
+#include "dmgplace/tools/environment/scan_regions.hpp"
 
 namespace dmgplace::tools {
 namespace {
@@ -20,7 +20,7 @@ void require_positive(double v, const char* flag) {
 
 }  // namespace
 
-void bake_environment(formats::EnvironmentArtifact& env, const EnvBakeOptions& o) {
+void bake_environment(formats::EnvironmentArtifact& env, const EnvironmentBakeOptions& o) {
   require_positive(o.resolution, "--resolution");
   require_positive(o.band, "--band");
   require_positive(o.clearance_resolution, "--clearance-resolution");
@@ -34,7 +34,7 @@ void bake_environment(formats::EnvironmentArtifact& env, const EnvBakeOptions& o
     throw Error("--volume", "", "needs each min below its max");
 
   env.scene.points = voxel_filter(env.scene.points, o.scan_voxel);
-  const EnvGeometry geometry = make_env_geometry(env.scene, o.segments);
+  const EnvironmentGeometry geometry = make_environment_geometry(env.scene, o.segments);
   if (geometry.meshes.empty() && geometry.points.rows() == 0)
     throw Error("scene", "", "no obstacles and no scan points to analyse");
   const EmbreeScene scene(geometry);
