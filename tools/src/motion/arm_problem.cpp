@@ -106,6 +106,23 @@ ArmProblem load_arm_problem(std::shared_ptr<const ArmRobot> robot, const std::fi
   return p;
 }
 
+ArmProblem arm_problem_in_environment(std::shared_ptr<const ArmRobot> robot, const formats::EnvironmentArtifact& env) {
+  if (env.sdf.empty()) throw Error("environment", "sdf", "not baked: the fast layer needs the distance field");
+  ArmProblem p;
+  p.robot = std::move(robot);
+  p.scene = env.scene;
+  p.kin = std::make_unique<runtime::Kinematics>(*p.robot->kin);
+  const auto t0 = Clock::now();
+  p.sdf = std::make_shared<runtime::Grid3>(runtime::to_grid(env.sdf));
+  runtime::SphereFieldChecker fast(*p.kin, p.robot->robot.spheres, p.sdf, env.sdf.band);
+  fast.set_self_tables(p.robot->robot.self_tables);
+  fast.set_exact_obstacles(runtime::PrimitiveObstacles::from_scene(p.scene));  // null unless all primitives
+  p.exact = std::make_unique<runtime::ExactChecker>(p.robot->exact->with_kinematics(*p.kin).with_scene(p.scene));
+  p.checker = std::make_unique<runtime::TwoLayerChecker>(std::move(fast), *p.exact);
+  p.setup_seconds = since(t0);
+  return p;
+}
+
 PlanOutcome plan_ours(const ArmProblem& p, double time_limit, double resolution, std::uint64_t seed) {
   PlanOutcome out;
   const auto t0 = Clock::now();

@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 
+#include "dmgplace/formats/environment_artifact.hpp"
 #include "dmgplace/formats/robot_artifact.hpp"
 #include "dmgplace/runtime/collision/exact_checker.hpp"
 #include "dmgplace/runtime/collision/two_layer_checker.hpp"
@@ -51,6 +52,10 @@ ArmProblem load_arm_problem(std::shared_ptr<const ArmRobot> robot, const std::fi
                             const std::filesystem::path& request_yaml, const ArmProblemOptions& options = {});
 ArmProblem load_arm_problem(const std::filesystem::path& robot_h5, const std::filesystem::path& scene_yaml,
                             const std::filesystem::path& request_yaml, const ArmProblemOptions& options = {});
+
+// The robot in a baked environment (ENV.h5: an Embree distance field over meshes or a scan), checked
+// as placement queries check it; start and goal are left for the caller to set.
+ArmProblem arm_problem_in_environment(std::shared_ptr<const ArmRobot> robot, const formats::EnvironmentArtifact& env);
 
 struct PlanOutcome {
   bool solved = false;
