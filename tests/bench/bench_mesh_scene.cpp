@@ -70,7 +70,8 @@ void BM_KitchenPlanning(benchmark::State& st) {
   std::vector<double> first, returned;
   long solved = 0, valid = 0, problems = 0;
   const auto& c = p.checker->counters();
-  const long fast0 = c.fast, pairs0 = c.exact_pairs, full0 = c.exact_full, gaps0 = c.exact_gaps;
+  const long fast0 = c.fast, pairs0 = c.exact_pairs, full0 = c.exact_full, gaps0 = c.exact_gaps,
+             proven0 = c.proven_collisions;
   for (auto _ : st)
     for (std::size_t i = 0; i + 1 < k.configs.size(); i += 2, ++problems) {
       p.start = k.configs[i];
@@ -92,6 +93,10 @@ void BM_KitchenPlanning(benchmark::State& st) {
   st.counters["returned_p95_ms"] = percentile(returned, 0.95);
   st.counters["fast_alone_share"] = queries > 0 ? 1 - (fcl + double(c.exact_gaps - gaps0)) / queries : 0;
   st.counters["no_fcl_share"] = queries > 0 ? 1 - fcl / queries : 0;
+  st.counters["queries"] = queries;
+  st.counters["proven_collisions"] = double(c.proven_collisions - proven0);
+  st.counters["exact_pairs"] = double(c.exact_pairs - pairs0);
+  st.counters["exact_full"] = double(c.exact_full - full0);
 }
 BENCHMARK(BM_KitchenPlanning)->Arg(10)->Arg(31)->Iterations(1)->Unit(benchmark::kMillisecond);
 

@@ -22,6 +22,14 @@ inline __attribute__((always_inline)) double SphereFieldChecker::fine_lower_boun
   return fine_->lower_bound(p);
 }
 
+inline double SphereFieldChecker::fine_cell_lower_bound(const Eigen::Vector3d& p) const {
+  return fine_->cell_lower_bound(p);
+}
+
+inline __attribute__((always_inline)) double SphereFieldChecker::fine_upper_bound(const Eigen::Vector3d& p) const {
+  return fine_->upper_bound(p);
+}
+
 struct SphereFieldChecker::Pass {
   // A clearance (a body's to the scene, a pair's gap) that limits the certificate, refined in
   // levels until its limit is final or beyond what the caller needs.

@@ -89,6 +89,12 @@ bool SphereFieldChecker::Pass::environment_spheres(std::size_t bi, bool exact) {
     }
   }
   if (exact) exact_distances(bi);
+  // An obstacle's surface passes through sphere i's inner ball, inside the link's solid: the
+  // field's upper bound at the center proves it, as an exact primitive's distance does below (an
+  // inner radius of 0: none known).
+  const auto field_proves_collision = [&](int i, const Eigen::Vector3d& w, double fine) {
+    return c.inner(i) > 0 && fine < c.inner(i) && c.fine_upper_bound(w) < c.inner(i);
+  };
   for (int i = b.begin; i < b.end; ++i) {
     const auto& sp = c.spheres_[std::size_t(i)];
     const Eigen::Vector3d& w = s.world[std::size_t(i)];
@@ -104,12 +110,21 @@ bool SphereFieldChecker::Pass::environment_spheres(std::size_t bi, bool exact) {
         cleared(bi, coarse);
         continue;
       }
-      const double fine = c.fine_lower_bound(w);
-      if (certify) s.sphere_fine[std::size_t(i)] = fine;
+      double fine = c.fine_lower_bound(w);
       clearance = fine - sp.radius - c.padding_;
+      if (clearance < 0) {  // the cell's corners, before the exact layer: nearly the value at w
+        fine = c.fine_cell_lower_bound(w);
+        clearance = fine - sp.radius - c.padding_;
+      }
+      if (certify) s.sphere_fine[std::size_t(i)] = fine;
       if (clearance >= 0) {
         cleared(bi, clearance);
         continue;
+      }
+      if (field_proves_collision(i, w, fine)) {
+        out.environment_free = false;
+        out.proven_collision = true;
+        return false;
       }
     }
     if (c.obstacles_) {  // exact, inside the grid or not
@@ -134,7 +149,18 @@ bool SphereFieldChecker::Pass::environment_spheres(std::size_t bi, bool exact) {
     out.outside_grid |= out_of_grid && !c.obstacles_;
     if (!flagged) flag_environment_link(bi);
     flagged = true;
-    if (!masks) break;
+    if (!masks) {
+      // The link goes to the exact layer anyway, unless one of its other spheres proves the
+      // collision first: an exact check costs far more than these reads.
+      for (int k = i + 1; k < b.end && !exact; ++k) {
+        const Eigen::Vector3d& wk = s.world[std::size_t(k)];
+        if (!outside(wk) && field_proves_collision(k, wk, c.fine_lower_bound(wk))) {
+          out.proven_collision = true;
+          return false;
+        }
+      }
+      break;
+    }
     mask |= c.obstacles_->touching(w, sp.radius + c.padding_);
   }
   if (flagged && masks && !out.env_overflow && out.env_links[std::size_t(out.env_link_count - 1)] == b.link)

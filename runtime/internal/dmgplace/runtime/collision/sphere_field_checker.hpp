@@ -358,6 +358,8 @@ class SphereFieldChecker {
   std::shared_ptr<const NodeBoundGrid> coarse_, fine_;  // shared by every per-grasp copy
   double coarse_lower_bound(const Eigen::Vector3d& p) const;
   double fine_lower_bound(const Eigen::Vector3d& p) const;
+  double fine_cell_lower_bound(const Eigen::Vector3d& p) const;
+  double fine_upper_bound(const Eigen::Vector3d& p) const;
   std::vector<std::pair<int, int>> allowed_;             // link pairs
   std::vector<int> touching_;                            // links the attached object may touch
   std::shared_ptr<const PrimitiveObstacles> obstacles_;  // null unless the scene is all primitives
