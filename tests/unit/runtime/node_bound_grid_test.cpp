@@ -4,6 +4,7 @@
 // collision).
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 
 #include "analytic_sdf.hpp"
@@ -37,6 +38,14 @@ TEST(NodeBoundGrid, BoundsTheTrueSignedDistanceFromBelowAndBelowTheBandFromAbove
     ASSERT_GE(upper, truth - 1e-9) << p.transpose();
     tight += upper - truth < 0.5 * res;
   }
+  // Far outside the grid (clamped onto its last cell) and NaN: still bounds, no overflow.
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(1e12, -1e12, 3), Eigen::Vector3d(-5, 0.1, 1e300)}) {
+    const double truth = test::scene_signed_distance(scene, p);
+    EXPECT_LE(fine.cell_lower_bound(p), truth) << p.transpose();
+    EXPECT_GE(fine.upper_bound(p), fine.cell_lower_bound(p)) << p.transpose();
+  }
+  const Eigen::Vector3d nan = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  EXPECT_FALSE(fine.upper_bound(nan) < 0) << "a NaN point proves nothing";
   EXPECT_GT(near, 20000);
   // Not loose: the corner towards the nearest surface gives nearly the value at p.
   EXPECT_GT(tight, near * 3 / 4) << tight << " of " << near << " within half a cell";

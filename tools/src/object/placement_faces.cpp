@@ -215,7 +215,7 @@ std::vector<Candidate> region_candidates(std::vector<std::vector<int>>& regions,
   return cands;
 }
 
-// The candidate's face: the 2-D hull of its vertices in its plane, kept where the centre of mass
+// The candidate's face: the 2-D hull of its vertices in its plane, kept where the center of mass
 // projects at least `required_margin` inside it.
 std::optional<formats::PlacementFace> candidate_face(const Candidate& c, const Hull& hull, const Eigen::Vector3d& com,
                                                      double required_margin) {

@@ -83,10 +83,11 @@ class NodeBoundGrid {
   void corners(const Eigen::Vector3d& p, F&& f) const {
     int c[3], n[3];
     for (int a = 0; a < 3; ++a) {
+      n[a] = dims_[std::size_t(a)] > 1 ? 2 : 1;
+      const double last = double(dims_[std::size_t(a)] - n[a]);  // the last cell's first corner
       double u = (p[a] - origin_[a]) * inv_;
       u = u > 0 ? u : 0.0;  // also maps NaN to 0
-      n[a] = dims_[std::size_t(a)] > 1 ? 2 : 1;
-      c[a] = std::min(int(u), dims_[std::size_t(a)] - n[a]);
+      c[a] = int(u < last ? u : last);
     }
     for (int k = 0; k < n[2]; ++k)
       for (int j = 0; j < n[1]; ++j)
