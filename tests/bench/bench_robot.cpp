@@ -96,7 +96,7 @@ BENCHMARK(BM_FkPlusFastSphereCheck);
 
 // Issue 20: the same configurations 8 per call (SphereFieldChecker::free_lanes); items are
 // configurations. Arg 0: the portable path, 1: AVX2 where the CPU has it.
-void BM_FkPlusFastSphereCheckBatch8(benchmark::State& st) {
+void BM_FkPlusFastSphereCheckLanes8(benchmark::State& st) {
   auto& w = world();
   runtime::force_simd_path(st.range(0) ? runtime::SimdPath::Avx2 : runtime::SimdPath::Portable);
   std::size_t i = 0;
@@ -112,7 +112,7 @@ void BM_FkPlusFastSphereCheckBatch8(benchmark::State& st) {
   st.SetLabel(runtime::to_string(runtime::simd_path()));
   runtime::force_simd_path(runtime::SimdPath::Avx2);
 }
-BENCHMARK(BM_FkPlusFastSphereCheckBatch8)->Arg(0)->Arg(1);
+BENCHMARK(BM_FkPlusFastSphereCheckLanes8)->Arg(0)->Arg(1);
 
 // Forward kinematics alone: one configuration per call against 8 per call.
 void BM_Fk(benchmark::State& st) {
@@ -128,7 +128,7 @@ void BM_Fk(benchmark::State& st) {
 BENCHMARK(BM_Fk);
 
 template <class T>
-void fk_batches(benchmark::State& st) {
+void fk_lanes(benchmark::State& st) {
   auto& w = world();
   runtime::LinkPoseLanes<T> poses;
   std::size_t i = 0;
@@ -140,16 +140,16 @@ void fk_batches(benchmark::State& st) {
   }
 }
 // Arguments: the SIMD path (0 portable, 1 AVX2 where the CPU has it); the precision (0 doubles,
-// 1 floats, as the batch sphere check runs it).
-void BM_FkBatch8(benchmark::State& st) {
+// 1 floats, as the lane sphere check runs it).
+void BM_FkLanes8(benchmark::State& st) {
   runtime::force_simd_path(st.range(0) ? runtime::SimdPath::Avx2 : runtime::SimdPath::Portable);
-  if (st.range(1)) fk_batches<float>(st);
-  else fk_batches<double>(st);
+  if (st.range(1)) fk_lanes<float>(st);
+  else fk_lanes<double>(st);
   st.SetItemsProcessed(st.iterations() * runtime::LinkPoseLanesD::kLanes);
   st.SetLabel(runtime::to_string(runtime::simd_path()));
   runtime::force_simd_path(runtime::SimdPath::Avx2);
 }
-BENCHMARK(BM_FkBatch8)->Args({0, 0})->Args({1, 0})->Args({0, 1})->Args({1, 1});
+BENCHMARK(BM_FkLanes8)->Args({0, 0})->Args({1, 0})->Args({0, 1})->Args({1, 1});
 
 // check_along on the configurations the fast layer proves free (a planner's motions are mostly
 // free), unit random directions; the argument is `enough` in mrad (0: unlimited).
@@ -180,7 +180,7 @@ void BM_FkPlusCertifiedCheck(benchmark::State& st) {
 BENCHMARK(BM_FkPlusCertifiedCheck)->Arg(0)->Arg(20);
 
 // Issue 20: a 0.5 rad motion checked at 0.01 rad as the planners check it (make_arm_space over
-// the two-layer checker: certificates, batch proofs near obstacles), from free states in random
+// the two-layer checker: certificates, lane proofs near obstacles), from free states in random
 // directions. Items: motions.
 void BM_MotionCheckHalfRadian(benchmark::State& st) {
   auto& w = world();

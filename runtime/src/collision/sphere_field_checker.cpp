@@ -48,7 +48,7 @@ void SphereFieldChecker::check_and_sort_spheres() {
 }
 
 // The bodies and everything derived from them, in this order: bodies (bounding spheres, capsules,
-// chains), their batch placements and lane bounds, pair spheres, lever offsets, pairs, reaches.
+// chains), their lane placements and lane bounds, pair spheres, lever offsets, pairs, reaches.
 void SphereFieldChecker::build_bodies() {
   static std::atomic<std::uint64_t> next_id{0};
   id_ = ++next_id;

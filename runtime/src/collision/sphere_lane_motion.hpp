@@ -1,8 +1,8 @@
 #pragma once
 // How far a body's bounding ball, or a pair's two relative to each other, can move over a span
-// batch's reach, lane by lane (SphereFieldChecker::free_lanes_along): the three bounds of
+// lane check's reach, lane by lane (SphereFieldChecker::free_lanes_along): the three bounds of
 // displacement_bound.hpp (static, Gronwall, Taylor) as BallMotion sums them, each evaluated at the
-// reach t itself, in float lanes from the batch's float poses. The static bound alone (the chain
+// reach t itself, in float lanes from the lane check's float poses. The static bound alone (the chain
 // reaches) assumes every joint at its farthest; the lanes' own lever arms, and joint motions that
 // cancel, make it several times smaller near obstacles, so fewer lanes fail and fewer stretches
 // go to certified checks. Private to the runtime.
@@ -25,7 +25,7 @@ struct SphereFieldChecker::LaneMotion {
   // Float rounding: axis_error bounds a joint axis's error (its unit vector), point_error twice a
   // point's (a body center and a joint origin: lane_margin()).
   float axis_error = 0, point_error = 0;
-  // Per-batch scratch, filled on first use: per slot, the joint's axis and a point on it in the
+  // Scratch per lane check, filled on first use: per slot, the joint's axis and a point on it in the
   // world; per body (lever_begin), each chain joint's lever arm about the body center, its norm
   // plus rounding, and that rounding.
   LaneXyz *axis = nullptr, *origin = nullptr, *arm = nullptr;
@@ -33,7 +33,7 @@ struct SphereFieldChecker::LaneMotion {
   std::array<float, LinkPoseLanesD::kLanes>* arm_error = nullptr;
   char *slot_done = nullptr, *body_done = nullptr;
 
-  // A LaneMotion for one batch of `c` along `direction` over `reach`, on this thread's scratch.
+  // A LaneMotion for one lane check of `c` along `direction` over `reach`, on this thread's scratch.
   static LaneMotion start(const SphereFieldChecker& c, const Eigen::VectorXd& direction, double reach) {
     struct Scratch {
       std::vector<LaneXyz> axis, origin, arm;
@@ -176,7 +176,7 @@ struct SphereFieldChecker::LaneMotion {
     return most;
   }
 
-  // Body bi's lever arms about its chain's revolute joints, every lane, once per batch.
+  // Body bi's lever arms about its chain's revolute joints, every lane, once per lane check.
   DMGPLACE_LANES_INLINE void levers(const SphereFieldChecker& c, std::size_t bi, const LinkPoseLanesF& poses,
                                     const LaneXyz* center) const {
     if (body_done[bi]) return;

@@ -58,7 +58,7 @@ struct SphereFieldChecker::LanePass {
       : c(checker), motion(m), widen(w), wide(wide_lanes), at(checker.lane_bodies()), s(scratch()),
         all((1u << count) - 1), alive(all), prims(checker.obstacles_.get()) {
     for (int k = 0; k < N; ++k) in[k] = q[k < count ? k : 0];  // idle lanes repeat the first
-    // The bodies in their batch frames (FK then skips the links no chain joint moves) unless a
+    // The bodies in their lane frames (FK then skips the links no chain joint moves) unless a
     // joint value was set since they were carried there.
     if (&at == &c.framed_) c.kin_->lanes().frame_poses(in, s.poses);
     else c.kin_->lanes().link_poses(in, s.poses);

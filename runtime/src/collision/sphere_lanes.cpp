@@ -1,6 +1,6 @@
 // SphereFieldChecker::free_lanes: the fast layer's "proven free" for 8 configurations at once.
 // Every step runs in floats across all 8 lanes (lanes::F, one AVX register): forward kinematics
-// (Kinematics::frame_poses_batch into a LinkPoseLanesF, the bodies carried into their batch frames),
+// (Kinematics::frame_poses_lanes into a LinkPoseLanesF, the bodies carried into their lane frames),
 // then one body or sphere at a time: centers, bounds, exact primitive distances, pair distances.
 // Every test that can say "free" adds a rounding margin (lane_margin(): the kinematics' own error
 // bound and the steps after it; a pair test adds a second pose error, one per body), so the
@@ -52,7 +52,7 @@ void SphereFieldChecker::set_lane_bounds() {
 
 double SphereFieldChecker::lane_margin() const {
   // The kinematics' float error bound as it is now: setting a joint outside the chain
-  // (Kinematics::set_joint_value) rebuilds it, so it is asked per batch, not kept.
+  // (Kinematics::set_joint_value) rebuilds it, so it is asked per lane check, not kept.
   return lane_rounding_ + kin_->lanes().float_pose_error(link_reach_);
 }
 

@@ -1,4 +1,4 @@
-// SphereFieldChecker::free_lanes_along: span batches, each lane proving every configuration within
+// SphereFieldChecker::free_lanes_along: span lane checks, each lane proving every configuration within
 // a reach of it along a direction. Each body's (each pair's) tests are widened by how far it can
 // move over the reach: first by the static bound (the chain reaches), then, where that leaves a
 // test undecided, by the lanes' own (sphere_lane_motion.hpp) inside the kernel (sphere_lanes.cpp).

@@ -63,11 +63,11 @@ ob::SpaceInformationPtr make_arm_space(const Kinematics& kin, ValidityFn valid, 
 }
 
 ob::SpaceInformationPtr make_arm_space(const Kinematics& kin, const TwoLayerChecker& checker, double resolution) {
-  // Batch proofs pay only with AVX2: on the portable path the planners are slower with them
-  // (docs/motion.md, "Batch checks").
-  CertifiedMotionValidator::ProvenFreeFn batch;
+  // Lane proofs pay only with AVX2: on the portable path the planners are slower with them
+  // (docs/motion.md, "Lane checks: 8 configurations per call").
+  CertifiedMotionValidator::ProvenFreeFn proven_free;
   if (simd_path() == SimdPath::Avx2)
-    batch = [&checker](const double* const* q, int count, const Eigen::VectorXd& direction, double reach) {
+    proven_free = [&checker](const double* const* q, int count, const Eigen::VectorXd& direction, double reach) {
       return checker.proven_free_along(q, count, direction, reach);
     };
   return make_space(
@@ -77,7 +77,7 @@ ob::SpaceInformationPtr make_arm_space(const Kinematics& kin, const TwoLayerChec
         c.reach = checker.free_distance(q, dir, enough, &c.estimate);
         return c;
       },
-      std::move(batch));
+      std::move(proven_free));
 }
 
 }  // namespace dmgplace::runtime

@@ -11,16 +11,16 @@ namespace ob = ompl::base;
 
 namespace dmgplace::runtime {
 namespace {
-constexpr int kBatch = 8;  // SphereFieldChecker::free_lanes' lanes
-constexpr int kBatchRange =
-    2 * kBatch;  // wider uncertified ranges are bisected (fewer states, when certificates return)
-// A span batch's lanes reach T states each way, where T x kSpanShare is within the neighbouring
-// certificate: the batch widens by a static speed bound, which lasts about half as far as a
+constexpr int kLanes = 8;  // SphereFieldChecker::free_lanes' lanes
+constexpr int kLaneRange =
+    2 * kLanes;  // wider uncertified ranges are bisected (fewer states, when certificates return)
+// A span lane check's lanes reach T states each way, where T x kSpanShare is within the neighbouring
+// certificate: the lane check widens by a static speed bound, which lasts about half as far as a
 // certificate's local one (bench-mbm: shares 1.5-2 best, smaller ones slower; docs/perf-log.md).
 constexpr int kSpanShare = 2;
-// Far ends go into the first batch's last lane while fewer than this share of recent ones were
-// blocked (CertifiedMotionValidator::far_blocked_). A blocked one then costs a batch more than a
-// plain check first; a free one the batch proves costs nothing more. On the planners' median
+// Far ends go into the first lane check's last lane while fewer than this share of recent ones were
+// blocked (CertifiedMotionValidator::far_blocked_). A blocked one then costs a lane check more than a
+// plain check first; a free one the lane check proves costs nothing more. On the planners' median
 // problems, where far ends are often blocked, this share was level with or faster than never
 // using the lane, and faster than a higher share or always; open-space motions, seldom blocked,
 // gain most (docs/perf-log.md).
@@ -87,28 +87,28 @@ bool CertifiedMotionValidator::checkMotionBetweenValid(const ob::State* s1, cons
 // One check_motion call: the segment's states, checked far end first, then its unchecked ranges
 // bisected breadth first as OMPL's discrete validator does, minus what each checked state
 // certifies around itself (a certificate is symmetric: state i proves states i-k .. i+k), with
-// batches of states in SIMD lanes where the validator has them (proven_free_).
+// lane checks of states in SIMD lanes where the validator has them (proven_free_).
 struct CertifiedMotionValidator::Call {
   // An unchecked index range [lo, hi] (state 0 is valid by contract), with an estimate e of the
   // next certificate (that of the check that made it) and the same certificate's under isotropic
-  // bounds (Certificate::estimate) for span batches.
+  // bounds (Certificate::estimate) for span lane checks.
   struct Range {
     int lo, hi, estimate, span_estimate;
-    bool certified_only = false;  // a span batch's lane left it: certified checks from here on
+    bool certified_only = false;  // a span lane check's lane left it: certified checks from here on
   };
   const CertifiedMotionValidator& v;
   const Segment seg;
   const int steps;
-  // far_in_batch: the first batch's last lane takes the far end; one it leaves unproven gets a
+  // far_in_lanes: the first lane check's last lane takes the far end; one it leaves unproven gets a
   // plain check before any other state (far_end_free).
-  bool far_in_batch = false;
+  bool far_in_lanes = false;
 
   Call(const CertifiedMotionValidator& validator, const ob::State* s1, const ob::State* s2)
       : v(validator), seg(*validator.si_, s1, s2), steps(seg.steps) {}
 
   static std::vector<Eigen::VectorXd>& lanes() {
-    thread_local std::vector<Eigen::VectorXd> batch(kBatch);
-    return batch;
+    thread_local std::vector<Eigen::VectorXd> states(kLanes);
+    return states;
   }
   static std::vector<Range>& queue() {
     thread_local std::vector<Range> q;
@@ -125,10 +125,10 @@ struct CertifiedMotionValidator::Call {
     if (span_k) *span_k = std::min(k, states(c.estimate));
     return true;
   }
-  // With batch proofs a certificate need only reach a batch's width: what lies beyond goes to span
-  // batches, which take it as their estimate (refining further made bisection midpoints the
+  // With lane proofs a certificate need only reach a lane check's width: what lies beyond goes to span
+  // lane checks, which take it as their estimate (refining further made bisection midpoints the
   // costliest checks).
-  int need_of(int states) const { return v.proven_free_ ? std::min(states, kBatch) : states; }
+  int need_of(int states) const { return v.proven_free_ ? std::min(states, kLanes) : states; }
 
   bool far_end_free(bool proven) const {
     int unused = 0;
@@ -137,20 +137,20 @@ struct CertifiedMotionValidator::Call {
     return !blocked;
   }
 
-  // A range the last certificate did not reach beyond its own state, at most two batches wide:
-  // its states 8 at a time in SIMD lanes, the undecided ones one by one. Raked: batch b takes
-  // states lo + b, lo + b + stride, ... so each batch spans the range and a collision anywhere
+  // A range the last certificate did not reach beyond its own state, at most two lane checks wide:
+  // its states 8 at a time in SIMD lanes, the undecided ones one by one. Raked: lane check b takes
+  // states lo + b, lo + b + stride, ... so each lane check spans the range and a collision anywhere
   // shows up early.
-  bool check_batch(int lo, int hi, bool far) const {
-    auto& batch = lanes();
-    const int size = hi - lo + 1, stride = (size + kBatch - 1) / kBatch;
+  bool check_lanes(int lo, int hi, bool far) const {
+    auto& states = lanes();
+    const int size = hi - lo + 1, stride = (size + kLanes - 1) / kLanes;
     for (int b = 0; b < stride; ++b) {
-      const double* q[kBatch];
-      int idx[kBatch], count = 0;
+      const double* q[kLanes];
+      int idx[kLanes], count = 0;
       for (int i = lo + b; i <= hi; i += stride) {
         idx[count] = i;
-        batch[std::size_t(count)].noalias() = seg.a + (i * seg.h) * seg.dir;  // into the buffer, no allocation
-        q[count] = batch[std::size_t(count)].data();
+        states[std::size_t(count)].noalias() = seg.a + (i * seg.h) * seg.dir;  // into the buffer, no allocation
+        q[count] = states[std::size_t(count)].data();
         ++count;
       }
       const std::uint32_t proven = v.proven_free_(q, count, seg.dir, 0.0);
@@ -165,18 +165,18 @@ struct CertifiedMotionValidator::Call {
     return true;
   }
 
-  // A span batch: 8 lanes 2T + 1 states apart, each proving the T states on either side of it
-  // (proven_free's reach), so one batch covers up to 8 (2T + 1) states. What lanes leave unproven
+  // A span lane check: 8 lanes 2T + 1 states apart, each proving the T states on either side of it
+  // (proven_free's reach), so one lane check covers up to 8 (2T + 1) states. What lanes leave unproven
   // is queued for certified checks, with the range's estimate: neighbouring lanes' stretches as
   // one range, since one certificate often covers both.
   bool check_span(int lo, int hi, int e, int se, int T, bool far) const {
-    auto& batch = lanes();
-    const double* q[kBatch];
-    int idx[kBatch], count = 0;
-    for (int i = lo + T; i - T <= hi && count < kBatch; i += 2 * T + 1) {
+    auto& states = lanes();
+    const double* q[kLanes];
+    int idx[kLanes], count = 0;
+    for (int i = lo + T; i - T <= hi && count < kLanes; i += 2 * T + 1) {
       idx[count] = std::min(i, hi);
-      batch[std::size_t(count)].noalias() = seg.a + (idx[count] * seg.h) * seg.dir;
-      q[count] = batch[std::size_t(count)].data();
+      states[std::size_t(count)].noalias() = seg.a + (idx[count] * seg.h) * seg.dir;
+      q[count] = states[std::size_t(count)].data();
       ++count;
     }
     const std::uint32_t proven = v.proven_free_(q, count, seg.dir, (T + 1e-6) * seg.h);
@@ -195,15 +195,15 @@ struct CertifiedMotionValidator::Call {
     return true;
   }
 
-  // The far end first: a bad goal is found at once. With batch proofs a plain check, and span
-  // batches take the whole motion from there; where far ends are seldom blocked, not even that:
-  // the first batch's last lane takes it (far_in_batch). Returns the first range, or none when
+  // The far end first: a bad goal is found at once. With lane proofs a plain check, and span
+  // lane checks take the whole motion from there; where far ends are seldom blocked, not even that:
+  // the first lane check's last lane takes it (far_in_lanes). Returns the first range, or none when
   // the far end is blocked.
   std::optional<Range> far_end(bool end_valid) {
     int k = 0, span_k = 0;
     if (!end_valid && v.proven_free_ && steps > 1 &&
         v.far_blocked_.load(std::memory_order_relaxed) < std::uint32_t(kFarLaneBlockedShare * 65536.0)) {
-      far_in_batch = true;
+      far_in_lanes = true;
       span_k = steps;
     } else if (!end_valid) {
       if (!check(steps, v.proven_free_ ? 0 : steps - 1, k, &span_k)) {
@@ -213,10 +213,10 @@ struct CertifiedMotionValidator::Call {
       v.far_end_was(false);
       if (v.proven_free_) k = 0, span_k = steps;
     }
-    return Range{1, far_in_batch ? steps : steps - 1 - k, k, span_k};  // (end_valid: k = 0, every state but the ends)
+    return Range{1, far_in_lanes ? steps : steps - 1 - k, k, span_k};  // (end_valid: k = 0, every state but the ends)
   }
 
-  // One range off the queue: raked batches, a span batch, or a check that splits it in two (a
+  // One range off the queue: raked lane checks, a span lane check, or a check that splits it in two (a
   // range a little wider than one certificate, 2e + 1 < size <= 4e + 2, is tiled from its left
   // end rather than split in the middle). False when a state is in collision.
   bool step(const Range& r, bool first) {
@@ -224,13 +224,13 @@ struct CertifiedMotionValidator::Call {
     if (lo > hi) return true;
     const int size = hi - lo + 1;
     // Ranges from a plain far end (e = 0 with an estimate: the first range, and the stretches its
-    // span batch's lanes leave) are raked only up to one batch: beyond, the first range takes one
-    // span batch rather than two raked ones, a stretch certified checks.
-    if (v.proven_free_ && e == 0 && size >= 2 && size <= (se > 0 ? kBatch : kBatchRange))
-      return check_batch(lo, hi, far_in_batch && first);
-    const int span = (size + kBatch - 1) / (2 * kBatch);  // the least T with 8 (2T + 1) >= size, for size > 8
-    if (v.proven_free_ && !certified_only && size > kBatch && span * kSpanShare <= std::max(1, se))
-      return check_span(lo, hi, e, se, span, far_in_batch && first);
+    // span lane check's lanes leave) are raked only up to one lane check: beyond, the first range takes one
+    // span lane check rather than two raked ones, a stretch certified checks.
+    if (v.proven_free_ && e == 0 && size >= 2 && size <= (se > 0 ? kLanes : kLaneRange))
+      return check_lanes(lo, hi, far_in_lanes && first);
+    const int span = (size + kLanes - 1) / (2 * kLanes);  // the least T with 8 (2T + 1) >= size, for size > 8
+    if (v.proven_free_ && !certified_only && size > kLanes && span * kSpanShare <= std::max(1, se))
+      return check_span(lo, hi, e, se, span, far_in_lanes && first);
     const int at = size > 2 * e + 1 && size <= 4 * e + 2 ? lo + e : (lo + hi) / 2;
     int k = 0, span_k = 0;
     if (!check(at, need_of(std::max(at - lo, hi - at)), k, &span_k)) return false;

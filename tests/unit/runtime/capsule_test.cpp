@@ -23,7 +23,7 @@ Eigen::Vector3d random_unit(std::mt19937_64& rng) {
   return v.normalized();
 }
 
-// The lane test as the AVX2 batch runs it (fused multiply-adds) and as the portable build does.
+// The lane test as the AVX2 lane check runs it (fused multiply-adds) and as the portable build does.
 __attribute__((target("avx2,fma"))) std::uint32_t near_fma(const float* p, const float* f, const float* d, float inv,
                                                            float reach2) {
   using lanes::load;

@@ -176,14 +176,14 @@ TEST(CertifiedMotionValidator, AgreesWithTheDiscreteValidatorOnEveryMotionWithFe
   RecordProperty("certified_checks", int(certified_checks.load()));
 }
 
-// With batch proofs: near the discs the checker certifies nothing (as the sphere layer when the
-// exact layer had to decide), so short uncertified ranges go to the batch, which proves only
+// With lane proofs: near the discs the checker certifies nothing (as the sphere layer when the
+// exact layer had to decide), so short uncertified ranges go to the lane check, which proves only
 // states well clear of the discs and leaves the rest undecided. The answers stay the discrete ones.
-TEST(CertifiedMotionValidator, BatchProofsOfUncertifiedRangesKeepTheDiscreteAnswers) {
+TEST(CertifiedMotionValidator, LaneProofsOfUncertifiedRangesKeepTheDiscreteAnswers) {
   std::atomic<long> discrete_checks{0};
   auto si = make_space(&discrete_checks);
   ob::DiscreteMotionValidator discrete(si);
-  long batches = 0, proven = 0, undecided = 0;
+  long lane_checks = 0, proven = 0, undecided = 0;
   CertifiedMotionValidator certified(
       si,
       [&](const Eigen::VectorXd& q, const Eigen::VectorXd&, double) {
@@ -193,7 +193,7 @@ TEST(CertifiedMotionValidator, BatchProofsOfUncertifiedRangesKeepTheDiscreteAnsw
       [&](const double* const* q, int count, const Eigen::VectorXd&, double reach) {
         EXPECT_GE(count, 1);
         EXPECT_LE(count, 8);
-        ++batches;
+        ++lane_checks;
         std::uint32_t mask = 0;
         for (int k = 0; k < count; ++k) {
           // Some clear lanes left undecided too; a span lane must be clear by its reach.
@@ -204,16 +204,16 @@ TEST(CertifiedMotionValidator, BatchProofsOfUncertifiedRangesKeepTheDiscreteAnsw
         return mask;
       });
   EXPECT_GT(discrete_answers(si, discrete, certified, 5), 300);
-  EXPECT_GT(batches, 1000) << "the batch path must be exercised";
+  EXPECT_GT(lane_checks, 1000) << "the lane path must be exercised";
   EXPECT_GT(proven, 0);
   EXPECT_GT(undecided, 0);
 }
 
-// Span batches: where certificates reach far, a range goes to one batch whose lanes each prove
+// Span lane checks: where certificates reach far, a range goes to one lane check whose lanes each prove
 // the states within `reach` of them (the point robot's clearance must exceed it: it moves 1 m per
 // unit of motion), some clear lanes left undecided; what a lane leaves, certified checks settle.
-// The answers stay the discrete ones, and span batches do part of the work.
-TEST(CertifiedMotionValidator, SpanBatchesKeepTheDiscreteAnswers) {
+// The answers stay the discrete ones, and span lane checks do part of the work.
+TEST(CertifiedMotionValidator, SpanChecksKeepTheDiscreteAnswers) {
   std::atomic<long> discrete_checks{0};
   auto si = make_space(&discrete_checks);
   ob::DiscreteMotionValidator discrete(si);
@@ -239,15 +239,15 @@ TEST(CertifiedMotionValidator, SpanBatchesKeepTheDiscreteAnswers) {
         return mask;
       });
   EXPECT_GT(discrete_answers(si, discrete, certified, 7), 300);
-  EXPECT_GT(spans, 1000) << "span batches must be exercised";
+  EXPECT_GT(spans, 1000) << "span lane checks must be exercised";
   EXPECT_GT(span_proven, 0);
   EXPECT_LT(span_proven, span_lanes) << "some span lanes must be left to certified checks";
-  RecordProperty("span_batches", int(spans));
+  RecordProperty("span_checks", int(spans));
   RecordProperty("certified_checks", int(certified_checks));
 }
 
 // Every state of a valid motion is proven by some check: a certificate around a checked state, a
-// span lane's reach, a plain check or a batch lane. Recorded from the callbacks as intervals of
+// span lane's reach, a plain check or a lane. Recorded from the callbacks as intervals of
 // the motion's parameter, with certificates at half the clearance and a third of clear lanes left
 // undecided, so ranges are cut up and neighbouring span lanes fail together (their stretches
 // are handed on as one range): a state dropped anywhere fails here, whatever the geometry.
@@ -277,7 +277,7 @@ TEST(CertifiedMotionValidator, EveryStateOfAValidMotionIsProvenBySomeCheck) {
 // checkMotionBetweenValid (shortcut jumps, the straight line between roots): on motions whose both
 // ends are valid, the discrete validator's answer every time; the far end is never checked, and
 // on each valid motion every other state is proven by some check (certificates at half the
-// clearance, a third of clear lanes left undecided, so ranges, batches and spans all take part).
+// clearance, a third of clear lanes left undecided, so ranges, lane checks and spans all take part).
 TEST(CertifiedMotionValidator, BetweenValidEndsKeepsTheDiscreteAnswersAndSkipsTheFarEnd) {
   std::atomic<long> discrete_checks{0};
   auto si = make_space(&discrete_checks);
@@ -307,12 +307,12 @@ TEST(CertifiedMotionValidator, BetweenValidEndsKeepsTheDiscreteAnswersAndSkipsTh
   EXPECT_EQ(rec.far_end_checks, 0) << "the far end is known valid";
 }
 
-// A certificate's estimate (how far a span batch's static widening would reach there), not its
-// reach, decides whether a span batch is tried next to it: between two valid states (where the
-// motion does not start with the far end's plain check and a span batch over all of it), an
+// A certificate's estimate (how far a span lane check's static widening would reach there), not its
+// reach, decides whether a span lane check is tried next to it: between two valid states (where the
+// motion does not start with the far end's plain check and a span lane check over all of it), an
 // estimate of 0 never brings one, a quarter of the reach fewer than the whole reach; the answers
 // stay the discrete ones throughout.
-TEST(CertifiedMotionValidator, SpanBatchesFollowTheCertificatesEstimate) {
+TEST(CertifiedMotionValidator, SpanChecksFollowTheCertificatesEstimate) {
   std::atomic<long> discrete_checks{0};
   auto si = make_space(&discrete_checks);
   ob::DiscreteMotionValidator discrete(si);
@@ -349,23 +349,23 @@ TEST(CertifiedMotionValidator, SpanBatchesFollowTheCertificatesEstimate) {
   EXPECT_EQ(none, 0);
   EXPECT_GT(quarter, 0);
   EXPECT_LT(quarter, whole);
-  RecordProperty("span_batches", std::to_string(quarter) + " of " + std::to_string(whole));
+  RecordProperty("span_checks", std::to_string(quarter) + " of " + std::to_string(whole));
 }
 
-// With batch proofs a motion's far end, where it gets a check at all, gets a plain one (the
-// certificate asked for nothing, `enough` 0), since span batches take the whole motion; without
+// With lane proofs a motion's far end, where it gets a check at all, gets a plain one (the
+// certificate asked for nothing, `enough` 0), since span lane checks take the whole motion; without
 // them every far end's certificate is asked to reach the whole motion. The answers are the
 // discrete ones either way.
-TEST(CertifiedMotionValidator, FarEndIsAPlainCheckWhereBatchesTakeTheMotion) {
+TEST(CertifiedMotionValidator, FarEndIsAPlainCheckWhereLaneChecksTakeTheMotion) {
   std::atomic<long> discrete_checks{0};
   auto si = make_space(&discrete_checks);
   ob::DiscreteMotionValidator discrete(si);
   long spans = 0;
-  auto far_end_needs = [&](bool batches) {
+  auto far_end_needs = [&](bool lane_checks) {
     std::vector<double> needs;  // `enough` of each check of a motion's far end
     Eigen::Vector2d far;
     CertifiedMotionValidator::ProvenFreeFn proven;
-    if (batches)
+    if (lane_checks)
       proven = [&spans](const double* const* q, int count, const Eigen::VectorXd&, double reach) {
         spans += reach > 0;
         std::uint32_t mask = 0;
@@ -394,20 +394,20 @@ TEST(CertifiedMotionValidator, FarEndIsAPlainCheckWhereBatchesTakeTheMotion) {
     return needs;
   };
   const auto with = far_end_needs(true), without = far_end_needs(false);
-  for (const double need : with) EXPECT_EQ(need, 0.0) << "with batches";
+  for (const double need : with) EXPECT_EQ(need, 0.0) << "with lane checks";
   EXPECT_GT(with.size(), 1000u) << "far ends are often blocked here: most get a plain check first";
-  for (const double need : without) EXPECT_GT(need, 0.0) << "without batches";
+  for (const double need : without) EXPECT_GT(need, 0.0) << "without lane checks";
   EXPECT_EQ(without.size(), 2000u);
-  EXPECT_GT(spans, 1000) << "span batches take the motions from their far ends (estimates are half the reach)";
+  EXPECT_GT(spans, 1000) << "span lane checks take the motions from their far ends (estimates are half the reach)";
 }
 
-// In the open (every lane proven), a motion goes to batches by its size, never to a certified
+// In the open (every lane proven), a motion goes to lane checks by its size, never to a certified
 // check. While its far ends have been blocked (a fresh validator assumes half are), the far end
-// first gets a plain check and the interior up to 8 states one raked batch (no reach), 9-16
-// states one span batch (reach 1 state), more one span batch of a wider reach. Once far ends are
-// seldom blocked, the far end is the first batch's last lane: no plain check, and the same sizes
+// first gets a plain check and the interior up to 8 states one raked lane check (no reach), 9-16
+// states one span lane check (reach 1 state), more one span lane check of a wider reach. Once far ends are
+// seldom blocked, the far end is the first lane check's last lane: no plain check, and the same sizes
 // count the far end in.
-TEST(CertifiedMotionValidator, AMotionGoesToOneBatchInTheOpen) {
+TEST(CertifiedMotionValidator, AMotionGoesToOneLaneCheckInTheOpen) {
   std::atomic<long> checks{0};
   auto si = make_space(&checks);
   const double h = si->getStateSpace()->getLongestValidSegmentLength();
@@ -434,7 +434,7 @@ TEST(CertifiedMotionValidator, AMotionGoesToOneBatchInTheOpen) {
     b[1] = 1;
     EXPECT_TRUE(validator.checkMotion(a.get(), b.get()));
   };
-  auto batches_by_size = [&](int states, int steps) {
+  auto checks_by_size = [&](int states, int steps) {
     EXPECT_EQ(certified, 0) << steps << " steps";
     EXPECT_EQ(raked, states <= 8 ? 1 : 0) << steps << " steps";
     EXPECT_EQ(spans, states <= 8 ? 0 : 1) << steps << " steps";
@@ -446,21 +446,21 @@ TEST(CertifiedMotionValidator, AMotionGoesToOneBatchInTheOpen) {
     auto fresh = make();
     motion(*fresh, steps);
     EXPECT_EQ(far_ends, 1) << steps << " steps";
-    batches_by_size(steps - 1, steps);
+    checks_by_size(steps - 1, steps);
   }
   auto seasoned = make();
   for (int i = 0; i < 200; ++i) motion(*seasoned, 40);
   for (int steps = 3; steps <= 60; ++steps) {
     motion(*seasoned, steps);
     EXPECT_EQ(far_ends, 0) << steps << " steps";
-    batches_by_size(steps, steps);
+    checks_by_size(steps, steps);
   }
 }
 
-// Where far ends are seldom blocked they go to the first batch, and a far end its lane leaves
+// Where far ends are seldom blocked they go to the first lane check, and a far end its lane leaves
 // unproven gets a plain check before any other state; where they are often blocked, a plain check
 // first again. The answers are the discrete ones throughout.
-TEST(CertifiedMotionValidator, FarEndsGoToTheFirstBatchWhereSeldomBlocked) {
+TEST(CertifiedMotionValidator, FarEndsGoToTheFirstLaneCheckWhereSeldomBlocked) {
   std::atomic<long> checks{0};
   auto si = make_space(&checks);
   ob::DiscreteMotionValidator discrete(si);
@@ -507,7 +507,7 @@ TEST(CertifiedMotionValidator, FarEndsGoToTheFirstBatchWhereSeldomBlocked) {
   };
   run(1, false);
   EXPECT_EQ(far_first, 1) << "a fresh validator checks the far end first";
-  run(200, false);  // free far ends: into the batch from the first few dozen on
+  run(200, false);  // free far ends: into the lane check from the first few dozen on
   run(500, false);
   EXPECT_GT(far_in_lane, 150) << "lanes prove many far ends";
   EXPECT_GT(far_first, 50) << "a far end a lane leaves unproven is checked first";

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "collision_fixtures.hpp"
-#include "lane_batches.hpp"
+#include "lane_rounds.hpp"
 
 using namespace dmgplace;
 using namespace dmgplace::runtime;

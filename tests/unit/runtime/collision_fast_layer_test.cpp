@@ -7,7 +7,7 @@
 #include "collision_fixtures.hpp"
 #include "dmgplace/runtime/collision/two_layer_checker.hpp"
 #include "gap_certificates.hpp"
-#include "lane_batches.hpp"
+#include "lane_rounds.hpp"
 
 using namespace dmgplace;
 using namespace dmgplace::runtime;
@@ -143,7 +143,7 @@ TEST_P(FastLayer, CertifiedFreeDistanceIsFreeForFclAlongTheWholeStretch) {
   RecordProperty("certified", certified);
 }
 
-// Every check and span batch of one motion shares its direction's static speeds (kept per thread,
+// Every check and span lane check of one motion shares its direction's static speeds (kept per thread,
 // SphereFieldChecker::static_speeds). A checker and its per-grasp copy (more bodies and pairs),
 // asked in turn along one direction, must each answer as when asked alone.
 TEST_P(FastLayer, CheckersAskedInTurnAlongOneDirectionAnswerAsAlone) {
@@ -172,7 +172,7 @@ TEST_P(FastLayer, CheckersAskedInTurnAlongOneDirectionAnswerAsAlone) {
     const Eigen::VectorXd far = q + 0.02 * dir;
     const double* lanes[2] = {q.data(), far.data()};
     // Alone: another direction asked just before. A certificate asked to last `enough` reads the
-    // static speeds for what it may skip; a span batch widens by them.
+    // static speeds for what it may skip; a span lane check widens by them.
     const double enough = 0.03;
     (void)fast.check_along(q, other, enough);
     const double held_alone = held.check_along(q, dir, enough).free_distance;

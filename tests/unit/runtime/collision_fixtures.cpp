@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include "lane_batches.hpp"
+#include "lane_rounds.hpp"
 
 using namespace dmgplace;
 using namespace dmgplace::runtime;

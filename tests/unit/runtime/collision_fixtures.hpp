@@ -43,7 +43,7 @@ struct ShelfWorld {
 };
 
 // 8 random configurations (and their pointers, as free_lanes takes them) and a random unit
-// direction (from n, which keeps its spare draw between batches), drawn in that order.
+// direction (from n, which keeps its spare draw between lane checks), drawn in that order.
 struct RandomLanes {
   std::vector<Eigen::VectorXd> qs;
   const double* ptr[runtime::LinkPoseLanesD::kLanes];

@@ -1,4 +1,4 @@
-// The lanes: 8 configurations per call (batch forward kinematics, free_lanes, free_lanes_along,
+// The lanes: 8 configurations per call (lane forward kinematics, free_lanes, free_lanes_along,
 // motion_bounds), on both SIMD paths.
 #include <gtest/gtest.h>
 
@@ -10,33 +10,33 @@
 
 #include "collision_fixtures.hpp"
 #include "dmgplace/runtime/system/simd_dispatch.hpp"
-#include "lane_batches.hpp"
+#include "lane_rounds.hpp"
 
 using namespace dmgplace;
 using namespace dmgplace::runtime;
 using namespace dmgplace::test::collision;
-using test::batches_on_every_path;
+using test::lane_rounds_on_every_path;
 using test::random_q;
 
-// Issue 20: 8 configurations per call. Batch forward kinematics equals the scalar one, on the
+// Issue 20: 8 configurations per call. Lane forward kinematics equals the scalar one, on the
 // AVX2 path (where the CPU has it) and on the portable one, with the base at the root and not.
 TEST(Lanes, ForwardKinematicsEqualsTheScalarOneOnEveryPath) {
   Arm arm = built_in_arm();
   for (const char* base : {"dmgarm_link0", "dmgarm_link2"}) {
     Kinematics kin(arm.model, base, "dmgarm_tcp");
     kin.set_joint_value("dmgarm_finger_joint1", 0.021);  // a mimic follows it
-    batches_on_every_path(
+    lane_rounds_on_every_path(
         kin, 3, 50, [](int, Eigen::VectorXd&) {},
         [&](const std::vector<Eigen::VectorXd>& qs, const double* const* ptr) {
-          LinkPoseLanesD batch;
-          kin.lanes().link_poses(ptr, batch);
+          LinkPoseLanesD in_lanes;
+          kin.lanes().link_poses(ptr, in_lanes);
           std::vector<Eigen::Isometry3d> poses;
           for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) {
             kin.link_poses(qs[std::size_t(k)], poses);
             for (std::size_t l = 0; l < poses.size(); ++l)
               for (int e = 0; e < 12; ++e) {
                 const double want = e < 9 ? poses[l].linear()(e / 3, e % 3) : poses[l].translation()[e - 9];
-                ASSERT_NEAR(batch.pose[l][std::size_t(e)][std::size_t(k)], want, 1e-12)
+                ASSERT_NEAR(in_lanes.pose[l][std::size_t(e)][std::size_t(k)], want, 1e-12)
                     << base << " " << to_string(simd_path()) << " link " << l << " element " << e;
               }
           }
@@ -44,7 +44,7 @@ TEST(Lanes, ForwardKinematicsEqualsTheScalarOneOnEveryPath) {
   }
 }
 
-// The float batch (what the batch sphere check runs on) stays within Kinematics::float_pose_error
+// The float lane check (what the lane sphere check runs on) stays within Kinematics::float_pose_error
 // of the double poses, for points within `reach` of their link: on every path, the base at the
 // root and not, prismatic mimic fingers set. And the bound is tight enough to be of use.
 TEST(Lanes, FloatForwardKinematicsStaysWithinItsErrorBound) {
@@ -55,15 +55,15 @@ TEST(Lanes, FloatForwardKinematicsStaysWithinItsErrorBound) {
     kin.set_joint_value("dmgarm_finger_joint1", 0.021);
     const double bound = kin.lanes().float_pose_error(reach);
     EXPECT_GT(bound, 0.0);
-    EXPECT_LT(bound, 1e-4) << "a bound this loose would cost the batch its proofs";
+    EXPECT_LT(bound, 1e-4) << "a bound this loose would cost the lane check its proofs";
     double worst = 0;
     auto wide_angles = [](int round, Eigen::VectorXd& q) {
       if (round % 4 == 0) q *= 40.0;  // sin and cos far from the first turn
     };
-    batches_on_every_path(
+    lane_rounds_on_every_path(
         kin, 5, 200, wide_angles, [&](const std::vector<Eigen::VectorXd>& qs, const double* const* ptr) {
-          LinkPoseLanesF batch;
-          kin.lanes().link_poses(ptr, batch);
+          LinkPoseLanesF in_lanes;
+          kin.lanes().link_poses(ptr, in_lanes);
           std::vector<Eigen::Isometry3d> poses;
           for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) {
             kin.link_poses(qs[std::size_t(k)], poses);
@@ -71,7 +71,7 @@ TEST(Lanes, FloatForwardKinematicsStaysWithinItsErrorBound) {
               for (int axis = 0; axis < 7; ++axis) {
                 Eigen::Vector3d p = Eigen::Vector3d::Zero();
                 if (axis < 6) p[axis % 3] = axis < 3 ? reach : -reach;
-                const auto& e = batch.pose[l];
+                const auto& e = in_lanes.pose[l];
                 auto at = [&](int i) { return e[std::size_t(i)][std::size_t(k)]; };
                 Eigen::Vector3d got;
                 for (int r = 0; r < 3; ++r)
@@ -88,9 +88,9 @@ TEST(Lanes, FloatForwardKinematicsStaysWithinItsErrorBound) {
   }
 }
 
-// A lane the batch proves free is free for the scalar fast layer (hence for FCL, by the test
-// above), and the batch proves most of what the scalar layer proves: on both paths, with the
-// self-distance tables, with a held object, and with the scene's exact primitives (which the batch
+// A lane the lane check proves free is free for the scalar fast layer (hence for FCL, by the test
+// above), and the lane check proves most of what the scalar layer proves: on both paths, with the
+// self-distance tables, with a held object, and with the scene's exact primitives (which the lane check
 // trusts outside the grid too, so there FCL is the judge).
 TEST(Lanes, FreeLanesAreFreeForTheScalarLayerAndFclAndMostAreProven) {
   ShelfWorld w;
@@ -112,38 +112,38 @@ TEST(Lanes, FreeLanesAreFreeForTheScalarLayerAndFclAndMostAreProven) {
     for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
       force_simd_path(path);
       std::mt19937_64 rng(11);
-      int scalar_free = 0, batch_free = 0;
+      int scalar_free = 0, lanes_free = 0;
       for (int round = 0; round < 1500; ++round) {
         std::vector<Eigen::VectorXd> qs;
         const double* ptr[LinkPoseLanesD::kLanes];
         for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) qs.push_back(random_q(w.kin, rng));
         for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
-        const int count = 1 + round % LinkPoseLanesD::kLanes;  // partial batches too
+        const int count = 1 + round % LinkPoseLanesD::kLanes;  // partial lane checks too
         const std::uint32_t mask = checker->free_lanes(ptr, count);
         EXPECT_EQ(mask >> count, 0u);
         for (int k = 0; k < count; ++k) {
-          const bool scalar = checker->check(qs[std::size_t(k)]).free(), batch = mask >> k & 1u;
+          const bool scalar = checker->check(qs[std::size_t(k)]).free(), in_lane = mask >> k & 1u;
           scalar_free += scalar;
-          batch_free += batch;
+          lanes_free += in_lane;
           if (checker != &primitives) {
-            ASSERT_FALSE(batch && !scalar)
-                << "batch said free where the scalar layer does not: " << qs[std::size_t(k)].transpose();
+            ASSERT_FALSE(in_lane && !scalar)
+                << "lane check said free where the scalar layer does not: " << qs[std::size_t(k)].transpose();
           }
           if (checker != &held) {
-            ASSERT_FALSE(batch && !exact.is_free(qs[std::size_t(k)])) << qs[std::size_t(k)].transpose();
+            ASSERT_FALSE(in_lane && !exact.is_free(qs[std::size_t(k)])) << qs[std::size_t(k)].transpose();
           }
         }
       }
       EXPECT_GT(scalar_free, 100);
-      EXPECT_GE(batch_free, scalar_free * 9 / 10) << "the batch proves " << batch_free << " of " << scalar_free;
+      EXPECT_GE(lanes_free, scalar_free * 9 / 10) << "the lane check proves " << lanes_free << " of " << scalar_free;
     }
 }
 
-// The batch works in floats, forward kinematics included: its rounding margin must hold exactly where
+// The lane check works in floats, forward kinematics included: its rounding margin must hold exactly where
 // it matters, at the edge of "free". With the scene's exact primitives the scalar layer's verdict
 // on the scene is continuous (every sphere's exact distance), so bisecting between a configuration
 // it proves free and one where only the scene stops it gives one within 1e-12 of that edge on the
-// blocked side; there the batch must not say free. (Float rounding is ~1e-7 m: with the margin
+// blocked side; there the lane check must not say free. (Float rounding is ~1e-7 m: with the margin
 // set to 0 this fails. The field's nearest-node bound jumps between nodes, so its edges are no
 // test of rounding.)
 TEST(Lanes, FloatLanesStayConservativeAtTheEdgeOfTheScene) {
@@ -155,7 +155,7 @@ TEST(Lanes, FloatLanesStayConservativeAtTheEdgeOfTheScene) {
   for (const SimdPath path : {SimdPath::Portable, SimdPath::Avx2}) {
     force_simd_path(path);
     std::mt19937_64 rng(5);
-    for (int batch = 0; batch < 60; ++batch) {
+    for (int round = 0; round < 60; ++round) {
       std::vector<Eigen::VectorXd> qs;
       while (int(qs.size()) < LinkPoseLanesD::kLanes) {
         Eigen::VectorXd a = random_q(w.kin, rng), b = random_q(w.kin, rng);
@@ -169,16 +169,16 @@ TEST(Lanes, FloatLanesStayConservativeAtTheEdgeOfTheScene) {
       }
       const double* ptr[LinkPoseLanesD::kLanes];
       for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) ptr[k] = qs[std::size_t(k)].data();
-      ASSERT_EQ(checker.free_lanes(ptr), 0u) << "the batch said free just past the scene's edge";
+      ASSERT_EQ(checker.free_lanes(ptr), 0u) << "the lane check said free just past the scene's edge";
     }
   }
 }
 
-// The float margin is the kinematics' as they are when a batch runs: setting a joint outside the
+// The float margin is the kinematics' as they are when a lane check runs: setting a joint outside the
 // chain moves the float poses' error bound (a prismatic joint's offset enters it; the fingers set
 // 2 m out, as a long lift outside the chain would be, make it the largest), and a checker built
 // before follows it, as one built afresh has it grow. (The two differ: the fresh one carries the
-// fingers 2 m from the frame they ride, Kinematics::batch_frame; the one built before, whose
+// fingers 2 m from the frame they ride, Kinematics::lane_frame; the one built before, whose
 // offsets are stale, places them from their own links.)
 TEST(Lanes, LaneMarginFollowsJointsSetOutsideTheChain) {
   ShelfWorld w;
@@ -193,9 +193,9 @@ TEST(Lanes, LaneMarginFollowsJointsSetOutsideTheChain) {
 }
 
 // A checker built before a joint outside the chain is set places its bodies from their own links
-// (the batch frames it carried them into moved): its free lanes stay free for FCL with the
+// (the lane frames it carried them into moved): its free lanes stay free for FCL with the
 // fingers as they are now, and it proves as much as a checker built afresh. The fingers go from
-// closed to 0.3 m out (as a lift outside the chain would move a link), so a batch still placing
+// closed to 0.3 m out (as a lift outside the chain would move a link), so a lane check still placing
 // them closed says free where they now hit.
 TEST(Lanes, FreeLanesFollowJointsSetAfterTheCheckerWasBuilt) {
   ShelfWorld w;
@@ -213,7 +213,7 @@ TEST(Lanes, FreeLanesFollowJointsSetAfterTheCheckerWasBuilt) {
   const SphereFieldChecker fresh = checker();
   ExactChecker exact(w.kin, w.scene);
   int before_free[2] = {0, 0}, fresh_free[2] = {0, 0};  // per path: portable, AVX2
-  batches_on_every_path(w.kin, 21, 800, [&](const std::vector<Eigen::VectorXd>& qs, const double* const* ptr) {
+  lane_rounds_on_every_path(w.kin, 21, 800, [&](const std::vector<Eigen::VectorXd>& qs, const double* const* ptr) {
     const int at = simd_path() == SimdPath::Avx2;
     const std::uint32_t a = before.free_lanes(ptr), b = fresh.free_lanes(ptr);
     before_free[at] += __builtin_popcount(a);
@@ -233,9 +233,9 @@ TEST(Lanes, FreeLanesFollowJointsSetAfterTheCheckerWasBuilt) {
 }
 
 // A lane proven along a direction proves every state within its reach: each one sampled 2.5 mrad
-// apart is free for the scalar layer (FCL with the scene's exact primitives, which the batch
+// apart is free for the scalar layer (FCL with the scene's exact primitives, which the lane check
 // trusts outside the grid too). The test finds lanes whose center alone is free but some state
-// within reach is not, so a batch that widened nothing would fail it; reach 0 is free_lanes.
+// within reach is not, so a lane check that widened nothing would fail it; reach 0 is free_lanes.
 TEST(Lanes, LanesAlongADirectionProveEveryStateWithinTheirReach) {
   const AlongCheckers c(true);
   const ShelfWorld& w = c.w;
@@ -249,10 +249,10 @@ TEST(Lanes, LanesAlongADirectionProveEveryStateWithinTheirReach) {
       std::normal_distribution<double> n(0, 1);
       int proven = 0;
       for (int round = 0; round < 160; ++round) {
-        const RandomLanes batch(w.kin, rng, n);
-        const auto& qs = batch.qs;
-        const auto& ptr = batch.ptr;
-        const auto& u = batch.u;
+        const RandomLanes lanes(w.kin, rng, n);
+        const auto& qs = lanes.qs;
+        const auto& ptr = lanes.ptr;
+        const auto& u = lanes.u;
         const double reach = round % 2 ? 0.08 : 0.03;
         const std::uint32_t alone = checker->free_lanes(ptr),
                             along = checker->free_lanes_along(ptr, LinkPoseLanesD::kLanes, u, reach);
@@ -303,17 +303,17 @@ TEST(Lanes, MotionBoundsCoverEveryPointOfEachBodyAndPair) {
     return out;
   };
   double worst = 0;
-  int bodies = 0, pairs = 0, batches = 0;
+  int bodies = 0, pairs = 0, lane_checks = 0;
   std::vector<Eigen::Isometry3d> p0, pt;
   for (int round = 0; round < 40; ++round) {
-    const RandomLanes batch(w.kin, rng, n);
-    const auto& qs = batch.qs;
-    const auto& ptr = batch.ptr;
-    const auto& u = batch.u;
+    const RandomLanes lanes(w.kin, rng, n);
+    const auto& qs = lanes.qs;
+    const auto& ptr = lanes.ptr;
+    const auto& u = lanes.u;
     const double reach = std::array{0.01, 0.04, 0.12}[std::size_t(round % 3)];
     const auto bounds = c.held.motion_bounds(ptr, LinkPoseLanesD::kLanes, u, reach);
     if (bounds.empty()) continue;
-    ++batches;
+    ++lane_checks;
     for (int k = 0; k < LinkPoseLanesD::kLanes; ++k) {
       w.kin.link_poses(qs[std::size_t(k)], p0);
       for (int step = -10; step <= 10; ++step) {
@@ -346,7 +346,7 @@ TEST(Lanes, MotionBoundsCoverEveryPointOfEachBodyAndPair) {
       }
     }
   }
-  EXPECT_GT(batches, 30);
+  EXPECT_GT(lane_checks, 30);
   EXPECT_GT(bodies, 1000);
   EXPECT_GT(pairs, 1000);
   EXPECT_GT(worst, 0.85) << "the bounds are loose everywhere: a bound too small would pass";

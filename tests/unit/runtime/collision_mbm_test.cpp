@@ -220,7 +220,7 @@ TEST(CollisionMbm, LinkDistanceStartedFromANearbyPairIsTheExactDistance) {
 }
 
 // The tables' slopes bound how fast the pair's exact distance changes with the table's joints:
-// the Lipschitz bound certified checks (the self pass's table limit) and span batches
+// the Lipschitz bound certified checks (the self pass's table limit) and span lane checks
 // (LaneMotion::table_travel) widen a table's bound by. And not loosely everywhere: on some table
 // some step's change comes within a factor of two of it, so slopes half as large fail here.
 TEST(CollisionMbm, SelfDistanceTableSlopesBoundHowFastTheExactDistanceChanges) {

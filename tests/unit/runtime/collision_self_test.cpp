@@ -9,7 +9,7 @@
 #include "collision_fixtures.hpp"
 #include "dmgplace/runtime/collision/two_layer_checker.hpp"
 #include "dmgplace/runtime/system/simd_dispatch.hpp"
-#include "lane_batches.hpp"
+#include "lane_rounds.hpp"
 
 using namespace dmgplace;
 using namespace dmgplace::runtime;

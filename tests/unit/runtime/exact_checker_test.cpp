@@ -5,7 +5,7 @@
 #include <utility>
 
 #include "collision_fixtures.hpp"
-#include "lane_batches.hpp"
+#include "lane_rounds.hpp"
 
 using namespace dmgplace;
 using namespace dmgplace::runtime;

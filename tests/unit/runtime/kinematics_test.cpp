@@ -12,7 +12,7 @@
 #include "dmgplace/runtime/robot/kinematics_lanes.hpp"
 #include "dmgplace/runtime/system/simd_dispatch.hpp"
 #include "fixtures.hpp"
-#include "lane_batches.hpp"
+#include "lane_rounds.hpp"
 #include "test_support.hpp"
 
 using namespace dmgplace;
@@ -160,8 +160,8 @@ TEST(Kinematics, MixedChainTipPoseMatchesLinkPosesAndJacobianMatchesFiniteDiffer
 
 // Quarter-turn joints (origins turned by multiples of pi/2, written as URDFs write them, to 11
 // digits; axes along +-x, +-y, +-z) take Kinematics' permuted-column form: link_poses, the tip
-// pose and the batch equal the plain product origin x AngleAxis(q, axis) of the model as read;
-// the float batch stays within Kinematics::float_pose_error of it (a prismatic joint among them).
+// pose and the lane check equal the plain product origin x AngleAxis(q, axis) of the model as read;
+// the float lane check stays within Kinematics::float_pose_error of it (a prismatic joint among them).
 TEST(Kinematics, QuarterTurnJointsEqualTheirPlainProduct) {
   RobotModel m;
   m.name = "quarter";
@@ -200,9 +200,9 @@ TEST(Kinematics, QuarterTurnJointsEqualTheirPlainProduct) {
       const double* ptr[LinkPoseLanesD::kLanes];
       for (int lane = 0; lane < LinkPoseLanesD::kLanes; ++lane) qs.push_back(random_q(k, rng));
       for (int lane = 0; lane < LinkPoseLanesD::kLanes; ++lane) ptr[lane] = qs[std::size_t(lane)].data();
-      LinkPoseLanesD batch;
-      k.lanes().link_poses(ptr, batch);
-      LinkPoseLanesF floats;  // the batch sphere check's kinematics: within its error bound
+      LinkPoseLanesD in_lanes;
+      k.lanes().link_poses(ptr, in_lanes);
+      LinkPoseLanesF floats;  // the lane sphere check's kinematics: within its error bound
       k.lanes().link_poses(ptr, floats);
       const double reach = 1.0, bound = k.lanes().float_pose_error(reach);
       for (int lane = 0; lane < LinkPoseLanesD::kLanes; ++lane) {
@@ -220,7 +220,7 @@ TEST(Kinematics, QuarterTurnJointsEqualTheirPlainProduct) {
           ASSERT_LT((poses[l].matrix() - want.matrix()).cwiseAbs().maxCoeff(), 1e-8) << "link " << l;
           for (int e = 0; e < 12; ++e) {
             const double w = e < 9 ? want.linear()(e / 3, e % 3) : want.translation()[e - 9];
-            ASSERT_NEAR(batch.pose[l][std::size_t(e)][std::size_t(lane)], w, 1e-8)
+            ASSERT_NEAR(in_lanes.pose[l][std::size_t(e)][std::size_t(lane)], w, 1e-8)
                 << to_string(path) << " link " << l << " element " << e;
           }
           for (int axis = 0; axis < 3; ++axis) {
@@ -242,8 +242,8 @@ TEST(Kinematics, QuarterTurnJointsEqualTheirPlainProduct) {
   expect_jacobian_matches_finite_differences(k, 30);
 }
 
-// Batch frames (Kinematics::batch_frame): every link is placed by its frame's float pose from
-// frame_poses_batch and its offset there, within float_pose_error of link_poses (for points that
+// Lane check frames (Kinematics::lane_frame): every link is placed by its frame's float pose from
+// frame_poses_lanes and its offset there, within float_pose_error of link_poses (for points that
 // far from the frame's origin), on both paths. Frames are exactly the roots and the links a chain
 // joint moves (with the base at the root; else every link); a set value changes plan_version()
 // and the offsets follow it.
@@ -263,7 +263,7 @@ static void expect_frames_place_every_link(const Kinematics& k, std::uint64_t se
     else EXPECT_EQ(k.lanes().frame(int(l)), int(l)) << "the base is not the root: every link its own frame";
   }
   std::vector<Eigen::Isometry3d> poses;
-  test::batches_on_every_path(k, seed, 60, [&](const std::vector<Eigen::VectorXd>& qs, const double* const* ptr) {
+  test::lane_rounds_on_every_path(k, seed, 60, [&](const std::vector<Eigen::VectorXd>& qs, const double* const* ptr) {
     LinkPoseLanesF frames;
     k.lanes().frame_poses(ptr, frames);
     for (int lane = 0; lane < LinkPoseLanesD::kLanes; ++lane) {
@@ -287,7 +287,7 @@ static void expect_frames_place_every_link(const Kinematics& k, std::uint64_t se
   });
 }
 
-TEST(Kinematics, BatchFramesPlaceEveryLinkWithinTheFloatBound) {
+TEST(Kinematics, LaneFramesPlaceEveryLinkWithinTheFloatBound) {
   // A chain with fixed links between its joints (one turned by a quarter, one by no quarter), a
   // joint outside the chain (set), a mimic of a chain joint, and a finger hanging off a fixed hand.
   RobotModel m;
@@ -333,10 +333,10 @@ TEST(Kinematics, BatchFramesPlaceEveryLinkWithinTheFloatBound) {
   }
 }
 
-// A continuous joint wound far past a turn, or NaN, in some lanes of a batch: the float
+// A continuous joint wound far past a turn, or NaN, in some lanes of a lane check: the float
 // kinematics' sin and cos leave their core for those (fast_sincos_f8 covers |x| < 1e5). Each lane
 // stays within float_pose_error of link_poses, and a NaN lane stays NaN, on both paths.
-TEST(Kinematics, FloatBatchHandlesWoundAndNanJointsInSomeLanes) {
+TEST(Kinematics, FloatLanesHandleWoundAndNanJointsInSomeLanes) {
   RobotModel m;
   m.name = "wound";
   for (int l = 0; l <= 3; ++l) m.links.push_back({"l" + std::to_string(l), {}});
@@ -462,7 +462,7 @@ TEST(FastSincos, AgreesWithLibmToTheLastBits) {
   EXPECT_TRUE(std::isnan(s) && std::isnan(c));
 }
 
-// fast_sincos_f8 (the AVX2 float batch kinematics' sin and cos): within kSincosF8Error float
+// fast_sincos_f8 (the AVX2 float lane kinematics' sin and cos): within kSincosF8Error float
 // roundoffs of libm over many turns and at every quadrant's edges, compiled both with fused
 // multiply-adds (as the AVX2 kinematics run it, where the CPU has them) and without.
 static __attribute__((target("avx2,fma"))) void sincos_f8_fma(const double* x, float* s, float* c) {

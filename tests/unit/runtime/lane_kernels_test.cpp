@@ -1,4 +1,4 @@
-// The batch check's lane kernels (runtime/collision/kernels/), each against an exact answer in
+// The lane check's lane kernels (runtime/collision/kernels/), each against an exact answer in
 // doubles: where the float answer may differ is only within the rounding the callers' margins
 // cover.
 #include <gtest/gtest.h>

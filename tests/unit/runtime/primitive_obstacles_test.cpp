@@ -155,7 +155,7 @@ TEST(PrimitiveObstacles, FloatLaneDistancesAreWithinTheirErrorBoundOnBothPaths) 
   RecordProperty("worst_share_of_bound_x1000", int(1000 * worst));
 }
 
-// PrimitiveObstacles::clear_reaching_lanes, a body's bounding sphere in the batch check: its
+// PrimitiveObstacles::clear_reaching_lanes, a body's bounding sphere in the lane check: its
 // clear lanes are alive lanes at least `need` from every primitive but for float rounding, the
 // other alive lanes closer; every primitive left out of `reach` is at least `need` from every
 // alive lane; and clear_lanes over only the reached primitives gives the same lanes as over all

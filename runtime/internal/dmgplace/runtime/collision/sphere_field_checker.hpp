@@ -61,7 +61,7 @@ struct SphereCheck {
   // else, the flagged links and pairs left out, for the exact layer to certify (link_time, pair_time).
   double free_distance = 0;
   // The same certificate with every bound isotropic (no directional one, displacement_bound.hpp):
-  // a guide to how far a batch's static widening reaches here (CertifiedMotionValidator's span
+  // a guide to how far a lane check's static widening reaches here (CertifiedMotionValidator's span
   // estimate). At most free_distance.
   double isotropic_distance = 0;
   bool free() const { return environment_free && self_free; }
@@ -131,7 +131,7 @@ class SphereFieldChecker {
                   DisplacementBound& bound) const;
 
   // Which of `count` (<= LinkPoseLanesD::kLanes) configurations q[0..count) the spheres alone prove
-  // free, in one pass over all of them (batch forward kinematics, sphere centers in SIMD lanes):
+  // free, in one pass over all of them (lane forward kinematics, sphere centers in SIMD lanes):
   // bit k for q[k]. Proven means every body clear of the scene (the field's bound inside the grid,
   // then the exact primitives when set, anywhere) and every checked pair apart (spheres, or its
   // self-distance table's bound). An unset bit is undecided, never "in collision": check() that
@@ -151,7 +151,7 @@ class SphereFieldChecker {
   // (link_b = -1) and then every checked pair, how far it can move (a pair: relative to each
   // other) within `reach` along +-direction from q[k], in metres: the smaller of the static bound
   // and the displacement bounds of displacement_bound.hpp (static, Gronwall, Taylor) from the
-  // lane's own lever arms, in floats rounded up. The batch computes the latter only where the
+  // lane's own lever arms, in floats rounded up. The lane check computes the latter only where the
   // static one leaves a test undecided, and takes the largest over the lanes still open. Empty
   // where free_lanes_along proves nothing.
   struct MotionBound {
@@ -187,7 +187,7 @@ class SphereFieldChecker {
     Eigen::Vector3d center = Eigen::Vector3d::Zero();
     double radius = 0;
     // A long body's capsule (geometry/capsule.hpp), kept for three spheres or more where it is
-    // much thinner than the bounding sphere: the batch's pair tests try it next. inv_len2:
+    // much thinner than the bounding sphere: the lane check's pair tests try it next. inv_len2:
     // 1 / |to - from|^2.
     bool has_capsule = false;
     Capsule capsule;
@@ -310,7 +310,7 @@ class SphereFieldChecker {
   // free_lanes_along's static widening: per body, then per pair (false: past 1 m somewhere).
   bool static_widening(const Eigen::VectorXd& direction, double reach, std::vector<float>& widen) const;
   // The static speeds along `direction` (metres per unit of joint motion): each body's (its chain
-  // reaches), then each pair's relative one. Every check and batch of one motion asks for the
+  // reaches), then each pair's relative one. Every check and lane check of one motion asks for the
   // same direction, so this thread's last answer is kept (for this body set: id_).
   const std::vector<double>& static_speeds(const Eigen::VectorXd& direction) const;
   std::uint64_t id_ = 0;  // a new one whenever the bodies are built (build_bodies)

@@ -47,7 +47,7 @@ class TwoLayerChecker {
   // spheres' for the rest. Otherwise (link meshes, touching, a held object, a mesh scene) the
   // exact layer's yes/no decides and certifies nothing beyond q (0).
   // `isotropic` (optional): the same certificate without directional bounds (SphereCheck::
-  // isotropic_distance), a guide to how far batches reach here.
+  // isotropic_distance), a guide to how far lane checks reach here.
   double free_distance(const Eigen::VectorXd& q, const Eigen::VectorXd& direction,
                        double enough = std::numeric_limits<double>::infinity(), double* isotropic = nullptr) const {
     const auto& poses = poses_at(q);

@@ -18,7 +18,7 @@ constexpr double kRound = 0x1.8p52;
 }  // namespace sincos_reduction
 
 // The core for |x| < 1e5, without branches (the quadrant picked by selects), so a loop over
-// lanes of it vectorises (Kinematics::link_poses_batch).
+// lanes of it vectorises (Kinematics::link_pose_lanes).
 inline __attribute__((always_inline)) void fast_sincos_core(double x, double& s, double& c) {
   using namespace sincos_reduction;
   const double j = (x * kTwoOverPi + kRound) - kRound;
@@ -64,7 +64,7 @@ inline void fast_sincos(double x, double& s, double& c) {
   fast_sincos_core(x, s, c);
 }
 
-// sin and cos of 8 angles (doubles, |x| < 1e5) in floats, for the float batch kinematics: the
+// sin and cos of 8 angles (doubles, |x| < 1e5) in floats, for the float lane kinematics: the
 // reduction as fast_sincos_core's, in doubles (exact j * pi/2), the reduced angle rounded to a float,
 // then Cephes' sinf/cosf polynomials on all 8 lanes of one float vector, about half the work of
 // the double core's two vectors and degree-6 polynomials. Within kSincosF8Error of the truth.

@@ -20,8 +20,8 @@ using FreeDistanceFn = std::function<double(const Eigen::VectorXd& q, const Eige
 // `resolution` steps, except those inside an interval the checker proved free.
 ompl::base::SpaceInformationPtr make_arm_space(const Kinematics& kin, ValidityFn valid, double resolution,
                                                FreeDistanceFn free_distance = nullptr);
-// The space over a two-layer checker: its validity, its certified motions, and its batch proofs
-// (short stretches near obstacles state by state, wider ones by span batches; AVX2 only).
+// The space over a two-layer checker: its validity, its certified motions, and its lane proofs
+// (short stretches near obstacles state by state, wider ones by span lane checks; AVX2 only).
 // `checker` must outlive the space.
 ompl::base::SpaceInformationPtr make_arm_space(const Kinematics& kin, const TwoLayerChecker& checker,
                                                double resolution);

@@ -5,9 +5,9 @@
 // motion certifies c / v of the segment on both sides of it. States are visited in bisection
 // order, so a blocked motion is still found after a few checks. With a checker that proves
 // states free in SIMD lanes (ProvenFreeFn): short stretches no certificate reaches (near
-// obstacles) are checked 8 states at a time, a state the batch does not prove taking the single
+// obstacles) are checked 8 states at a time, a state the lane check does not prove taking the single
 // check; and a range that lanes reaching half as far as the neighbouring certificate would cover
-// is proven by one "span" batch (each lane proving the states around it), whatever a lane leaves
+// is proven by one "span" lane check (each lane proving the states around it), whatever a lane leaves
 // going to certified checks.
 #include <ompl/base/MotionValidator.h>
 
@@ -21,9 +21,9 @@ namespace dmgplace::runtime {
 class CertifiedMotionValidator : public ompl::base::MotionValidator {
  public:
   // q + t * direction is free for |t| <= reach (< 0: q collides); `estimate` (<= reach): how far
-  // the same clearances last under the span batches' isotropic widening, which decides whether a
-  // span batch is worth trying next to q (directional bounds can make `reach` much longer near a
-  // surface the motion slides along, where a batch would fail).
+  // the same clearances last under the span lane checks' isotropic widening, which decides whether a
+  // span lane check is worth trying next to q (directional bounds can make `reach` much longer near a
+  // surface the motion slides along, where a lane check would fail).
   struct Certificate {
     double reach, estimate;
   };
@@ -38,7 +38,7 @@ class CertifiedMotionValidator : public ompl::base::MotionValidator {
   using ProvenFreeFn =
       std::function<std::uint32_t(const double* const* q, int count, const Eigen::VectorXd& direction, double reach)>;
   // The callbacks must not check a motion with a CertifiedMotionValidator on their own thread: a
-  // motion check keeps its segment, batch and ranges in per-thread buffers (no allocation per
+  // motion check keeps its segment, lane check and ranges in per-thread buffers (no allocation per
   // motion). Threads each check their own motions at once.
   CertifiedMotionValidator(const ompl::base::SpaceInformationPtr& si, CertificateFn certificate,
                            ProvenFreeFn proven_free = nullptr);

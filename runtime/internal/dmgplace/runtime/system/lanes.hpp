@@ -1,8 +1,8 @@
 #pragma once
 // Four doubles (D) or eight floats (F) as one GCC/Clang vector (vector_size 32): a function
 // compiled for AVX2 (simd_dispatch.hpp) runs each operation as one instruction, the portable build
-// as two SSE2 ones. Batch forward kinematics in doubles takes its 8 configurations as two D
-// halves; in floats, as the batch sphere check runs it, one F. Written this way they
+// as two SSE2 ones. Lane forward kinematics in doubles takes its 8 configurations as two D
+// halves; in floats, as the lane sphere check runs it, one F. Written this way they
 // vectorise for certain, where plain loops depend on the auto-vectoriser's cost model; operands
 // are whole vectors (splat), since a scalar operand makes GCC compare lane by lane. Comparisons
 // give a mask: -1 in true lanes, 0 elsewhere. The files using sqrt() are built with
@@ -39,7 +39,7 @@ DMGPLACE_LANES_INLINE std::uint32_t bits(M m, bool wide = false) {
   return std::uint32_t(w[0] | w[1] | w[2] | w[3]);
 }
 
-// Eight lanes of floats, one register under AVX (two SSE ones in the portable build): the batch
+// Eight lanes of floats, one register under AVX (two SSE ones in the portable build): the lane check
 // sphere check, forward kinematics included, where single precision plus a rounding margin is enough
 // and each operation then covers all 8 configurations.
 constexpr int WF = 8;

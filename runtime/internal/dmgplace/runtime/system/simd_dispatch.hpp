@@ -1,5 +1,5 @@
 #pragma once
-// Which instruction set the batch kernels (8 configurations per call) run with: AVX2 + FMA when
+// Which instruction set the lane kernels (8 configurations per call) run with: AVX2 + FMA when
 // the CPU has them, else the portable x86-64 build. Chosen once at run time; tests force the
 // portable path to check it on any machine.
 namespace dmgplace::runtime {

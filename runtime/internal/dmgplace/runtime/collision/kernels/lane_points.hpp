@@ -1,6 +1,6 @@
 #pragma once
 // Points in SIMD lanes and the rigid transform that places them: the float kernels' common
-// ground (one lane per configuration of a batch, lanes.hpp). Inline only: no vector crosses a call.
+// ground (one lane per configuration of a lane check, lanes.hpp). Inline only: no vector crosses a call.
 #include <array>
 
 #include "dmgplace/runtime/robot/kinematics_lanes.hpp"

@@ -1,5 +1,5 @@
 #pragma once
-// Sphere against sphere in SIMD lanes: the self-pair and body-pair test of the batch check.
+// Sphere against sphere in SIMD lanes: the self-pair and body-pair test of the lane check.
 #include "dmgplace/runtime/collision/kernels/lane_points.hpp"
 
 namespace dmgplace::runtime::kernels {

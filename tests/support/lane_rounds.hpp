@@ -1,5 +1,5 @@
 #pragma once
-// Random configurations and batches of 8 of them on every SIMD path: the batch kinematics and
+// Random configurations and lane checks of 8 of them on every SIMD path: the lane kinematics and
 // sphere check tests share these.
 #include <gtest/gtest.h>
 
@@ -21,10 +21,11 @@ inline Eigen::VectorXd random_q(const runtime::Kinematics& k, std::mt19937_64& r
   return q;
 }
 
-// `rounds` batches of 8 random configurations on each SIMD path (the portable one, then AVX2 where
+// `rounds` lane checks of 8 random configurations on each SIMD path (the portable one, then AVX2 where
 // the CPU has it): widen(round, q) may change each configuration, then check(qs, ptr) runs.
 template <class Widen, class Check>
-void batches_on_every_path(const runtime::Kinematics& kin, std::uint64_t seed, int rounds, Widen widen, Check check) {
+void lane_rounds_on_every_path(const runtime::Kinematics& kin, std::uint64_t seed, int rounds, Widen widen,
+                               Check check) {
   using runtime::SimdPath;
   std::mt19937_64 rng(seed);
   const runtime::ScopedSimdPath restore_simd;  // forced paths end with the test
@@ -44,10 +45,10 @@ void batches_on_every_path(const runtime::Kinematics& kin, std::uint64_t seed, i
   }
 }
 
-// batches_on_every_path with the configurations as drawn.
+// lane_rounds_on_every_path with the configurations as drawn.
 template <class Check>
-void batches_on_every_path(const runtime::Kinematics& kin, std::uint64_t seed, int rounds, Check check) {
-  batches_on_every_path(
+void lane_rounds_on_every_path(const runtime::Kinematics& kin, std::uint64_t seed, int rounds, Check check) {
+  lane_rounds_on_every_path(
       kin, seed, rounds, [](int, Eigen::VectorXd&) {}, check);
 }
 
