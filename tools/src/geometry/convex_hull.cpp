@@ -20,7 +20,7 @@ using Point = K::Point_3;
 // coplanar), each as its corners in order: CGAL triangulates a flat facet however its internals
 // happened to meet it, which varies with the addresses it allocated, and keeps points it met
 // first that turn out to lie in a facet or on an edge.
-std::vector<std::vector<int>> hull_facets(const CGAL::Surface_mesh<Point>& hull, const std::map<Point, int>& index) {
+std::vector<std::vector<int>> exact_facets(const CGAL::Surface_mesh<Point>& hull, const std::map<Point, int>& index) {
   using Mesh = CGAL::Surface_mesh<Point>;
   const std::size_t nf = hull.num_faces();  // the index range
   std::vector<std::size_t> root(nf);
@@ -86,7 +86,7 @@ RowMatrixX3i convex_hull_triangles(const TriMesh& mesh) {
   // Each facet fanned from its corner listed first in the mesh: the same triangles whatever
   // order CGAL met the points in; the triangles sorted, each from its smallest index.
   std::vector<std::array<int, 3>> tris;
-  for (auto corners : hull_facets(hull, index)) {
+  for (auto corners : exact_facets(hull, index)) {
     if (corners.size() < 3) return {};
     std::rotate(corners.begin(), std::min_element(corners.begin(), corners.end()), corners.end());
     for (std::size_t k = 1; k + 1 < corners.size(); ++k) {

@@ -57,6 +57,25 @@ std::shared_ptr<const ArmRobot> load_arm_robot(const std::filesystem::path& robo
   return r;
 }
 
+namespace {
+// The fast layer over p's distance field: the robot's self tables, and the scene's primitives
+// where it has any (null: none).
+runtime::SphereFieldChecker field_checker(const ArmProblem& p, double band,
+                                          std::shared_ptr<const runtime::PrimitiveObstacles> primitives) {
+  runtime::SphereFieldChecker fast(*p.kin, p.robot->robot.spheres, p.sdf, band);
+  fast.set_self_tables(p.robot->robot.self_tables);
+  if (primitives) fast.set_exact_obstacles(std::move(primitives));
+  return fast;
+}
+
+// The exact layer in p's scene and the two-layer checker over `fast`; setup timed from t0.
+void attach_checkers(ArmProblem& p, runtime::SphereFieldChecker fast, Clock::time_point t0) {
+  p.exact = std::make_unique<runtime::ExactChecker>(p.robot->exact->with_kinematics(*p.kin).with_scene(p.scene));
+  p.checker = std::make_unique<runtime::TwoLayerChecker>(std::move(fast), *p.exact);
+  p.setup_seconds = since(t0);
+}
+}  // namespace
+
 ArmProblem load_arm_problem(const std::filesystem::path& robot_h5, const std::filesystem::path& scene_yaml,
                             const std::filesystem::path& request_yaml, const ArmProblemOptions& o) {
   return load_arm_problem(load_arm_robot(robot_h5), scene_yaml, request_yaml, o);
@@ -96,13 +115,9 @@ ArmProblem load_arm_problem(std::shared_ptr<const ArmRobot> robot, const std::fi
     p.sdf = std::make_shared<runtime::Grid3>(
         runtime::to_grid(distance_field(embree, grid_covering(box, o.sdf_resolution), o.sdf_band, 1)));
     p.bake_seconds = since(t0);
-    fast.emplace(*p.kin, p.robot->robot.spheres, p.sdf, o.sdf_band);
-    fast->set_self_tables(p.robot->robot.self_tables);
-    if (primitives) fast->set_exact_obstacles(primitives);
+    fast.emplace(field_checker(p, o.sdf_band, primitives));
   }
-  p.exact = std::make_unique<runtime::ExactChecker>(p.robot->exact->with_kinematics(*p.kin).with_scene(p.scene));
-  p.checker = std::make_unique<runtime::TwoLayerChecker>(std::move(*fast), *p.exact);
-  p.setup_seconds = since(t0);
+  attach_checkers(p, std::move(*fast), t0);
   return p;
 }
 
@@ -114,12 +129,7 @@ ArmProblem arm_problem_in_environment(std::shared_ptr<const ArmRobot> robot, con
   p.kin = std::make_unique<runtime::Kinematics>(*p.robot->kin);
   const auto t0 = Clock::now();
   p.sdf = std::make_shared<runtime::Grid3>(runtime::to_grid(env.sdf));
-  runtime::SphereFieldChecker fast(*p.kin, p.robot->robot.spheres, p.sdf, env.sdf.band);
-  fast.set_self_tables(p.robot->robot.self_tables);
-  fast.set_exact_obstacles(runtime::PrimitiveObstacles::from_scene(p.scene));  // null unless all primitives
-  p.exact = std::make_unique<runtime::ExactChecker>(p.robot->exact->with_kinematics(*p.kin).with_scene(p.scene));
-  p.checker = std::make_unique<runtime::TwoLayerChecker>(std::move(fast), *p.exact);
-  p.setup_seconds = since(t0);
+  attach_checkers(p, field_checker(p, env.sdf.band, runtime::PrimitiveObstacles::from_scene(p.scene)), t0);
   return p;
 }
 
